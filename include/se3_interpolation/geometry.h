@@ -1,0 +1,186 @@
+// The geometries a curve can live in, as policies for the generic algorithms.
+//
+// Every geometry G provides
+//   template <class S> using Point;     // a point of the manifold, scalar S
+//   template <class S> using Tangent;   // a tangent vector (representation below)
+//   log(a, b) -> Tangent                // the initial velocity of the geodesic a → b at λ = 0
+//   exp(a, v) -> Point                  // the geodesic from a with initial velocity v, at λ = 1
+//   cast<T>(Point<double>) -> Point<T>
+// so that the geodesic interpolation of thesis eq. (4.1) is
+//   interp_λ(a, b) = exp(a, λ log(a, b)),
+// defined for every real λ (λ outside [0, 1] extrapolates along the geodesic).
+// log throws NonUniqueGeodesicError when a and b are antipodal (the minimising
+// geodesic is not unique).
+//
+// Tangent representations:
+//   ScrewSe3:          body twist (ω, v) of a⁻¹b, rotation first (se(3), thesis ch. 5)
+//   DoubleGeodesicSe3: (ω, Δp): ω the body rotation vector of R_aᵀ R_b, Δp = p_b − p_a in
+//                      the world frame (product metric SO(3) × R³)
+//   So3:               body rotation vector ω of q_a⁻¹ q_b
+//   Euclidean:         b − a in R^n
+//   Sphere:            the ambient vector in T_a S^m ⊂ R^{m+1} (Crouch et al., eq. 17/18)
+#pragma once
+
+#include <Eigen/Core>
+
+#include "se3_interpolation/lie_groups.h"
+
+namespace se3_interpolation
+{
+template <class S>
+using VectorX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+
+/// SE(3) with its Ad-invariant (screw) metric: a · Exp(λ Log(a⁻¹ b)). Bi-invariant.
+struct ScrewSe3
+{
+  template <class S>
+  using Point = Pose<S>;
+  template <class S>
+  using Tangent = Vector6<S>;
+
+  template <class S>
+  static Tangent<S> log(const Point<S>& a, const Point<S>& b)
+  {
+    return se3Log(a.inverse() * b);
+  }
+  template <class S>
+  static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
+  {
+    return a * se3Exp(v);
+  }
+  template <class T>
+  static Point<T> cast(const Point<double>& a)
+  {
+    return a.template cast<T>();
+  }
+};
+
+/// SE(3) as SO(3) × R³: rotation along its geodesic, translation on a straight line.
+/// Left-invariant, not right-invariant. What tf2 and KDL do between two poses.
+struct DoubleGeodesicSe3
+{
+  template <class S>
+  using Point = Pose<S>;
+  template <class S>
+  using Tangent = Vector6<S>;
+
+  template <class S>
+  static Tangent<S> log(const Point<S>& a, const Point<S>& b)
+  {
+    Tangent<S> v;
+    v << so3Log(Quaternion<S>(a.q.conjugate() * b.q)), b.p - a.p;
+    return v;
+  }
+  template <class S>
+  static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
+  {
+    return Point<S>(a.q * so3Exp(Vector3<S>(v.template head<3>())), a.p + v.template tail<3>());
+  }
+  template <class T>
+  static Point<T> cast(const Point<double>& a)
+  {
+    return a.template cast<T>();
+  }
+};
+
+/// SO(3) with its bi-invariant metric (unit quaternions).
+struct So3
+{
+  template <class S>
+  using Point = Quaternion<S>;
+  template <class S>
+  using Tangent = Vector3<S>;
+
+  template <class S>
+  static Tangent<S> log(const Point<S>& a, const Point<S>& b)
+  {
+    return so3Log(Quaternion<S>(a.conjugate() * b));
+  }
+  template <class S>
+  static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
+  {
+    return a * so3Exp(v);
+  }
+  template <class T>
+  static Point<T> cast(const Point<double>& a)
+  {
+    return Point<T>(T(a.w()), T(a.x()), T(a.y()), T(a.z()));
+  }
+};
+
+/// R^n: the abelian case, where every construction reduces to its classical form.
+struct Euclidean
+{
+  template <class S>
+  using Point = VectorX<S>;
+  template <class S>
+  using Tangent = VectorX<S>;
+
+  template <class S>
+  static Tangent<S> log(const Point<S>& a, const Point<S>& b)
+  {
+    return b - a;
+  }
+  template <class S>
+  static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
+  {
+    return a + v;
+  }
+  template <class T>
+  static Point<T> cast(const Point<double>& a)
+  {
+    return a.template cast<T>();
+  }
+};
+
+/// The unit sphere S^m ⊂ R^{m+1} with its round metric (great circles).
+struct Sphere
+{
+  template <class S>
+  using Point = VectorX<S>;
+  template <class S>
+  using Tangent = VectorX<S>;
+
+  /// θ (b − cos θ a)/sin θ, θ = ∠(a, b); throws when b = −a.
+  template <class S>
+  static Tangent<S> log(const Point<S>& a, const Point<S>& b)
+  {
+    const S c = a.dot(b);
+    const Tangent<S> w = b - c * a;
+    const S n2 = w.squaredNorm();
+    if (valueOf(c) < 0.0 && valueOf(n2) <= 4.0 * kAntipodalTolerance * kAntipodalTolerance)
+      throw NonUniqueGeodesicError("the points are antipodal: the great circle between them is not unique");
+    // atan2(|w|, c)/|w|, the quaternion log factor halved (same series near 0).
+    if (valueOf(c) > 0.0)
+      return w * (detail::logFactor(n2, c) / 2.0);
+    using std::atan2;
+    using std::sqrt;
+    const S n = sqrt(n2);
+    return w * (atan2(n, c) / n);
+  }
+  /// cos|v| a + sin|v| v/|v|.
+  template <class S>
+  static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
+  {
+    const S theta2 = v.squaredNorm();
+    S k, c;
+    // sin(θ/2)/θ and cos(θ/2) at 2θ give sin θ/(2θ) and cos θ.
+    detail::halfAngle(S(4.0 * theta2), &k, &c);
+    return c * a + S(2.0) * k * v;
+  }
+  template <class T>
+  static Point<T> cast(const Point<double>& a)
+  {
+    return a.template cast<T>();
+  }
+};
+
+/// Geodesic interpolation interp_λ(a, b) = exp(a, λ log(a, b)) (thesis eq. 4.1).
+template <class G, class S>
+typename G::template Point<S> geodesic(const typename G::template Point<S>& a, const typename G::template Point<S>& b,
+                                       const S& lambda)
+{
+  return G::exp(a, typename G::template Tangent<S>(G::log(a, b) * lambda));
+}
+
+}  // namespace se3_interpolation

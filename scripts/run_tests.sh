@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, runs every test (unit, CLI, rostest integration) and
+# prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+se3_install_deps
+se3_build
+cd "$SE3_WS"
+rm -rf build/test_results
+catkin_make run_tests -j1 >"$SE3_WS/tests.log" 2>&1 || true
+summary=$(catkin_test_results build/test_results --all 2>&1 || true)
+echo "$summary" | grep -vE '^Skipping' | grep -E 'Summary|Failure|Error|failures|errors' || true
+line=$(echo "$summary" | grep -E '^Summary:' | tail -n 1)
+total=$(echo "$line" | sed -nE 's/^Summary: ([0-9]+) tests.*/\1/p')
+errors=$(echo "$line" | sed -nE 's/.* ([0-9]+) errors.*/\1/p')
+failures=$(echo "$line" | sed -nE 's/.* ([0-9]+) failures.*/\1/p')
+skipped=$(echo "$line" | sed -nE 's/.* ([0-9]+) skipped.*/\1/p')
+total=${total:-0}; errors=${errors:-0}; failures=${failures:-0}; skipped=${skipped:-0}
+failed=$((errors + failures))
+passed=$((total - failed - skipped))
+expected_suites=$(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' | wc -l)
+if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -lt "$expected_suites" ]; then
+  echo "test reports are missing (see $SE3_WS/tests.log)" >&2
+  tail -n 40 "$SE3_WS/tests.log" >&2
+  failed=$((failed + 1))
+fi
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,209 @@
+#include "yaml_request.h"
+
+#include <set>
+
+namespace se3_interpolation
+{
+namespace cli
+{
+namespace
+{
+std::string at(const std::string& field, std::size_t i)
+{
+  return field + "[" + std::to_string(i) + "]";
+}
+
+double toDouble(const YAML::Node& node, const std::string& field)
+{
+  if (!node.IsScalar())
+    throw InvalidInputError(field + ": expected a number");
+  try
+  {
+    return node.as<double>();
+  }
+  catch (const YAML::Exception&)
+  {
+    throw InvalidInputError(field + ": '" + node.Scalar() + "' is not a number");
+  }
+}
+
+long toInteger(const YAML::Node& node, const std::string& field, long lo, long hi)
+{
+  if (!node.IsScalar())
+    throw InvalidInputError(field + ": expected an integer");
+  long v = 0;
+  try
+  {
+    v = node.as<long>();
+  }
+  catch (const YAML::Exception&)
+  {
+    throw InvalidInputError(field + ": '" + node.Scalar() + "' is not an integer");
+  }
+  if (v < lo || v > hi)
+    throw InvalidInputError(field + ": " + std::to_string(v) + " is outside " + std::to_string(lo) + " … " +
+                            std::to_string(hi));
+  return v;
+}
+
+std::string toString(const YAML::Node& node, const std::string& field)
+{
+  if (!node.IsScalar())
+    throw InvalidInputError(field + ": expected a string");
+  return node.Scalar();
+}
+
+bool toBool(const YAML::Node& node, const std::string& field)
+{
+  try
+  {
+    return node.as<bool>();
+  }
+  catch (const YAML::Exception&)
+  {
+    throw InvalidInputError(field + ": expected true or false");
+  }
+}
+
+std::vector<double> toDoubles(const YAML::Node& node, const std::string& field)
+{
+  if (!node.IsSequence())
+    throw InvalidInputError(field + ": expected a list of numbers");
+  std::vector<double> v;
+  for (std::size_t i = 0; i < node.size(); ++i)
+    v.push_back(toDouble(node[i], at(field, i)));
+  return v;
+}
+
+Eigen::Vector3d toVector3(const YAML::Node& node, const std::string& field)
+{
+  const std::vector<double> v = toDoubles(node, field);
+  if (v.size() != 3)
+    throw InvalidInputError(field + ": expected 3 numbers [x, y, z], got " + std::to_string(v.size()));
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+void requireKeys(const YAML::Node& node, const std::string& field, const std::set<std::string>& allowed)
+{
+  if (!node.IsMap())
+    throw InvalidInputError(field + ": expected a mapping");
+  for (const auto& kv : node)
+  {
+    const std::string key = kv.first.as<std::string>();
+    if (allowed.count(key) == 0)
+      throw InvalidInputError(field + (field.empty() ? "" : ".") + key + ": unknown field");
+  }
+}
+
+Twist toTwist(const YAML::Node& node, const std::string& field)
+{
+  requireKeys(node, field, { "linear", "angular" });
+  Twist t;
+  if (node["linear"])
+    t.linear = toVector3(node["linear"], field + ".linear");
+  if (node["angular"])
+    t.angular = toVector3(node["angular"], field + ".angular");
+  return t;
+}
+
+Pose<double> toPose(const YAML::Node& node, const std::string& field)
+{
+  requireKeys(node, field, { "position", "orientation" });
+  Pose<double> p;
+  if (!node["position"])
+    throw InvalidInputError(field + ".position: missing");
+  p.p = toVector3(node["position"], field + ".position");
+  if (node["orientation"])
+  {
+    const std::vector<double> q = toDoubles(node["orientation"], field + ".orientation");
+    if (q.size() != 4)
+      throw InvalidInputError(field + ".orientation: expected 4 numbers [x, y, z, w], got " + std::to_string(q.size()));
+    p.q = Quaternion<double>(q[3], q[0], q[1], q[2]);
+  }
+  return p;
+}
+}  // namespace
+
+std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field)
+{
+  if (!node.IsSequence())
+    throw InvalidInputError(field + ": expected a list of vectors");
+  std::vector<std::vector<double>> out;
+  for (std::size_t i = 0; i < node.size(); ++i)
+    out.push_back(toDoubles(node[i], at(field, i)));
+  return out;
+}
+
+TrajectoryRequest requestFromYaml(const YAML::Node& root)
+{
+  if (!root || root.IsNull())
+    throw InvalidInputError("request: the YAML document is empty");
+  requireKeys(root, "",
+              { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
+                "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
+                "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
+                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
+                "sample_count", "child_frame_id", "publish" });
+  TrajectoryRequest r;
+  if (!root["waypoints"] || !root["waypoints"].IsSequence())
+    throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]})");
+  const YAML::Node w = root["waypoints"];
+  for (std::size_t i = 0; i < w.size(); ++i)
+    r.waypoints.push_back(toPose(w[i], at("waypoints", i)));
+  if (root["times"])
+    r.times = toDoubles(root["times"], "times");
+  if (root["curve"])
+    r.curve = toString(root["curve"], "curve");
+  if (root["geometry"])
+    r.geometry = toString(root["geometry"], "geometry");
+  if (root["degree"])
+    r.degree = static_cast<int>(toInteger(root["degree"], "degree", 0, 255));
+  if (root["knots"])
+    r.knots = toDoubles(root["knots"], "knots");
+  if (root["continuity"])
+    r.continuity = static_cast<int>(toInteger(root["continuity"], "continuity", 0, 255));
+  if (root["end_condition"])
+    r.end_condition = toString(root["end_condition"], "end_condition");
+  if (root["start_velocity"])
+    r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
+  if (root["end_velocity"])
+    r.end_velocity = toTwist(root["end_velocity"], "end_velocity");
+  if (root["start_acceleration"])
+    r.start_acceleration = toTwist(root["start_acceleration"], "start_acceleration");
+  if (root["velocities"])
+  {
+    const YAML::Node v = root["velocities"];
+    if (!v.IsSequence())
+      throw InvalidInputError("velocities: expected a list of twists");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      r.velocities.push_back(toTwist(v[i], at("velocities", i)));
+  }
+  if (root["parameterization"])
+    r.parameterization = toString(root["parameterization"], "parameterization");
+  if (root["rotation_scale"])
+    r.rotation_scale = toDouble(root["rotation_scale"], "rotation_scale");
+  if (root["duration"])
+    r.duration = toDouble(root["duration"], "duration");
+  if (root["max_linear_velocity"])
+    r.max_linear_velocity = toDouble(root["max_linear_velocity"], "max_linear_velocity");
+  if (root["max_angular_velocity"])
+    r.max_angular_velocity = toDouble(root["max_angular_velocity"], "max_angular_velocity");
+  if (root["max_linear_acceleration"])
+    r.max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
+  if (root["max_angular_acceleration"])
+    r.max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
+  if (root["sample_times"])
+    r.sample_times = toDoubles(root["sample_times"], "sample_times");
+  if (root["sample_period"])
+    r.sample_period = toDouble(root["sample_period"], "sample_period");
+  if (root["sample_count"])
+    r.sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
+  if (root["publish"])
+    toBool(root["publish"], "publish");
+  if (root["child_frame_id"])
+    toString(root["child_frame_id"], "child_frame_id");
+  return r;
+}
+
+}  // namespace cli
+}  // namespace se3_interpolation

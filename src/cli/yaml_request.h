@@ -1,0 +1,28 @@
+// Reading a GenerateTrajectory request from YAML (the CLI's input format).
+//
+// Field names are those of srv/GenerateTrajectory.srv. A waypoint is
+// {position: [x, y, z], orientation: [x, y, z, w]}, a twist {linear: [..], angular: [..]}.
+// Unknown keys are errors (they are usually typos). Errors are InvalidInputError
+// naming the field and index.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/planner.h"
+
+namespace se3_interpolation
+{
+namespace cli
+{
+/// The request from a parsed YAML document.
+TrajectoryRequest requestFromYaml(const YAML::Node& root);
+
+/// For `--space sphere`: the waypoints as unit vectors of R^{m+1} (m ≥ 2), with the same
+/// sibling fields; velocities become tangent vectors.
+std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field);
+
+}  // namespace cli
+}  // namespace se3_interpolation

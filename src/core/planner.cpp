@@ -1,0 +1,181 @@
+#include "se3_interpolation/planner.h"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "se3_interpolation/bspline.h"
+#include "se3_interpolation/curve_factory.h"
+#include "se3_interpolation/kinematics.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+std::string number(double x)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+/// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
+/// speeds scale by 1/k and accelerations by 1/k².
+double stretchFactor(const ValidatedRequest& r, const CurveFigures& f)
+{
+  double k = 1.0;
+  auto speed = [&k](double peak, double bound) {
+    if (bound > 0.0)
+      k = std::max(k, peak / bound);
+  };
+  auto accel = [&k](double peak, double bound) {
+    if (bound > 0.0)
+      k = std::max(k, std::sqrt(peak / bound));
+  };
+  speed(f.max_linear_speed, r.max_linear_velocity);
+  speed(f.max_angular_speed, r.max_angular_velocity);
+  accel(f.max_linear_acceleration, r.max_linear_acceleration);
+  accel(f.max_angular_acceleration, r.max_angular_acceleration);
+  return k;
+}
+
+std::vector<double> sampleTimes(const ValidatedRequest& r, double t0, double t1, const PlannerLimits& limits)
+{
+  std::vector<double> ts;
+  if (!r.sample_times.empty())
+  {
+    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
+    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+    {
+      const double t = r.sample_times[i];
+      if (t < t0 - tol || t > t1 + tol)
+        throw InvalidInputError("sample_times[" + std::to_string(i) + "]: " + number(t) +
+                                " s is outside the trajectory [" + number(t0) + ", " + number(t1) + "] s");
+      ts.push_back(std::min(std::max(t, t0), t1));
+    }
+    return ts;
+  }
+  if (r.sample_period > 0.0)
+  {
+    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
+    if (count > static_cast<double>(limits.max_samples))
+      throw LimitExceededError("sample_period: " + number(r.sample_period) + " s gives " + number(count) +
+                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+    for (std::size_t i = 0;; ++i)
+    {
+      const double t = t0 + static_cast<double>(i) * r.sample_period;
+      if (t >= t1 - 1e-9 * r.sample_period)
+        break;
+      ts.push_back(t);
+    }
+    ts.push_back(t1);
+    return ts;
+  }
+  ts.resize(r.sample_count);
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
+  ts.back() = t1;
+  return ts;
+}
+
+template <class G>
+TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
+{
+  const std::vector<double> times = waypointTimes(r);
+  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
+
+  TrajectoryResult out;
+  out.time_scale = stretchFactor(r, fig);
+  if (out.time_scale > 1.0)
+  {
+    const double k = out.time_scale;
+    curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
+    fig.max_linear_speed /= k;
+    fig.max_angular_speed /= k;
+    fig.max_linear_acceleration /= k * k;
+    fig.max_angular_acceleration /= k * k;
+    fig.energy /= k * k * k;
+  }
+  out.start_time = curve->startTime();
+  out.duration = curve->endTime() - curve->startTime();
+  out.length = fig.length;
+  out.rotation_length = fig.rotation_length;
+  out.max_linear_speed = fig.max_linear_speed;
+  out.max_angular_speed = fig.max_angular_speed;
+  out.max_linear_acceleration = fig.max_linear_acceleration;
+  out.max_angular_acceleration = fig.max_angular_acceleration;
+  out.energy = fig.energy;
+  out.waypoints = r.waypoints;
+  out.control_points = curve->controlPoints();
+  out.pose_at = [curve](double t) { return curve->value(t); };
+  out.waypoint_times = times;
+  for (double& t : out.waypoint_times)
+    t = out.start_time + (t - out.start_time) * out.time_scale;
+
+  const std::vector<double> ts = sampleTimes(r, curve->startTime(), curve->endTime(), limits);
+  out.samples.resize(ts.size());
+  Quaternion<double> previous(1.0, 0.0, 0.0, 0.0);
+  for (std::size_t i = 0; i < ts.size(); ++i)
+  {
+    const Kinematics k = kinematicsAt(*curve, ts[i]);
+    TrajectorySample& s = out.samples[i];
+    s.time = ts[i];
+    s.pose = k.pose;
+    // Sign-continuous quaternions, the first with w ≥ 0.
+    if (s.pose.q.coeffs().dot(previous.coeffs()) < 0.0)
+      s.pose.q.coeffs() = -s.pose.q.coeffs();
+    previous = s.pose.q;
+    s.velocity = k.velocity;
+    s.acceleration = k.acceleration;
+    for (double x : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.w(), s.velocity.linear.norm(),
+                      s.velocity.angular.norm(), s.acceleration.linear.norm(), s.acceleration.angular.norm() })
+      if (!std::isfinite(x))
+        throw InterpolationError("the curve is not finite at t = " + number(ts[i]) +
+                                 " s (the input is too close to a singular configuration)");
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<double> waypointTimes(const ValidatedRequest& r)
+{
+  if (!r.times.empty())
+    return r.times;
+  const std::size_t n = r.waypoints.size();
+  std::vector<double> cumulative(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    const Pose<double>& a = r.waypoints[i - 1];
+    const Pose<double>& b = r.waypoints[i];
+    const double dtheta = r.rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
+    const double d = std::sqrt((b.p - a.p).squaredNorm() + dtheta * dtheta);
+    double step = 1.0;
+    if (r.parameterization == Parameterization::kChord)
+      step = d;
+    else if (r.parameterization == Parameterization::kCentripetal)
+      step = std::sqrt(d);
+    cumulative[i] = cumulative[i - 1] + step;
+  }
+  const double total = r.duration > 0.0 ? r.duration : static_cast<double>(n - 1);
+  std::vector<double> times(n);
+  for (std::size_t i = 0; i < n; ++i)
+    times[i] = total * cumulative[i] / cumulative[n - 1];
+  times.back() = total;
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(times[i] > times[i - 1]))
+      throw InvalidInputError("waypoints[" + std::to_string(i - 1) + "] and waypoints[" + std::to_string(i) +
+                              "]: too close to be spaced apart in time; give explicit times");
+  return times;
+}
+
+TrajectoryResult generateTrajectory(const TrajectoryRequest& request, const PlannerLimits& limits)
+{
+  const ValidatedRequest r = validateRequest(request, limits);
+  if (r.geometry == GeometryType::kScrew)
+    return run<ScrewSe3>(r, limits);
+  return run<DoubleGeodesicSe3>(r, limits);
+}
+
+}  // namespace se3_interpolation

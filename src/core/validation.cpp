@@ -1,0 +1,239 @@
+#include <cmath>
+#include <sstream>
+
+#include "se3_interpolation/bspline.h"
+#include "se3_interpolation/planner.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+std::string indexed(const std::string& field, std::size_t i)
+{
+  return field + "[" + std::to_string(i) + "]";
+}
+
+std::string number(double x)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+void requireFinite(double x, const std::string& field)
+{
+  if (!std::isfinite(x))
+    throw InvalidInputError(field + ": " + number(x) + " is not a finite number");
+}
+
+void requireFiniteNonNegative(double x, const std::string& field)
+{
+  requireFinite(x, field);
+  if (x < 0.0)
+    throw InvalidInputError(field + ": " + number(x) + " must be ≥ 0");
+}
+
+void requireFinite(const Eigen::Vector3d& v, const std::string& field)
+{
+  static const char* kAxis[] = { ".x", ".y", ".z" };
+  for (int i = 0; i < 3; ++i)
+    requireFinite(v[i], field + kAxis[i]);
+}
+
+void requireFinite(const Twist& t, const std::string& field)
+{
+  requireFinite(t.linear, field + ".linear");
+  requireFinite(t.angular, field + ".angular");
+}
+
+Quaternion<double> validQuaternion(const Quaternion<double>& q, const std::string& field)
+{
+  const double c[] = { q.x(), q.y(), q.z(), q.w() };
+  static const char* kName[] = { ".x", ".y", ".z", ".w" };
+  for (int i = 0; i < 4; ++i)
+    requireFinite(c[i], field + kName[i]);
+  const double n = std::sqrt(q.coeffs().squaredNorm());
+  if (!(n >= 0.99 && n <= 1.01))
+    throw InvalidInputError(field + ": quaternion norm " + number(n) +
+                            " is outside [0.99, 1.01] (expected a unit quaternion x, y, z, w)");
+  return Quaternion<double>(q.coeffs() / n);
+}
+
+template <class E>
+E parseName(const std::string& value, const std::string& field, const std::vector<std::pair<const char*, E>>& names,
+            E default_value)
+{
+  if (value.empty())
+    return default_value;
+  std::string known;
+  for (const auto& n : names)
+  {
+    if (value == n.first)
+      return n.second;
+    known += (known.empty() ? "" : ", ") + std::string(n.first);
+  }
+  throw InvalidInputError(field + ": unknown value '" + value + "' (expected one of: " + known + ")");
+}
+
+const std::vector<std::pair<const char*, CurveType>> kCurves = {
+  { "piecewise_geodesic", CurveType::kPiecewiseGeodesic },
+  { "bezier", CurveType::kBezier },
+  { "bspline", CurveType::kBspline },
+  { "interpolating", CurveType::kInterpolating },
+  { "hermite", CurveType::kHermite },
+  { "blended", CurveType::kBlended },
+};
+const std::vector<std::pair<const char*, GeometryType>> kGeometries = {
+  { "double_geodesic", GeometryType::kDoubleGeodesic },
+  { "screw", GeometryType::kScrew },
+};
+}  // namespace
+
+const char* toString(CurveType c)
+{
+  for (const auto& n : kCurves)
+    if (n.second == c)
+      return n.first;
+  return "";
+}
+
+const char* toString(GeometryType g)
+{
+  for (const auto& n : kGeometries)
+    if (n.second == g)
+      return n.first;
+  return "";
+}
+
+Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
+{
+  requireFinite(raw.p, field + ".position");
+  return Pose<double>(validQuaternion(raw.q, field + ".orientation"), raw.p);
+}
+
+ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits& limits)
+{
+  ValidatedRequest v;
+  const std::size_t n = r.waypoints.size();
+  if (n < 2)
+    throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least 2 are needed");
+  if (n > limits.max_waypoints)
+    throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (~max_waypoints) is " +
+                             std::to_string(limits.max_waypoints));
+  v.waypoints.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    v.waypoints.push_back(validatePose(r.waypoints[i], indexed("waypoints", i)));
+  }
+
+  v.curve = parseName(r.curve, "curve", kCurves, CurveType::kPiecewiseGeodesic);
+  v.geometry = parseName(r.geometry, "geometry", kGeometries, GeometryType::kDoubleGeodesic);
+  v.end_condition = parseName(r.end_condition, "end_condition",
+                              { { "natural", EndCondition::kNatural },
+                                { "clamped", EndCondition::kClamped },
+                                { "start", EndCondition::kStart } },
+                              EndCondition::kNatural);
+  v.parameterization = parseName(r.parameterization, "parameterization",
+                                 { { "chord", Parameterization::kChord },
+                                   { "uniform", Parameterization::kUniform },
+                                   { "centripetal", Parameterization::kCentripetal } },
+                                 Parameterization::kChord);
+
+  if (!r.times.empty())
+  {
+    if (r.times.size() != n)
+      throw InvalidInputError("times: " + std::to_string(r.times.size()) + " given for " + std::to_string(n) +
+                              " waypoints (give one time per waypoint, or none)");
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      requireFinite(r.times[i], indexed("times", i));
+      if (i > 0 && !(r.times[i] > r.times[i - 1]))
+        throw InvalidInputError(indexed("times", i) + ": " + number(r.times[i]) +
+                                " is not after times[" + std::to_string(i - 1) + "] = " + number(r.times[i - 1]) +
+                                " (times must be strictly increasing)");
+    }
+    v.times = r.times;
+  }
+  else
+  {
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      if (r.waypoints[i].p == r.waypoints[i + 1].p && v.waypoints[i].q.angularDistance(v.waypoints[i + 1].q) == 0.0)
+        throw InvalidInputError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
+                                ": identical consecutive waypoints need explicit times (to dwell)");
+  }
+
+  // Exactly antipodal rotations: the geodesic joining two consecutive points is not unique.
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    if (std::abs(v.waypoints[i].q.coeffs().dot(v.waypoints[i + 1].q.coeffs())) <= kAntipodalTolerance)
+      throw NonUniqueGeodesicError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
+                                   ": the relative rotation is exactly π, so the geodesic between them is not unique");
+
+  if (r.degree < 0)
+    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be ≥ 1");
+  const int max_degree = static_cast<int>(n) - 1;
+  v.degree = r.degree == 0 ? std::min(3, max_degree) : r.degree;
+  if (v.curve == CurveType::kBspline && v.degree > max_degree)
+    throw InvalidInputError("degree: " + std::to_string(v.degree) + " is too high for " + std::to_string(n) +
+                            " waypoints (at most " + std::to_string(max_degree) + ")");
+  if (!r.knots.empty())
+  {
+    if (v.curve != CurveType::kBspline)
+      throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" +
+                              std::string(toString(v.curve)) + "')");
+    validateKnots(r.knots, n, v.degree);
+    v.knots = r.knots;
+  }
+  if (r.continuity < 0 || r.continuity > 8)
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 … 8");
+  v.continuity = r.continuity == 0 ? 2 : r.continuity;
+
+  requireFinite(r.start_velocity, "start_velocity");
+  requireFinite(r.end_velocity, "end_velocity");
+  requireFinite(r.start_acceleration, "start_acceleration");
+  v.start_velocity = r.start_velocity;
+  v.end_velocity = r.end_velocity;
+  v.start_acceleration = r.start_acceleration;
+  if (!r.velocities.empty() && r.velocities.size() != n)
+    throw InvalidInputError("velocities: " + std::to_string(r.velocities.size()) + " given for " + std::to_string(n) +
+                            " waypoints (give one per waypoint, or none)");
+  for (std::size_t i = 0; i < r.velocities.size(); ++i)
+    requireFinite(r.velocities[i], indexed("velocities", i));
+  v.velocities = r.velocities;
+
+  requireFiniteNonNegative(r.rotation_scale, "rotation_scale");
+  v.rotation_scale = r.rotation_scale == 0.0 ? 1.0 : r.rotation_scale;
+  requireFiniteNonNegative(r.duration, "duration");
+  v.duration = r.duration;
+  requireFiniteNonNegative(r.max_linear_velocity, "max_linear_velocity");
+  requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
+  requireFiniteNonNegative(r.max_linear_acceleration, "max_linear_acceleration");
+  requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
+  v.max_linear_velocity = r.max_linear_velocity;
+  v.max_angular_velocity = r.max_angular_velocity;
+  v.max_linear_acceleration = r.max_linear_acceleration;
+  v.max_angular_acceleration = r.max_angular_acceleration;
+
+  if (r.sample_times.size() > limits.max_samples)
+    throw LimitExceededError("sample_times: " + std::to_string(r.sample_times.size()) +
+                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+  {
+    requireFinite(r.sample_times[i], indexed("sample_times", i));
+    if (i > 0 && r.sample_times[i] < r.sample_times[i - 1])
+      throw InvalidInputError(indexed("sample_times", i) + ": " + number(r.sample_times[i]) +
+                              " is before the previous sample time (sample_times must be non-decreasing)");
+  }
+  v.sample_times = r.sample_times;
+  requireFiniteNonNegative(r.sample_period, "sample_period");
+  v.sample_period = r.sample_period;
+  if (r.sample_count == 1)
+    throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
+  v.sample_count = r.sample_count == 0 ? 100 : r.sample_count;
+  if (r.sample_times.empty() && r.sample_period == 0.0 && v.sample_count > limits.max_samples)
+    throw LimitExceededError("sample_count: " + std::to_string(v.sample_count) +
+                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  return v;
+}
+
+}  // namespace se3_interpolation

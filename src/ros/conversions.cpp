@@ -1,0 +1,196 @@
+#include "se3_interpolation/ros/conversions.h"
+
+#include <tf2_eigen/tf2_eigen.h>
+
+namespace se3_interpolation
+{
+Pose<double> fromPoseMsg(const geometry_msgs::Pose& msg)
+{
+  Eigen::Quaterniond q;
+  Eigen::Vector3d p;
+  tf2::fromMsg(msg.orientation, q);
+  tf2::fromMsg(msg.position, p);
+  return Pose<double>(q, p);
+}
+
+geometry_msgs::Pose toPoseMsg(const Pose<double>& pose)
+{
+  geometry_msgs::Pose msg;
+  msg.position = tf2::toMsg(Eigen::Vector3d(pose.p));
+  msg.orientation = tf2::toMsg(Eigen::Quaterniond(pose.q));
+  return msg;
+}
+
+Twist fromTwistMsg(const geometry_msgs::Twist& msg)
+{
+  Eigen::Matrix<double, 6, 1> v;
+  tf2::fromMsg(msg, v);  // (linear, angular)
+  Twist t;
+  t.linear = v.head<3>();
+  t.angular = v.tail<3>();
+  return t;
+}
+
+geometry_msgs::Twist toTwistMsg(const Twist& twist)
+{
+  Eigen::Matrix<double, 6, 1> v;
+  v << twist.linear, twist.angular;
+  return tf2::toMsg(v);
+}
+
+geometry_msgs::Transform toTransformMsg(const Pose<double>& pose)
+{
+  geometry_msgs::Transform msg;
+  tf2::toMsg(Eigen::Vector3d(pose.p), msg.translation);
+  msg.rotation = tf2::toMsg(Eigen::Quaterniond(pose.q));
+  return msg;
+}
+
+TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
+{
+  TrajectoryRequest r;
+  r.waypoints.reserve(poses.size());
+  for (const auto& p : poses)
+    r.waypoints.push_back(fromPoseMsg(p));
+  r.times = msg.times;
+  r.curve = msg.curve;
+  r.geometry = msg.geometry;
+  r.degree = msg.degree;
+  r.knots = msg.knots;
+  r.continuity = msg.continuity;
+  r.end_condition = msg.end_condition;
+  r.start_velocity = fromTwistMsg(msg.start_velocity);
+  r.end_velocity = fromTwistMsg(msg.end_velocity);
+  r.start_acceleration = fromTwistMsg(msg.start_acceleration);
+  for (const auto& v : msg.velocities)
+    r.velocities.push_back(fromTwistMsg(v));
+  r.parameterization = msg.parameterization;
+  r.rotation_scale = msg.rotation_scale;
+  r.duration = msg.duration;
+  r.max_linear_velocity = msg.max_linear_velocity;
+  r.max_angular_velocity = msg.max_angular_velocity;
+  r.max_linear_acceleration = msg.max_linear_acceleration;
+  r.max_angular_acceleration = msg.max_angular_acceleration;
+  r.sample_times = msg.sample_times;
+  r.sample_period = msg.sample_period;
+  r.sample_count = msg.sample_count;
+  return r;
+}
+
+nav_msgs::Path toPathMsg(const TrajectoryResult& result, const std_msgs::Header& header)
+{
+  nav_msgs::Path path;
+  path.header = header;
+  path.poses.resize(result.samples.size());
+  for (std::size_t i = 0; i < result.samples.size(); ++i)
+  {
+    path.poses[i].header.frame_id = header.frame_id;
+    path.poses[i].header.stamp = header.stamp + ros::Duration(result.samples[i].time);
+    path.poses[i].pose = toPoseMsg(result.samples[i].pose);
+  }
+  return path;
+}
+
+trajectory_msgs::MultiDOFJointTrajectory toTrajectoryMsg(const TrajectoryResult& result, const std_msgs::Header& header,
+                                                         const std::string& joint_name)
+{
+  trajectory_msgs::MultiDOFJointTrajectory traj;
+  traj.header = header;
+  traj.joint_names.push_back(joint_name);
+  traj.points.resize(result.samples.size());
+  for (std::size_t i = 0; i < result.samples.size(); ++i)
+  {
+    const TrajectorySample& s = result.samples[i];
+    auto& point = traj.points[i];
+    point.transforms.push_back(toTransformMsg(s.pose));
+    point.velocities.push_back(toTwistMsg(s.velocity));
+    point.accelerations.push_back(toTwistMsg(s.acceleration));
+    point.time_from_start = ros::Duration(s.time);
+  }
+  return traj;
+}
+
+}  // namespace se3_interpolation
+
+namespace se3_interpolation
+{
+namespace
+{
+std_msgs::ColorRGBA color(float r, float g, float b, float a = 1.0F)
+{
+  std_msgs::ColorRGBA c;
+  c.r = r;
+  c.g = g;
+  c.b = b;
+  c.a = a;
+  return c;
+}
+
+visualization_msgs::Marker marker(const std_msgs::Header& header, const std::string& ns, int type, double scale,
+                                  const std_msgs::ColorRGBA& c)
+{
+  visualization_msgs::Marker m;
+  m.header = header;
+  m.ns = ns;
+  m.id = 0;
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = scale;
+  m.scale.y = scale;
+  m.scale.z = scale;
+  m.color = c;
+  return m;
+}
+}  // namespace
+
+visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, const std::vector<Pose<double>>& waypoints,
+                                              const std_msgs::Header& header, int axes, double axis_length)
+{
+  visualization_msgs::MarkerArray array;
+  visualization_msgs::Marker clear;
+  clear.header = header;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  array.markers.push_back(clear);
+
+  auto points = marker(header, "waypoints", visualization_msgs::Marker::SPHERE_LIST, 0.05, color(1.0F, 0.8F, 0.1F));
+  for (const auto& w : waypoints)
+    points.points.push_back(tf2::toMsg(Eigen::Vector3d(w.p)));
+  array.markers.push_back(points);
+
+  auto polygon = marker(header, "control_polygon", visualization_msgs::Marker::LINE_STRIP, 0.005,
+                        color(0.6F, 0.6F, 0.6F, 0.8F));
+  for (const auto& c : result.control_points)
+    polygon.points.push_back(tf2::toMsg(Eigen::Vector3d(c.p)));
+  array.markers.push_back(polygon);
+
+  auto path = marker(header, "path", visualization_msgs::Marker::LINE_STRIP, 0.01, color(0.1F, 0.6F, 1.0F));
+  for (const auto& s : result.samples)
+    path.points.push_back(tf2::toMsg(Eigen::Vector3d(s.pose.p)));
+  array.markers.push_back(path);
+
+  if (axes > 0 && !result.samples.empty())
+  {
+    auto lines = marker(header, "axes", visualization_msgs::Marker::LINE_LIST, 0.008, color(1.0F, 1.0F, 1.0F));
+    const std_msgs::ColorRGBA rgb[] = { color(1.0F, 0.0F, 0.0F), color(0.0F, 1.0F, 0.0F), color(0.0F, 0.0F, 1.0F) };
+    const std::size_t n = result.samples.size();
+    const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(axes), n);
+    for (std::size_t k = 0; k < count; ++k)
+    {
+      const std::size_t i = count == 1 ? 0 : k * (n - 1) / (count - 1);
+      const Pose<double>& pose = result.samples[i].pose;
+      const Eigen::Matrix3d r = pose.q.toRotationMatrix();
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        lines.points.push_back(tf2::toMsg(Eigen::Vector3d(pose.p)));
+        lines.points.push_back(tf2::toMsg(Eigen::Vector3d(pose.p + axis_length * r.col(axis))));
+        lines.colors.push_back(rgb[axis]);
+        lines.colors.push_back(rgb[axis]);
+      }
+    }
+    array.markers.push_back(lines);
+  }
+  return array;
+}
+
+}  // namespace se3_interpolation

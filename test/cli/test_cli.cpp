@@ -1,0 +1,148 @@
+// The se3_interpolate command line: happy paths with checked CSV, and errors with exit
+// status 2, a message on stderr and no output file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+struct Run
+{
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const std::string& path)
+{
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+bool exists(const std::string& path)
+{
+  return std::ifstream(path).good();
+}
+
+Run run(const std::string& args)
+{
+  const std::string out = testing::TempDir() + "cli_stdout.txt";
+  const std::string err = testing::TempDir() + "cli_stderr.txt";
+  const std::string cmd = std::string(SE3_INTERPOLATE_BIN) + " " + args + " >" + out + " 2>" + err;
+  Run r;
+  const int raw = std::system(cmd.c_str());
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+std::string data(const std::string& name)
+{
+  return std::string(SE3_TEST_DATA) + "/" + name;
+}
+
+std::vector<std::vector<double>> parseCsv(const std::string& text, std::string* header)
+{
+  std::istringstream in(text);
+  std::getline(in, *header);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    std::vector<double> row;
+    std::istringstream l(line);
+    std::string cell;
+    while (std::getline(l, cell, ','))
+      row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+}  // namespace
+
+TEST(Cli, PureTranslationCsvIsTheClassicalPolygon)
+{
+  const Run r = run(data("translation.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  EXPECT_EQ(header, "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz");
+  ASSERT_EQ(rows.size(), 5U);
+  // t, x, y, vx, vy on the polygon (0,0) → (2,0) in 1 s → (2,4) in 2 s
+  const double expected[5][5] = { { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 2, 0, 0, 2 }, { 2, 2, 2, 0, 2 },
+                                  { 3, 2, 4, 0, 2 } };
+  for (int i = 0; i < 5; ++i)
+  {
+    ASSERT_EQ(rows[i].size(), 20U);
+    EXPECT_NEAR(rows[i][0], expected[i][0], 1e-15);
+    EXPECT_NEAR(rows[i][1], expected[i][1], 1e-14);
+    EXPECT_NEAR(rows[i][2], expected[i][2], 1e-14);
+    EXPECT_NEAR(rows[i][8], expected[i][3], 1e-14);
+    EXPECT_NEAR(rows[i][9], expected[i][4], 1e-14);
+    EXPECT_NEAR(rows[i][7], 1.0, 1e-15);  // qw
+  }
+  EXPECT_NE(r.err.find("length: 6"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("duration: 3"), std::string::npos) << r.err;
+}
+
+TEST(Cli, ScrewBezierCsvToFile)
+{
+  const std::string out = testing::TempDir() + "bezier.csv";
+  std::remove(out.c_str());
+  const Run r = run(data("bezier_screw.yaml") + " -o " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::string header;
+  const auto rows = parseCsv(slurp(out), &header);
+  ASSERT_EQ(rows.size(), 11U);
+  // Ends are the first and last waypoints; quaternions are unit and sign-continuous, w ≥ 0 first.
+  EXPECT_NEAR(rows.front()[1], 0.0, 1e-15);
+  EXPECT_NEAR(rows.back()[1], 0.0, 1e-14);
+  EXPECT_NEAR(rows.back()[2], 1.0, 1e-14);
+  EXPECT_NEAR(rows.back()[3], 0.5, 1e-14);
+  EXPECT_NEAR(std::abs(rows.back()[6]), 1.0, 1e-14);
+  EXPECT_GE(rows.front()[7], 0.0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+  {
+    const Eigen::Vector4d q(rows[i][4], rows[i][5], rows[i][6], rows[i][7]);
+    EXPECT_NEAR(q.norm(), 1.0, 1e-14);
+    if (i > 0)
+      EXPECT_GT(q.dot(Eigen::Vector4d(rows[i - 1][4], rows[i - 1][5], rows[i - 1][6], rows[i - 1][7])), 0.0);
+  }
+  for (const char* figure : { "duration: 2", "length: ", "rotation_length: ", "max_linear_speed: ",
+                              "max_angular_speed: ", "energy: " })
+    EXPECT_NE(r.err.find(figure), std::string::npos) << figure;
+}
+
+TEST(Cli, ErrorsExitTwoWithoutOutputFile)
+{
+  const std::string out = testing::TempDir() + "must_not_exist.csv";
+  const std::pair<const char*, const char*> cases[] = {
+    { "nan.yaml", "waypoints[0].position.y" },
+    { "unknown_curve.yaml", "curve: unknown value 'catmull_rom'" },
+    { "bad_syntax.yaml", "not valid YAML" },
+    { "does_not_exist.yaml", "cannot read request file" },
+  };
+  for (const auto& c : cases)
+  {
+    std::remove(out.c_str());
+    const Run r = run(data(c.first) + " -o " + out);
+    EXPECT_EQ(r.status, 2) << c.first;
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << ": " << r.err;
+    EXPECT_FALSE(exists(out)) << c.first;
+    EXPECT_FALSE(exists(out + ".tmp")) << c.first;
+    EXPECT_TRUE(r.out.empty()) << c.first;
+  }
+  const Run usage = run("");
+  EXPECT_EQ(usage.status, 2);
+  EXPECT_NE(usage.err.find("usage:"), std::string::npos);
+}

@@ -1,0 +1,146 @@
+// Integration: a real roscore and se3_interpolation_node; service calls for every curve and
+// geometry, bad requests answered with success=false while the node keeps serving, and the
+// latched ~path reaching a late subscriber.
+#include <gtest/gtest.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+
+#include <cmath>
+#include <limits>
+
+#include "se3_interpolation/GenerateTrajectory.h"
+
+namespace
+{
+const char* const kService = "/se3_interpolation_node/generate";
+
+geometry_msgs::Pose pose(double x, double y, double z, double yaw)
+{
+  geometry_msgs::Pose p;
+  p.position.x = x;
+  p.position.y = y;
+  p.position.z = z;
+  p.orientation.z = std::sin(yaw / 2);
+  p.orientation.w = std::cos(yaw / 2);
+  return p;
+}
+
+se3_interpolation::GenerateTrajectory goodRequest()
+{
+  se3_interpolation::GenerateTrajectory srv;
+  srv.request.waypoints.header.frame_id = "map";
+  srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(1, 0, 0, 0.5), pose(1, 1, 0.5, 1.5), pose(0, 2, 1, 2.5) };
+  srv.request.sample_count = 50;
+  return srv;
+}
+
+bool call(se3_interpolation::GenerateTrajectory& srv)
+{
+  return ros::service::call(kService, srv);
+}
+}  // namespace
+
+TEST(NodeService, EveryCurveAndGeometry)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline" })
+    for (const char* geometry : { "double_geodesic", "screw" })
+    {
+      auto srv = goodRequest();
+      srv.request.curve = curve;
+      srv.request.geometry = geometry;
+      srv.request.duration = 4.0;
+      ASSERT_TRUE(call(srv));
+      ASSERT_TRUE(srv.response.success) << curve << "/" << geometry << ": " << srv.response.message;
+      ASSERT_EQ(srv.response.path.poses.size(), 50U);
+      ASSERT_EQ(srv.response.trajectory.points.size(), 50U);
+      EXPECT_EQ(srv.response.path.header.frame_id, "map");
+      EXPECT_EQ(srv.response.trajectory.joint_names.at(0), "interpolated");
+      EXPECT_NEAR(srv.response.duration, 4.0, 1e-12);
+      // Starts at the first waypoint and ends at the last.
+      const auto& first = srv.response.path.poses.front().pose.position;
+      const auto& last = srv.response.path.poses.back().pose.position;
+      EXPECT_NEAR(first.x, 0.0, 1e-12);
+      EXPECT_NEAR(last.y, 2.0, 1e-12);
+      EXPECT_NEAR(last.z, 1.0, 1e-12);
+      EXPECT_NEAR(srv.response.trajectory.points.back().time_from_start.toSec(), 4.0, 1e-6);
+      EXPECT_GT(srv.response.length, 2.0);
+      EXPECT_GT(srv.response.max_linear_speed, 0.0);
+      EXPECT_EQ(srv.response.trajectory.points[10].velocities.size(), 1U);
+      EXPECT_EQ(srv.response.trajectory.points[10].accelerations.size(), 1U);
+    }
+}
+
+TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  struct Case
+  {
+    const char* name;
+    std::function<void(se3_interpolation::GenerateTrajectory&)> spoil;
+    const char* expected;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Case cases[] = {
+    { "NaN position", [nan](auto& s) { s.request.waypoints.poses[2].position.y = nan; }, "waypoints[2].position.y" },
+    { "Inf time", [](auto& s) { s.request.times = { 0, 1, std::numeric_limits<double>::infinity(), 3 }; },
+      "times[2]" },
+    { "zero quaternion", [](auto& s) { s.request.waypoints.poses[1].orientation = geometry_msgs::Quaternion(); },
+      "waypoints[1].orientation" },
+    { "one waypoint", [](auto& s) { s.request.waypoints.poses.resize(1); }, "waypoints" },
+    { "unknown curve", [](auto& s) { s.request.curve = "catmull_rom"; }, "curve" },
+    { "unknown geometry", [](auto& s) { s.request.geometry = "euler"; }, "geometry" },
+    { "bad knots", [](auto& s) { s.request.curve = "bspline"; s.request.knots = { 0, 1 }; }, "knots" },
+  };
+  for (const auto& c : cases)
+  {
+    auto bad = goodRequest();
+    c.spoil(bad);
+    bad.request.publish = true;
+    ASSERT_TRUE(call(bad)) << c.name;  // the call itself succeeds: the error is in the response
+    EXPECT_FALSE(bad.response.success) << c.name;
+    EXPECT_NE(bad.response.message.find(c.expected), std::string::npos) << c.name << ": " << bad.response.message;
+    EXPECT_TRUE(bad.response.path.poses.empty()) << c.name;
+
+    auto good = goodRequest();
+    ASSERT_TRUE(call(good)) << "after " << c.name;
+    EXPECT_TRUE(good.response.success) << "after " << c.name << ": " << good.response.message;
+  }
+}
+
+TEST(NodeService, LatchedPathReachesALateSubscriber)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.curve = "bezier";
+  srv.request.sample_count = 33;
+  srv.request.publish = true;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+
+  ros::NodeHandle nh;
+  nav_msgs::Path received;
+  bool got = false;
+  ros::Subscriber sub = nh.subscribe<nav_msgs::Path>("/se3_interpolation_node/path", 1,
+                                                     [&](const nav_msgs::Path::ConstPtr& msg) {
+                                                       received = *msg;
+                                                       got = true;
+                                                     });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (!got && ros::WallTime::now() < deadline)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_TRUE(got);
+  EXPECT_EQ(received.poses.size(), 33U);
+  EXPECT_EQ(received.header.frame_id, "map");
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_node_service");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
