@@ -12,7 +12,7 @@
 
 namespace
 {
-struct Run
+struct CliRun
 {
   int status = -1;
   std::string out;
@@ -32,12 +32,12 @@ bool exists(const std::string& path)
   return std::ifstream(path).good();
 }
 
-Run run(const std::string& args)
+CliRun run(const std::string& args)
 {
   const std::string out = testing::TempDir() + "cli_stdout.txt";
   const std::string err = testing::TempDir() + "cli_stderr.txt";
   const std::string cmd = std::string(SE3_INTERPOLATE_BIN) + " " + args + " >" + out + " 2>" + err;
-  Run r;
+  CliRun r;
   const int raw = std::system(cmd.c_str());
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   r.out = slurp(out);
@@ -71,7 +71,7 @@ std::vector<std::vector<double>> parseCsv(const std::string& text, std::string* 
 
 TEST(Cli, PureTranslationCsvIsTheClassicalPolygon)
 {
-  const Run r = run(data("translation.yaml"));
+  const CliRun r = run(data("translation.yaml"));
   ASSERT_EQ(r.status, 0) << r.err;
   std::string header;
   const auto rows = parseCsv(r.out, &header);
@@ -98,7 +98,7 @@ TEST(Cli, ScrewBezierCsvToFile)
 {
   const std::string out = testing::TempDir() + "bezier.csv";
   std::remove(out.c_str());
-  const Run r = run(data("bezier_screw.yaml") + " -o " + out);
+  const CliRun r = run(data("bezier_screw.yaml") + " -o " + out);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.out.empty());
   std::string header;
@@ -135,14 +135,14 @@ TEST(Cli, ErrorsExitTwoWithoutOutputFile)
   for (const auto& c : cases)
   {
     std::remove(out.c_str());
-    const Run r = run(data(c.first) + " -o " + out);
+    const CliRun r = run(data(c.first) + " -o " + out);
     EXPECT_EQ(r.status, 2) << c.first;
     EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << ": " << r.err;
     EXPECT_FALSE(exists(out)) << c.first;
     EXPECT_FALSE(exists(out + ".tmp")) << c.first;
     EXPECT_TRUE(r.out.empty()) << c.first;
   }
-  const Run usage = run("");
+  const CliRun usage = run("");
   EXPECT_EQ(usage.status, 2);
   EXPECT_NE(usage.err.find("usage:"), std::string::npos);
 }
