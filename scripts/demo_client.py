@@ -4,7 +4,7 @@ se3_interpolation_node's ~generate service for each curve and geometry, prints a
 table, and publishes the last trajectory (path, markers, TF) for rviz.
 
 Private parameters: ~waypoints_file (path), ~service (default /se3_interpolation_node/generate),
-~curves (list), ~geometries (list), ~duration (s).
+~curves (list), ~geometries (list), ~duration (s), ~summary_file (also write the summary there).
 """
 import sys
 
@@ -35,15 +35,22 @@ def main():
     curves = rospy.get_param("~curves", ["piecewise_geodesic", "bezier", "bspline"])
     geometries = rospy.get_param("~geometries", ["double_geodesic", "screw"])
     duration = float(rospy.get_param("~duration", 6.0))
+    summary_file = rospy.get_param("~summary_file", "")
     waypoints = load_waypoints(path)
     rospy.wait_for_service(service, timeout=30.0)
     generate = rospy.ServiceProxy(service, GenerateTrajectory)
 
-    print("\nse3_interpolation demo: %d waypoints from %s, %.1f s" % (len(waypoints.poses), path, duration))
+    lines = []
+
+    def say(text):
+        lines.append(text)
+        print(text)
+
+    say("se3_interpolation demo: %d waypoints from %s, %.1f s" % (len(waypoints.poses), path, duration))
     header = "%-20s %-16s %8s %9s %9s %10s %10s %12s" % (
         "curve", "geometry", "samples", "length_m", "rot_rad", "v_max_m/s", "w_max_rad/s", "energy")
-    print(header)
-    print("-" * len(header))
+    say(header)
+    say("-" * len(header))
     failures = 0
     for i, curve in enumerate(curves):
         for j, geometry in enumerate(geometries):
@@ -57,13 +64,16 @@ def main():
             res = generate(req)
             if not res.success:
                 failures += 1
-                print("%-20s %-16s FAILED: %s" % (curve, geometry, res.message))
+                say("%-20s %-16s FAILED: %s" % (curve, geometry, res.message))
                 continue
-            print("%-20s %-16s %8d %9.4f %9.4f %10.4f %10.4f %12.4f" % (
+            say("%-20s %-16s %8d %9.4f %9.4f %10.4f %10.4f %12.4f" % (
                 curve, geometry, len(res.path.poses), res.length, res.rotation_length,
                 res.max_linear_speed, res.max_angular_speed, res.energy))
-    print("\nPublished the last trajectory on ~path, ~trajectory, ~markers and TF frame 'interpolated'.")
+    say("Published the last trajectory on ~path, ~trajectory, ~markers and TF frame 'interpolated'.")
     sys.stdout.flush()
+    if summary_file:
+        with open(summary_file, "w") as f:
+            f.write("\n".join(lines) + "\n")
     return 1 if failures else 0
 
 

@@ -9,6 +9,12 @@ se3_build
 if [ -n "${DISPLAY:-}" ]; then
   exec roslaunch se3_interpolation demo.launch rviz:=true
 fi
-export ROS_MASTER_URI=${ROS_MASTER_URI:-http://localhost:11311}
-roslaunch se3_interpolation demo.launch rviz:=false exit_after_summary:=true 2>&1 |
-  grep -vE '^(\.\.\. |started roslaunch|process\[|setting /run_id|auto-starting|ROS_MASTER_URI|SUMMARY|=+$|PARAMETERS|NODES|  /|  \* /|core service|shutting down|\[se3_interpolation_demo-|all processes|done$|$)' || true
+summary="$SE3_WS/demo_summary.txt"
+rm -f "$summary"
+if ! roslaunch se3_interpolation demo.launch rviz:=false exit_after_summary:=true summary_file:="$summary" \
+    >"$SE3_WS/demo.log" 2>&1 || [ ! -s "$summary" ]; then
+  tail -n 30 "$SE3_WS/demo.log"
+  echo "demo failed (log: $SE3_WS/demo.log)" >&2
+  exit 1
+fi
+cat "$summary"
