@@ -17,6 +17,15 @@ skipped=$(echo "$line" | sed -nE 's/.* ([0-9]+) skipped.*/\1/p')
 total=${total:-0}; errors=${errors:-0}; failures=${failures:-0}; skipped=${skipped:-0}
 failed=$((errors + failures))
 passed=$((total - failed - skipped))
+# rviz on the demo config under Xvfb: a screenshot that is not blank counts as one more test.
+mkdir -p "$SE3_WS/artifacts"
+if bash "$SE3_ROOT/scripts/rviz_screenshot.sh" "$SE3_WS/artifacts/rviz_demo.png"; then
+  total=$((total + 1))
+else
+  echo "rviz screenshot check failed (log: $SE3_WS/rviz_screenshot.log)" >&2
+  total=$((total + 1)); failed=$((failed + 1))
+fi
+passed=$((total - failed - skipped))
 expected_suites=$(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' | wc -l)
 if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -lt "$expected_suites" ]; then
   echo "test reports are missing (see $SE3_WS/tests.log)" >&2
