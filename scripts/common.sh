@@ -13,7 +13,7 @@ SE3_APT_PACKAGES=(
   libeigen3-dev libnav-msgs-dev libvisualization-msgs-dev libtrajectory-msgs-dev libstd-srvs-dev
   python3-rostest python3-geometry-msgs python3-nav-msgs python3-visualization-msgs python3-std-srvs
   python3-trajectory-msgs libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev python3-yaml
-  python3-matplotlib python3-numpy rviz xvfb imagemagick valgrind clang libclang-rt-14-dev
+  python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev
 )
 
 se3_install_deps() {
