@@ -82,13 +82,29 @@ inline void validateKnots(const std::vector<double>& knots, std::size_t num_poin
 }
 
 /// Span index k with u_k ≤ t < u_{k+1} (Side::kRight) or u_k < t ≤ u_{k+1} (Side::kLeft),
-/// clamped to the domain's spans m … N−1.
+/// clamped to the domain's non-empty spans among m … N−1 (at or beyond a domain end, the
+/// limit from inside the domain).
 inline std::size_t knotSpan(const std::vector<double>& u, std::size_t num_points, int degree, double t, Side side)
 {
   auto it = side == Side::kRight ? std::upper_bound(u.begin(), u.end(), t) : std::lower_bound(u.begin(), u.end(), t);
   std::ptrdiff_t k = (it - u.begin()) - 1;
-  k = std::max<std::ptrdiff_t>(k, degree);
-  k = std::min<std::ptrdiff_t>(k, static_cast<std::ptrdiff_t>(num_points) - 1);
+  const std::ptrdiff_t first = degree;
+  const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(num_points) - 1;
+  // Clamped to the domain, the span can be empty when a domain end is a repeated knot
+  // (e.g. u_{N−1} = u_N): take the nearest non-empty span inside the domain.
+  auto empty = [&u](std::ptrdiff_t s) { return !(u[static_cast<std::size_t>(s)] < u[static_cast<std::size_t>(s) + 1]); };
+  if (k >= last)
+  {
+    k = last;
+    while (k > first && empty(k))
+      --k;
+  }
+  else if (k <= first)
+  {
+    k = first;
+    while (k < last && empty(k))
+      ++k;
+  }
   return static_cast<std::size_t>(k);
 }
 
