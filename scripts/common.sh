@@ -12,7 +12,7 @@ SE3_APT_PACKAGES=(
   build-essential cmake ros-core-dev libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
   libeigen3-dev libnav-msgs-dev libvisualization-msgs-dev libtrajectory-msgs-dev libstd-srvs-dev
   python3-rostest python3-geometry-msgs python3-nav-msgs python3-visualization-msgs python3-std-srvs
-  python3-trajectory-msgs libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev python3-yaml
+  python3-trajectory-msgs libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev
 )
 

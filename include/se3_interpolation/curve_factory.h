@@ -4,9 +4,13 @@
 #include <memory>
 #include <vector>
 
+#include "se3_interpolation/blending.h"
 #include "se3_interpolation/bspline.h"
+#include "se3_interpolation/hermite.h"
+#include "se3_interpolation/interpolating_spline.h"
 #include "se3_interpolation/planner.h"
 #include "se3_interpolation/polynomial_curves.h"
+#include "se3_interpolation/se3_velocity.h"
 
 namespace se3_interpolation
 {
@@ -26,6 +30,24 @@ std::shared_ptr<const Curve<G>> makeCurve(const ValidatedRequest& r, const std::
           r.knots.empty() ? clampedUniformKnots(x.size(), r.degree, times.front(), times.back()) : r.knots;
       return std::make_shared<BSplineCurve<G>>(x, r.degree, std::move(knots));
     }
+    case CurveType::kInterpolating:
+      // Request twists → G's tangents at the first / last waypoint (se3_velocity.h).
+      return makeInterpolatingSpline<G>(
+          x, times, r.end_condition, velocityToTangent<G>(x.front(), r.start_velocity),
+          velocityToTangent<G>(x.back(), r.end_velocity),
+          accelerationToTangent<G>(x.front(), r.start_velocity, r.start_acceleration));
+    case CurveType::kHermite:
+    {
+      std::vector<typename G::template Tangent<double>> tangents;
+      if (r.velocities.empty())
+        tangents = estimateTangents<G>(x, times);
+      for (std::size_t i = 0; i < r.velocities.size(); ++i)
+        tangents.push_back(velocityToTangent<G>(x[i], r.velocities[i]));
+      return std::make_shared<HermiteSpline<G>>(
+          x, times, std::move(tangents), r.velocities.empty() ? "the velocity estimated at waypoints" : "velocities");
+    }
+    case CurveType::kBlended:
+      return std::make_shared<BlendedSpline<G>>(x, times, r.continuity);
     default:
       break;
   }

@@ -151,8 +151,9 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
         const Kinematics k = kinematicsAt(curve, t);
         fig.length += w * k.velocity.linear.norm();
         fig.rotation_length += w * k.velocity.angular.norm();
+        // (ρ ω̇)², not ρ² |ω̇|²: a huge ρ times ω̇ = 0 is 0, not ∞ · 0 = NaN.
         fig.energy += w * (k.acceleration.linear.squaredNorm() +
-                           rotation_scale * rotation_scale * k.acceleration.angular.squaredNorm());
+                           (rotation_scale * k.acceleration.angular).squaredNorm());
         consider(k, t, std::max(b[i], t - h / 4.0), std::min(b[i + 1], t + h / 4.0));
       }
     }

@@ -13,13 +13,14 @@
 #include <string>
 
 #include "se3_interpolation/planner.h"
+#include "se3_interpolation/sphere_planner.h"
 #include "yaml_request.h"
 
 namespace
 {
 constexpr int kUsageError = 2;
 
-const char* const kUsage = "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose]\n";
+const char* const kUsage = "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere]\n";
 
 struct Arguments
 {
@@ -52,8 +53,8 @@ Arguments parseArguments(int argc, char** argv)
   }
   if (a.request.empty())
     throw std::invalid_argument(std::string("no request file given\n") + kUsage);
-  if (a.space != "pose")
-    throw std::invalid_argument("--space: unknown value '" + a.space + "' (expected pose)");
+  if (a.space != "pose" && a.space != "sphere")
+    throw std::invalid_argument("--space: unknown value '" + a.space + "' (expected pose or sphere)");
   return a;
 }
 
@@ -73,6 +74,32 @@ std::string poseCsv(const se3_interpolation::TrajectoryResult& result)
     out << '\n';
   }
   return out.str();
+}
+
+/// `--space sphere`: t,x1,…,x{m+1}.
+std::string sphereCsv(const se3_interpolation::SphereResult& result)
+{
+  std::ostringstream out;
+  out << std::setprecision(17) << 't';
+  const Eigen::Index dim = result.waypoints.front().size();
+  for (Eigen::Index j = 1; j <= dim; ++j)
+    out << ",x" << j;
+  out << '\n';
+  for (const auto& s : result.samples)
+  {
+    out << s.time;
+    for (Eigen::Index j = 0; j < dim; ++j)
+      out << ',' << s.point[j];
+    out << '\n';
+  }
+  return out.str();
+}
+
+void printSphereFigures(const se3_interpolation::SphereResult& r)
+{
+  std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.length
+            << "\nmax_speed: " << r.max_speed << "\nmax_acceleration: " << r.max_acceleration
+            << "\nenergy: " << r.energy << "\n";
 }
 
 void printFigures(const se3_interpolation::TrajectoryResult& r)
@@ -122,10 +149,21 @@ int main(int argc, char** argv)
     {
       throw std::invalid_argument("request file '" + args.request + "' is not valid YAML: " + e.what());
     }
-    const se3_interpolation::TrajectoryResult result =
-        se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), {});
-    const std::string csv = poseCsv(result);
-    printFigures(result);
+    std::string csv;
+    if (args.space == "sphere")
+    {
+      const se3_interpolation::SphereResult result =
+          se3_interpolation::generateSphereTrajectory(se3_interpolation::cli::sphereRequestFromYaml(root), {});
+      csv = sphereCsv(result);
+      printSphereFigures(result);
+    }
+    else
+    {
+      const se3_interpolation::TrajectoryResult result =
+          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), {});
+      csv = poseCsv(result);
+      printFigures(result);
+    }
     if (args.output.empty())
       std::cout << csv << std::flush;
     else

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "se3_interpolation/planner.h"
+#include "se3_interpolation/sphere_planner.h"
 
 namespace se3_interpolation
 {
@@ -23,6 +24,11 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root);
 /// For `--space sphere`: the waypoints as unit vectors of R^{m+1} (m ≥ 2), with the same
 /// sibling fields; velocities become tangent vectors.
 std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field);
+
+/// The request for `--space sphere`: the same keys as requestFromYaml, with each waypoint a
+/// vector [x1, …, x{m+1}] and start_velocity, end_velocity, start_acceleration and each entry of
+/// velocities a vector of the same length (tangent to the sphere at its waypoint).
+SphereRequest sphereRequestFromYaml(const YAML::Node& root);
 
 }  // namespace cli
 }  // namespace se3_interpolation

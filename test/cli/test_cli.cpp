@@ -146,3 +146,59 @@ TEST(Cli, ErrorsExitTwoWithoutOutputFile)
   EXPECT_EQ(usage.status, 2);
   EXPECT_NE(usage.err.find("usage:"), std::string::npos);
 }
+
+TEST(Cli, SphereSpaceBlendedCircleAndErrors)
+{
+  // --space sphere: points on the circle of angular radius 1 rad about x3 at times equal to their
+  // angles; the blended spline is that circle at unit rate, x(t) = (sin 1 cos t, sin 1 sin t, cos 1),
+  // with speed sin 1, covariant acceleration sin 1 cos 1 and energy (eq. 32) 2.9 sin²1 cos²1.
+  const std::string out = testing::TempDir() + "sphere.csv";
+  std::remove(out.c_str());
+  const CliRun r = run(data("sphere_circle_blended.yaml") + " --space sphere -o " + out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::string header;
+  const auto rows = parseCsv(slurp(out), &header);
+  EXPECT_EQ(header, "t,x1,x2,x3");
+  ASSERT_EQ(rows.size(), 30U);
+  const double s1 = std::sin(1.0), c1 = std::cos(1.0);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+  {
+    ASSERT_EQ(rows[i].size(), 4U);
+    const double t = rows[i][0];
+    EXPECT_NEAR(t, 0.1 * static_cast<double>(i), 1e-14);
+    EXPECT_NEAR(rows[i][1], s1 * std::cos(t), 1e-12) << t;
+    EXPECT_NEAR(rows[i][2], s1 * std::sin(t), 1e-12) << t;
+    EXPECT_NEAR(rows[i][3], c1, 1e-12) << t;
+  }
+  auto figure = [&r](const std::string& name) {
+    const std::size_t at = r.err.find(name + ": ");
+    return at == std::string::npos ? -1.0 : std::stod(r.err.substr(at + name.size() + 2));
+  };
+  EXPECT_NEAR(figure("duration"), 2.9, 1e-10) << r.err;
+  EXPECT_NEAR(figure("length"), 2.9 * s1, 1e-10) << r.err;
+  EXPECT_NEAR(figure("max_speed"), s1, 1e-10) << r.err;
+  EXPECT_NEAR(figure("max_acceleration"), s1 * c1, 1e-10) << r.err;
+  EXPECT_NEAR(figure("energy"), 2.9 * s1 * s1 * c1 * c1, 1e-10) << r.err;
+
+  const std::string bad = testing::TempDir() + "sphere_must_not_exist.csv";
+  const std::pair<const char*, const char*> cases[] = {
+    { "sphere_non_unit.yaml", "waypoints[2]: norm 0.5 is outside [0.99, 1.01]" },
+    { "sphere_antipodal.yaml", "waypoints[1] and waypoints[2]" },
+  };
+  for (const auto& c : cases)
+  {
+    std::remove(bad.c_str());
+    const CliRun e = run(data(c.first) + " --space sphere -o " + bad);
+    EXPECT_EQ(e.status, 2) << c.first;
+    EXPECT_NE(e.err.find(c.second), std::string::npos) << c.first << ": " << e.err;
+    EXPECT_FALSE(exists(bad)) << c.first;
+    EXPECT_FALSE(exists(bad + ".tmp")) << c.first;
+    EXPECT_TRUE(e.out.empty()) << c.first;
+  }
+  // A pose request is not a sphere request, and the space must be known.
+  EXPECT_EQ(run(data("bezier_screw.yaml") + " --space sphere").status, 2);
+  const CliRun unknown = run(data("sphere_circle_blended.yaml") + " --space torus");
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_NE(unknown.err.find("--space: unknown value 'torus'"), std::string::npos) << unknown.err;
+}

@@ -1,0 +1,189 @@
+// Runs one named core operation N times, for instruction counts under callgrind
+// (scripts/instruction_counts.sh runs it with N = 0 and N = 2000 and divides the difference).
+//
+// Usage: count_ops OPERATION N     (prints a checksum so that nothing is optimised away)
+//        count_ops --list          (the operation names, one a line)
+//
+// The inputs are the deterministic tables of bench_fixtures.h, cycled with the loop index;
+// everything an operation needs is built before the loop, identically for every N.
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bench_fixtures.h"
+
+namespace
+{
+namespace si = se3_interpolation;
+using se3_bench::Pose3;
+using se3_bench::wrap;
+
+double checksum(const Pose3& x)
+{
+  return x.q.w() + x.q.x() + x.p.x() + x.p.z();
+}
+double checksum(const se3_bench::EigenPose& x)
+{
+  return x.q.w() + x.q.x() + x.p.x() + x.p.z();
+}
+double checksum(const si::Quaternion<double>& q)
+{
+  return q.w() + q.z();
+}
+template <int R>
+double checksum(const Eigen::Matrix<double, R, 1>& v)
+{
+  return v.sum();
+}
+double checksum(const si::Kinematics& k)
+{
+  return checksum(k.pose) + k.velocity.angular.x() + k.velocity.linear.y() + k.acceleration.angular.z() +
+         k.acceleration.linear.x();
+}
+
+/// The loop: op(i) for i = 0 … n − 1, inputs cycled through the tables.
+template <class Op>
+double repeat(std::size_t n, const Op& op)
+{
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+    sum += checksum(op(wrap(i)));
+  return sum;
+}
+
+using Runner = std::function<double(std::size_t)>;
+
+/// Lie group maps and two-point steps over the shared step inputs.
+std::vector<std::pair<std::string, Runner>> stepOperations()
+{
+  static const se3_bench::StepInputs in = se3_bench::makeStepInputs();
+  static const std::vector<Pose3> rel = [] {
+    std::vector<Pose3> r;
+    for (std::size_t i = 0; i < se3_bench::kTableSize; ++i)
+      r.push_back(in.a[i].inverse() * in.b[i]);
+    return r;
+  }();
+  static const std::vector<se3_bench::EigenPose> ea = se3_bench::toEigen(in.a);
+  static const std::vector<se3_bench::EigenPose> eb = se3_bench::toEigen(in.b);
+  return {
+    { "so3_exp",
+      [](std::size_t n) { return repeat(n, [](std::size_t i) { return si::so3Exp<double>(in.twist[i].head<3>()); }); } },
+    { "so3_log", [](std::size_t n) { return repeat(n, [](std::size_t i) { return si::so3Log<double>(rel[i].q); }); } },
+    { "se3_exp", [](std::size_t n) { return repeat(n, [](std::size_t i) { return si::se3Exp<double>(in.twist[i]); }); } },
+    { "se3_log", [](std::size_t n) { return repeat(n, [](std::size_t i) { return si::se3Log<double>(rel[i]); }); } },
+    { "screw_step",
+      [](std::size_t n) {
+        return repeat(n, [](std::size_t i) { return si::geodesic<si::ScrewSe3>(in.a[i], in.b[i], in.lambda[i]); });
+      } },
+    { "double_geodesic_step",
+      [](std::size_t n) {
+        return repeat(n,
+                      [](std::size_t i) { return si::geodesic<si::DoubleGeodesicSe3>(in.a[i], in.b[i], in.lambda[i]); });
+      } },
+    { "eigen_slerp_lerp_step",
+      [](std::size_t n) {
+        return repeat(n, [](std::size_t i) { return se3_bench::slerpLerp(ea[i], eb[i], in.lambda[i]); });
+      } },
+  };
+}
+
+/// Points of cubic curves (value, or value + velocity + acceleration) in geometry G.
+template <class G>
+std::vector<std::pair<std::string, Runner>> curveOperations(const std::string& g)
+{
+  static const std::vector<double> t = se3_bench::makeParameters(5);
+  auto bezier = [](std::size_t n) {
+    const auto curves = se3_bench::makeBezierCurves<G>();
+    return repeat(n, [&curves](std::size_t i) { return curves[i & 15]->value(t[i]); });
+  };
+  auto bezier_jet = [](std::size_t n) {
+    const auto curves = se3_bench::makeBezierCurves<G>();
+    return repeat(n, [&curves](std::size_t i) { return si::kinematicsAt(*curves[i & 15], t[i]); });
+  };
+  auto bspline = [](std::size_t n) {
+    const auto curves = se3_bench::makeBsplineCurves<G>();
+    return repeat(n, [&curves](std::size_t i) { return curves[i & 15]->value(t[i]); });
+  };
+  auto bspline_jet = [](std::size_t n) {
+    const auto curves = se3_bench::makeBsplineCurves<G>();
+    return repeat(n, [&curves](std::size_t i) { return si::kinematicsAt(*curves[i & 15], t[i]); });
+  };
+  auto sample = [](std::size_t n) {
+    const auto curve = se3_bench::makeInterpolatingCurve<G>(100);
+    const double t0 = curve->startTime();
+    const double span = curve->endTime() - t0;
+    return repeat(n, [&curve, t0, span](std::size_t i) { return si::kinematicsAt(*curve, t0 + span * t[i]); });
+  };
+  return { { g + "_bezier_point", bezier },
+           { g + "_bezier_point_jet", bezier_jet },
+           { g + "_bspline_point", bspline },
+           { g + "_bspline_point_jet", bspline_jet },
+           { g + "_sample_interpolating", sample } };
+}
+
+/// The same cubic curves with Eigen slerp + lerp (the peer of the double-geodesic points).
+std::vector<std::pair<std::string, Runner>> eigenCurveOperations()
+{
+  static const std::vector<double> t = se3_bench::makeParameters(5);
+  auto bezier = [](std::size_t n) {
+    std::vector<std::vector<se3_bench::EigenPose>> polygons;
+    for (const auto& p : se3_bench::makePolygons(se3_bench::kCurveCount, 4, 2))
+      polygons.push_back(se3_bench::toEigen(p));
+    return repeat(n, [&polygons](std::size_t i) {
+      return se3_bench::cubicDeCasteljau(polygons[i & 15].data(), t[i], se3_bench::slerpLerp);
+    });
+  };
+  auto bspline = [](std::size_t n) {
+    std::vector<std::vector<se3_bench::EigenPose>> control;
+    for (const auto& p : se3_bench::makePolygons(se3_bench::kCurveCount, se3_bench::kBsplinePoints, 3))
+      control.push_back(se3_bench::toEigen(p));
+    const std::vector<double> knots = si::clampedUniformKnots(se3_bench::kBsplinePoints, 3, 0.0, 1.0);
+    return repeat(n, [&control, &knots](std::size_t i) {
+      return se3_bench::cubicDeBoor(control[i & 15], knots, t[i], se3_bench::slerpLerp);
+    });
+  };
+  return { { "eigen_bezier_point", bezier }, { "eigen_bspline_point", bspline } };
+}
+
+std::vector<std::pair<std::string, Runner>> operations()
+{
+  std::vector<std::pair<std::string, Runner>> ops = stepOperations();
+  for (auto& op : curveOperations<si::ScrewSe3>("screw"))
+    ops.push_back(std::move(op));
+  for (auto& op : curveOperations<si::DoubleGeodesicSe3>("double_geodesic"))
+    ops.push_back(std::move(op));
+  for (auto& op : eigenCurveOperations())
+    ops.push_back(std::move(op));
+  return ops;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const auto ops = operations();
+  if (argc == 2 && std::string(argv[1]) == "--list")
+  {
+    for (const auto& op : ops)
+      std::printf("%s\n", op.first.c_str());
+    return 0;
+  }
+  char* end = nullptr;
+  const unsigned long long n = argc == 3 ? std::strtoull(argv[2], &end, 10) : 0;
+  if (argc != 3 || end == argv[2] || *end != '\0')
+  {
+    std::fprintf(stderr, "usage: %s OPERATION N | --list\n", argv[0]);
+    return 2;
+  }
+  for (const auto& op : ops)
+    if (op.first == argv[1])
+    {
+      std::printf("%s %llu checksum %.17g\n", argv[1], n, op.second(static_cast<std::size_t>(n)));
+      return 0;
+    }
+  std::fprintf(stderr, "unknown operation '%s' (count_ops --list)\n", argv[1]);
+  return 2;
+}

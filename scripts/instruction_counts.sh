@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Instructions per core operation, counted by valgrind's callgrind (deterministic, unlike
+# wall-clock timings): bench/count_ops runs each operation N = 0 and N = 2000 times and the
+# difference of the two totals, divided by 2000, is the cost of one operation.
+#
+# Usage: scripts/instruction_counts.sh            print the table
+#        scripts/instruction_counts.sh --check    compare with bench/instruction_counts.txt;
+#                                                 exit 1 if any count grew by more than 10 %
+#        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt
+# The driver is built with g++ -O2 -DNDEBUG (default x86-64 flags, no catkin) into
+# $SE3_WS/bench; counts depend on the compiler, whose version the results file records.
+# shellcheck source=scripts/common.sh
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+mode=print
+case "${1:-}" in
+  "") ;;
+  --check) mode=check ;;
+  --update) mode=update ;;
+  *)
+    echo "usage: $0 [--check | --update]" >&2
+    exit 2
+    ;;
+esac
+
+REPEATS=2000
+TOLERANCE=0.10
+RESULTS="$SE3_ROOT/bench/instruction_counts.txt"
+OUT="$SE3_WS/bench"
+CXX=${CXX:-g++}
+CXXFLAGS="-std=c++17 -O2 -DNDEBUG"
+mkdir -p "$OUT"
+
+command -v valgrind >/dev/null || { echo "valgrind not found (apt-get install valgrind)" >&2; exit 2; }
+
+# Rebuild the driver when it is missing or older than any source it includes.
+driver="$OUT/count_ops"
+if [ ! -x "$driver" ] || [ -n "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" \( -name '*.h' -o -name count_ops.cpp \) -newer "$driver" | head -n 1)" ]; then
+  echo "building $driver ($CXX $CXXFLAGS)" >&2
+  # shellcheck disable=SC2086
+  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver"
+fi
+
+compiler="$("$CXX" --version | head -n 1)"
+callgrind_total() {
+  local file="$OUT/callgrind.$1.$2.out"
+  valgrind --tool=callgrind --callgrind-out-file="$file" "$driver" "$1" "$2" >/dev/null 2>"$OUT/callgrind.log" || {
+    cat "$OUT/callgrind.log" >&2
+    echo "callgrind run of '$1 $2' failed" >&2
+    exit 2
+  }
+  awk '/^(summary|totals):/ { v = $2 } END { print v }' "$file"
+  rm -f "$file"
+}
+
+measured="$OUT/instruction_counts.measured"
+: >"$measured"
+for op in $("$driver" --list); do
+  base=$(callgrind_total "$op" 0)
+  full=$(callgrind_total "$op" "$REPEATS")
+  echo "$op $(( (full - base + REPEATS / 2) / REPEATS ))" >>"$measured"
+done
+
+write_table() {
+  echo "# Instructions per operation (callgrind Ir; totals of N = $REPEATS minus N = 0, divided by $REPEATS)."
+  echo "# Driver: bench/count_ops.cpp, $CXX $CXXFLAGS (default x86-64 flags); compiler: $compiler"
+  echo "# Check: scripts/instruction_counts.sh --check (fails when a count grows by more than 10 %);"
+  echo "# regenerate: scripts/instruction_counts.sh --update."
+  awk '{ printf "%-40s %10d\n", $1, $2 }' "$measured"
+}
+
+case "$mode" in
+  print)
+    write_table
+    ;;
+  update)
+    write_table >"$RESULTS"
+    cat "$RESULTS"
+    echo "wrote $RESULTS"
+    ;;
+  check)
+    [ -f "$RESULTS" ] || { echo "$RESULTS does not exist; run with --update" >&2; exit 1; }
+    committed_compiler=$(sed -n 's/^# Driver: .*compiler: //p' "$RESULTS")
+    [ "$committed_compiler" = "$compiler" ] ||
+      echo "note: the committed counts were made with '$committed_compiler', this is '$compiler'" >&2
+    awk -v tol="$TOLERANCE" '
+      FNR == NR { if ($0 !~ /^#/ && NF == 2) committed[$1] = $2; next }
+      {
+        measured[$1] = $2
+        if (!($1 in committed)) { printf "%-40s %10d  NEW (not in the results file)\n", $1, $2; bad = 1; next }
+        change = ($2 - committed[$1]) / committed[$1]
+        verdict = change > tol ? "GREW" : "ok"
+        if (change > tol) bad = 1
+        printf "%-40s %10d  committed %10d  %+6.1f %%  %s\n", $1, $2, committed[$1], 100 * change, verdict
+      }
+      END {
+        for (op in committed)
+          if (!(op in measured)) { printf "%-40s  MISSING (in the results file, not measured)\n", op; bad = 1 }
+        if (bad) { print "instruction counts: FAILED (more than " 100 * tol " % growth, or a changed list); " \
+                         "run scripts/instruction_counts.sh --update if intended"; exit 1 }
+        print "instruction counts: ok (no count grew by more than " 100 * tol " %)"
+      }' "$RESULTS" "$measured"
+    ;;
+esac

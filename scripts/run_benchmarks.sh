@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Reproduces the performance figures of the core and prints their tables:
+#  1. bench_core (Google Benchmark): ns per operation for the screw and double-geodesic
+#     geometries against KDL and plain Eigen, the ratio table, and sampling throughput;
+#     bench_interpolating (the interpolating solve, N = 10 … 10⁴) when bench/bench_interpolating.cpp exists;
+#  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
+#     the committed bench/instruction_counts.txt.
+# The benchmarks are built without catkin with g++ into $SE3_WS/bench.
+#
+# Usage: scripts/run_benchmarks.sh [Google Benchmark flags, e.g. --benchmark_filter=screw]
+# Environment: SE3_BENCH_CXXFLAGS   compiler flags (default "-O2 -DNDEBUG"; "-O3 -DNDEBUG" is
+#                                   what the catkin Release build uses)
+#              SE3_BENCH_REPETITIONS repetitions per benchmark (default 5; the tables use medians)
+#              SE3_BENCH_MIN_TIME    seconds per repetition (default 0.3)
+# Timings are noisy on a loaded machine; the instruction counts are not.
+# shellcheck source=scripts/common.sh
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+CXX=${CXX:-g++}
+CXXFLAGS=${SE3_BENCH_CXXFLAGS:-"-O2 -DNDEBUG"}
+REPETITIONS=${SE3_BENCH_REPETITIONS:-5}
+MIN_TIME=${SE3_BENCH_MIN_TIME:-0.3}
+OUT="$SE3_WS/bench"
+mkdir -p "$OUT"
+
+# Builds $1 from bench/$1.cpp + the core sources unless it is up to date for these flags.
+build() {
+  local name=$1
+  shift
+  local bin="$OUT/$name" stamp="$OUT/$name.flags"
+  if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS" ] &&
+    [ -z "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" "$SE3_ROOT/src/core" -newer "$bin" -type f | head -n 1)" ]; then
+    return 0
+  fi
+  echo "building $bin ($CXX -std=c++17 $CXXFLAGS)" >&2
+  # shellcheck disable=SC2086
+  "$CXX" -std=c++17 $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/$name.cpp" \
+    "$SE3_ROOT"/src/core/*.cpp -o "$bin" "$@" -lbenchmark -lpthread
+  echo "$CXX $CXXFLAGS" >"$stamp"
+}
+
+echo "== machine"
+lscpu | head -n 20
+"$CXX" --version | head -n 1
+echo "flags: $CXXFLAGS; $REPETITIONS repetitions of >= $MIN_TIME s each (medians)"
+
+build bench_core -lorocos-kdl
+echo
+echo "== bench_core"
+"$OUT/bench_core" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true "$@"
+
+if [ -f "$SE3_ROOT/bench/bench_interpolating.cpp" ]; then
+  build bench_interpolating
+  echo
+  echo "== bench_interpolating"
+  "$OUT/bench_interpolating" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+    --benchmark_display_aggregates_only=true
+fi
+
+echo
+echo "== instruction counts"
+"$SE3_ROOT/scripts/instruction_counts.sh" --check

@@ -1,0 +1,386 @@
+#include "se3_interpolation/sphere_planner.h"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "se3_interpolation/blending.h"
+#include "se3_interpolation/bspline.h"
+#include "se3_interpolation/hermite.h"
+#include "se3_interpolation/interpolating_spline.h"
+#include "se3_interpolation/polynomial_curves.h"
+#include "se3_interpolation/sphere.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+std::string number(double x)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+std::string indexed(const std::string& field, std::size_t i)
+{
+  return field + "[" + std::to_string(i) + "]";
+}
+
+/// A SphereRequest after validation: defaults resolved, points normalised, tangents projected.
+struct ValidSphereRequest
+{
+  std::vector<Eigen::VectorXd> waypoints;
+  std::vector<double> times;
+  CurveType curve = CurveType::kPiecewiseGeodesic;
+  int degree = 3;
+  std::vector<double> knots;
+  int continuity = 2;
+  EndCondition end_condition = EndCondition::kNatural;
+  Eigen::VectorXd start_velocity;
+  Eigen::VectorXd end_velocity;
+  Eigen::VectorXd start_acceleration;
+  std::vector<Eigen::VectorXd> velocities;
+  Parameterization parameterization = Parameterization::kChord;
+  double duration = 0.0;
+  double max_speed = 0.0;
+  double max_acceleration = 0.0;
+  std::vector<double> sample_times;
+  double sample_period = 0.0;
+  std::uint32_t sample_count = 100;
+};
+
+void requireFinite(double x, const std::string& field)
+{
+  if (!std::isfinite(x))
+    throw InvalidInputError(field + ": " + number(x) + " is not a finite number");
+}
+
+void requireFiniteNonNegative(double x, const std::string& field)
+{
+  requireFinite(x, field);
+  if (x < 0.0)
+    throw InvalidInputError(field + ": " + number(x) + " must be ≥ 0");
+}
+
+void requireUnused(double x, const std::string& field, const std::string& instead)
+{
+  if (x != 0.0)
+    throw InvalidInputError(field + ": not used on the sphere" + instead);
+}
+
+template <class E>
+E parseName(const std::string& value, const std::string& field, const std::vector<std::pair<std::string, E>>& names,
+            E default_value)
+{
+  if (value.empty())
+    return default_value;
+  std::string known;
+  for (const auto& n : names)
+  {
+    if (value == n.first)
+      return n.second;
+    known += (known.empty() ? "" : ", ") + n.first;
+  }
+  throw InvalidInputError(field + ": unknown value '" + value + "' (expected one of: " + known + ")");
+}
+
+/// The unit vector of a raw waypoint; `dim` is the dimension of waypoints[0].
+Eigen::VectorXd validPoint(const Eigen::VectorXd& raw, Eigen::Index dim, const std::string& field)
+{
+  if (raw.size() != dim)
+    throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; waypoints[0] has " +
+                            std::to_string(dim) + " (all waypoints need the same dimension)");
+  for (Eigen::Index j = 0; j < raw.size(); ++j)
+    requireFinite(raw[j], indexed(field, static_cast<std::size_t>(j)));
+  const double n = raw.norm();
+  if (!(n >= 0.99 && n <= 1.01))
+    throw InvalidInputError(field + ": norm " + number(n) + " is outside [0.99, 1.01] (expected a unit vector)");
+  return raw / n;
+}
+
+/// A tangent vector at x (empty = zero), projected onto T_x S^m.
+Eigen::VectorXd validTangent(const Eigen::VectorXd& raw, const Eigen::VectorXd& x, const std::string& field)
+{
+  if (raw.size() == 0)
+    return Eigen::VectorXd::Zero(x.size());
+  if (raw.size() != x.size())
+    throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; expected " +
+                            std::to_string(x.size()) + " (a tangent vector of R^" + std::to_string(x.size()) + ")");
+  for (Eigen::Index j = 0; j < raw.size(); ++j)
+    requireFinite(raw[j], indexed(field, static_cast<std::size_t>(j)));
+  const double normal = raw.dot(x);
+  if (std::abs(normal) > 0.01 * raw.norm())
+    throw InvalidInputError(field + ": is not tangent to the sphere at its waypoint (normal component " +
+                            number(normal) + " of a vector of length " + number(raw.norm()) + ")");
+  return raw - normal * x;
+}
+
+ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
+{
+  ValidSphereRequest v;
+  const std::size_t n = r.waypoints.size();
+  if (n < 2)
+    throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least 2 are needed");
+  if (n > limits.max_waypoints)
+    throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (~max_waypoints) is " +
+                             std::to_string(limits.max_waypoints));
+  const Eigen::Index dim = r.waypoints[0].size();
+  if (dim < 3)
+    throw InvalidInputError("waypoints[0]: has " + std::to_string(dim) +
+                            " components; a point of the sphere S^m ⊂ R^{m+1}, m ≥ 2, needs at least 3");
+  for (std::size_t i = 0; i < n; ++i)
+    v.waypoints.push_back(validPoint(r.waypoints[i], dim, indexed("waypoints", i)));
+
+  if (!r.geometry.empty())
+    throw InvalidInputError("geometry: not used on the sphere (its metric is the round one); leave it empty");
+  std::vector<std::pair<std::string, CurveType>> curves;
+  for (CurveType c : { CurveType::kPiecewiseGeodesic, CurveType::kBezier, CurveType::kBspline,
+                       CurveType::kInterpolating, CurveType::kHermite, CurveType::kBlended })
+    curves.emplace_back(toString(c), c);
+  v.curve = parseName(r.curve, "curve", curves, CurveType::kPiecewiseGeodesic);
+  v.end_condition = parseName<EndCondition>(
+      r.end_condition, "end_condition",
+      { { "natural", EndCondition::kNatural }, { "clamped", EndCondition::kClamped }, { "start", EndCondition::kStart } },
+      EndCondition::kNatural);
+  v.parameterization = parseName<Parameterization>(r.parameterization, "parameterization",
+                                                   { { "chord", Parameterization::kChord },
+                                                     { "uniform", Parameterization::kUniform },
+                                                     { "centripetal", Parameterization::kCentripetal } },
+                                                   Parameterization::kChord);
+
+  if (!r.times.empty())
+  {
+    if (r.times.size() != n)
+      throw InvalidInputError("times: " + std::to_string(r.times.size()) + " given for " + std::to_string(n) +
+                              " waypoints (give one time per waypoint, or none)");
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      requireFinite(r.times[i], indexed("times", i));
+      if (i > 0 && !(r.times[i] > r.times[i - 1]))
+        throw InvalidInputError(indexed("times", i) + ": " + number(r.times[i]) + " is not after times[" +
+                                std::to_string(i - 1) + "] = " + number(r.times[i - 1]) +
+                                " (times must be strictly increasing)");
+    }
+    v.times = r.times;
+  }
+  else
+  {
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      if (v.waypoints[i] == v.waypoints[i + 1])
+        throw InvalidInputError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
+                                ": identical consecutive waypoints need explicit times (to dwell)");
+  }
+  // Antipodal neighbours: NonUniqueGeodesicError naming both.
+  polygonLogs<Sphere>(v.waypoints, "waypoints");
+
+  if (r.degree < 0)
+    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be ≥ 1");
+  const int max_degree = static_cast<int>(n) - 1;
+  v.degree = r.degree == 0 ? std::min(3, max_degree) : r.degree;
+  if (v.curve == CurveType::kBspline && v.degree > max_degree)
+    throw InvalidInputError("degree: " + std::to_string(v.degree) + " is too high for " + std::to_string(n) +
+                            " waypoints (at most " + std::to_string(max_degree) + ")");
+  if (!r.knots.empty())
+  {
+    if (v.curve != CurveType::kBspline)
+      throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" + std::string(toString(v.curve)) +
+                              "')");
+    validateKnots(r.knots, n, v.degree);
+    v.knots = r.knots;
+  }
+  if (r.continuity < 0 || r.continuity > 8)
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 … 8");
+  v.continuity = r.continuity == 0 ? 2 : r.continuity;
+
+  v.start_velocity = validTangent(r.start_velocity, v.waypoints.front(), "start_velocity");
+  v.end_velocity = validTangent(r.end_velocity, v.waypoints.back(), "end_velocity");
+  v.start_acceleration = validTangent(r.start_acceleration, v.waypoints.front(), "start_acceleration");
+  if (!r.velocities.empty() && r.velocities.size() != n)
+    throw InvalidInputError("velocities: " + std::to_string(r.velocities.size()) + " given for " + std::to_string(n) +
+                            " waypoints (give one per waypoint, or none)");
+  for (std::size_t i = 0; i < r.velocities.size(); ++i)
+  {
+    if (r.velocities[i].size() == 0)
+      throw InvalidInputError(indexed("velocities", i) + ": is empty (expected a tangent vector)");
+    v.velocities.push_back(validTangent(r.velocities[i], v.waypoints[i], indexed("velocities", i)));
+  }
+
+  requireUnused(r.rotation_scale, "rotation_scale", " (chord spacing uses the great-circle angle)");
+  requireFiniteNonNegative(r.duration, "duration");
+  v.duration = r.duration;
+  requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
+  requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
+                "; bound the acceleration with max_angular_acceleration (rad/s²)");
+  requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
+  requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
+  v.max_speed = r.max_angular_velocity;
+  v.max_acceleration = r.max_angular_acceleration;
+
+  if (r.sample_times.size() > limits.max_samples)
+    throw LimitExceededError("sample_times: " + std::to_string(r.sample_times.size()) +
+                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+  {
+    requireFinite(r.sample_times[i], indexed("sample_times", i));
+    if (i > 0 && r.sample_times[i] < r.sample_times[i - 1])
+      throw InvalidInputError(indexed("sample_times", i) + ": " + number(r.sample_times[i]) +
+                              " is before the previous sample time (sample_times must be non-decreasing)");
+  }
+  v.sample_times = r.sample_times;
+  requireFiniteNonNegative(r.sample_period, "sample_period");
+  v.sample_period = r.sample_period;
+  if (r.sample_count == 1)
+    throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
+  v.sample_count = r.sample_count == 0 ? 100 : r.sample_count;
+  if (r.sample_times.empty() && r.sample_period == 0.0 && v.sample_count > limits.max_samples)
+    throw LimitExceededError("sample_count: " + std::to_string(v.sample_count) +
+                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  return v;
+}
+
+/// Waypoint times: explicit, else spaced by the great-circle angles (SPEC, Timing).
+std::vector<double> sphereWaypointTimes(const ValidSphereRequest& r)
+{
+  if (!r.times.empty())
+    return r.times;
+  const std::size_t n = r.waypoints.size();
+  std::vector<double> cumulative(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    const double d = Sphere::log<double>(r.waypoints[i - 1], r.waypoints[i]).norm();
+    double step = 1.0;
+    if (r.parameterization == Parameterization::kChord)
+      step = d;
+    else if (r.parameterization == Parameterization::kCentripetal)
+      step = std::sqrt(d);
+    cumulative[i] = cumulative[i - 1] + step;
+  }
+  const double total = r.duration > 0.0 ? r.duration : static_cast<double>(n - 1);
+  std::vector<double> times(n);
+  for (std::size_t i = 0; i < n; ++i)
+    times[i] = total * cumulative[i] / cumulative[n - 1];
+  times.back() = total;
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(times[i] > times[i - 1]))
+      throw InvalidInputError(indexed("waypoints", i - 1) + " and " + indexed("waypoints", i) +
+                              ": too close to be spaced apart in time; give explicit times");
+  return times;
+}
+
+std::shared_ptr<const Curve<Sphere>> makeSphereCurve(const ValidSphereRequest& r, const std::vector<double>& times)
+{
+  const auto& x = r.waypoints;
+  switch (r.curve)
+  {
+    case CurveType::kPiecewiseGeodesic:
+      return std::make_shared<PiecewiseGeodesic<Sphere>>(x, times);
+    case CurveType::kBezier:
+      return std::make_shared<BezierCurve<Sphere>>(x, times.front(), times.back());
+    case CurveType::kBspline:
+      return std::make_shared<BSplineCurve<Sphere>>(
+          x, r.degree, r.knots.empty() ? clampedUniformKnots(x.size(), r.degree, times.front(), times.back()) : r.knots);
+    case CurveType::kInterpolating:
+      return makeInterpolatingSpline<Sphere>(x, times, r.end_condition, r.start_velocity, r.end_velocity,
+                                             r.start_acceleration);
+    case CurveType::kHermite:
+      return std::make_shared<HermiteSpline<Sphere>>(
+          x, times, r.velocities.empty() ? estimateTangents<Sphere>(x, times) : r.velocities);
+    case CurveType::kBlended:
+      return std::make_shared<BlendedSpline<Sphere>>(x, times, r.continuity);
+  }
+  throw InvalidInputError(std::string("curve: '") + toString(r.curve) + "' is not available on the sphere");
+}
+
+std::vector<double> sampleTimes(const ValidSphereRequest& r, double t0, double t1, const PlannerLimits& limits)
+{
+  std::vector<double> ts;
+  if (!r.sample_times.empty())
+  {
+    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
+    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+    {
+      const double t = r.sample_times[i];
+      if (t < t0 - tol || t > t1 + tol)
+        throw InvalidInputError(indexed("sample_times", i) + ": " + number(t) + " s is outside the trajectory [" +
+                                number(t0) + ", " + number(t1) + "] s");
+      ts.push_back(std::min(std::max(t, t0), t1));
+    }
+    return ts;
+  }
+  if (r.sample_period > 0.0)
+  {
+    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
+    if (count > static_cast<double>(limits.max_samples))
+      throw LimitExceededError("sample_period: " + number(r.sample_period) + " s gives " + number(count) +
+                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+    for (std::size_t i = 0;; ++i)
+    {
+      const double t = t0 + static_cast<double>(i) * r.sample_period;
+      if (t >= t1 - 1e-9 * r.sample_period)
+        break;
+      ts.push_back(t);
+    }
+    ts.push_back(t1);
+    return ts;
+  }
+  ts.resize(r.sample_count);
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
+  ts.back() = t1;
+  return ts;
+}
+}  // namespace
+
+SphereResult generateSphereTrajectory(const SphereRequest& request, const PlannerLimits& limits)
+{
+  const ValidSphereRequest r = validate(request, limits);
+  const std::vector<double> times = sphereWaypointTimes(r);
+  std::shared_ptr<const Curve<Sphere>> curve = makeSphereCurve(r, times);
+  SphereCurveFigures fig = measureSphereCurve(*curve);
+
+  SphereResult out;
+  double k = 1.0;
+  if (r.max_speed > 0.0)
+    k = std::max(k, fig.max_speed / r.max_speed);
+  if (r.max_acceleration > 0.0)
+    k = std::max(k, std::sqrt(fig.max_acceleration / r.max_acceleration));
+  out.time_scale = k;
+  if (k > 1.0)
+  {
+    curve = std::make_shared<TimeScaledCurve<Sphere>>(curve, k);
+    fig.max_speed /= k;
+    fig.max_acceleration /= k * k;
+    fig.energy /= k * k * k;
+  }
+  out.start_time = curve->startTime();
+  out.duration = curve->endTime() - curve->startTime();
+  out.length = fig.length;
+  out.max_speed = fig.max_speed;
+  out.max_acceleration = fig.max_acceleration;
+  out.energy = fig.energy;
+  out.waypoints = r.waypoints;
+  out.point_at = [curve](double t) { return curve->value(t); };
+  out.waypoint_times = times;
+  for (double& t : out.waypoint_times)
+    t = out.start_time + (t - out.start_time) * out.time_scale;
+
+  const std::vector<double> ts = sampleTimes(r, curve->startTime(), curve->endTime(), limits);
+  out.samples.resize(ts.size());
+  for (std::size_t i = 0; i < ts.size(); ++i)
+  {
+    const SphereKinematics kin = sphereKinematicsAt(*curve, ts[i]);
+    SphereSample& s = out.samples[i];
+    s.time = ts[i];
+    s.point = kin.point;
+    s.velocity = kin.velocity;
+    s.acceleration = kin.acceleration;
+    if (!s.point.allFinite() || !s.velocity.allFinite() || !s.acceleration.allFinite())
+      throw InterpolationError("the curve is not finite at t = " + number(ts[i]) +
+                               " s (the input is too close to a singular configuration)");
+  }
+  return out;
+}
+
+}  // namespace se3_interpolation
