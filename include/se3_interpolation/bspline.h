@@ -115,7 +115,7 @@ typename G::template Point<S> deBoor(const std::vector<typename G::template Poin
                                      const std::vector<double>& u, int degree, std::size_t k, const S& t)
 {
   const std::size_t m = static_cast<std::size_t>(degree);
-  std::vector<typename G::template Point<S>> p(m + 1);
+  ScratchBuffer<typename G::template Point<S>> p(m + 1);
   // Level r = 1 from the control points: P_j = interp_α(d_{k−m+j−1}, d_{k−m+j}).
   for (std::size_t j = 1; j <= m; ++j)
   {

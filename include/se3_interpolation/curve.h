@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -17,6 +18,28 @@
 
 namespace se3_interpolation
 {
+/// Scratch space for the recursions: on the stack up to N elements (cubic curves need 4),
+/// on the heap beyond; so evaluating a curve of degree ≤ 3 allocates nothing.
+template <class T, std::size_t N = 4>
+class ScratchBuffer
+{
+public:
+  explicit ScratchBuffer(std::size_t size)
+  {
+    if (size > N)
+      heap_.resize(size);
+    data_ = size > N ? heap_.data() : stack_.data();
+  }
+  ScratchBuffer(const ScratchBuffer&) = delete;
+  ScratchBuffer& operator=(const ScratchBuffer&) = delete;
+  T& operator[](std::size_t i) { return data_[i]; }
+
+private:
+  std::array<T, N> stack_;
+  std::vector<T> heap_;
+  T* data_ = nullptr;
+};
+
 /// Which one-sided limit to take at a breakpoint.
 enum class Side
 {

@@ -41,7 +41,7 @@ struct ScrewSe3
   template <class S>
   static Tangent<S> log(const Point<S>& a, const Point<S>& b)
   {
-    return se3Log(a.inverse() * b);
+    return se3Log(a.inverseTimes(b));
   }
   template <class S>
   static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
@@ -68,7 +68,8 @@ struct DoubleGeodesicSe3
   static Tangent<S> log(const Point<S>& a, const Point<S>& b)
   {
     Tangent<S> v;
-    v << so3Log(Quaternion<S>(a.q.conjugate() * b.q)), b.p - a.p;
+    v.template head<3>() = so3Log(Quaternion<S>(a.q.conjugate() * b.q));
+    v.template tail<3>() = b.p - a.p;
     return v;
   }
   template <class S>

@@ -31,13 +31,14 @@
 // frame B_i of T_{x_i} (TangentFrame; the identity except on S^m). Row i of the residual is
 // (S1) scaled by h_{i−1} h_i, or (S2) by h², or (S3) by h — all lengths — in the frame at x_i;
 // row i involves v_{i−1}, v_i, v_{i+1} only, so the Jacobian is block tridiagonal. Its blocks
-// are forward differences (each moved velocity re-evaluates the accelerations of its two
-// segments in Jet<2> arithmetic; ~1e-8 relative error, so a Newton step still gains about eight
+// are forward differences (each moved velocity re-evaluates the end accelerations of its two
+// segments — on the groups by Crouch Thm 2.9, groupStartAcceleration, elsewhere by the de Casteljau
+// algorithm in Jet<2> arithmetic; ~1e-8 relative error, so a Newton step still gains about eight
 // digits), factorised by a banded LU with partial pivoting (banded_lu.h) and kept while it
 // contracts the residual tenfold per step (chord method), else rebuilt: O(N) work and memory
 // per iteration. Steps are damped by backtracking until the residual decreases. The initial
-// guess is the classical spline (the same solve in R^n, linear) through the "development"
-// y_0 = 0, y_{i+1} = y_i + log(x_i, x_{i+1}) of the waypoints, its slopes taken as v_i: exact in
+// guess is the classical spline (its slope equations, one tridiagonal solve) through the
+// "development" y_0 = 0, y_{i+1} = y_i + log(x_i, x_{i+1}) of the waypoints, its slopes taken as v_i: exact in
 // R^n and for rotations about one fixed axis. The solve stops when every row is below
 // tolerance · scale (scale = the largest of 1 + |coordinates| and the segment lengths); then the
 // curve is built, and a velocity too large for its segment (a control point half a turn away,
@@ -47,8 +48,8 @@
 // start (Algorithm 7.4.1 of seed 000, Crouch Case 2): given v_0 and the acceleration a_0 at x_0,
 // solved forward segment by segment: on [t_i, t_{i+1}] the generalised cubic (H1) from x_i with
 // velocity v_i, where v_{i+1} is found by Newton's method (dense, dof × dof) so that the
-// acceleration at t_i equals a_i (Crouch Thm 2.9: it depends on b_0, b_1, b_2 only; computed here
-// in jet arithmetic rather than through Υ_0); the velocity v_{i+1} and the acceleration at
+// acceleration at t_i equals a_i (Crouch Thm 2.9: it depends on b_0, b_1, b_2 only; evaluated as
+// for the natural / clamped solve); the velocity v_{i+1} and the acceleration at
 // t_{i+1} carry to the next segment, so the curve is C² by construction. Like its Euclidean
 // counterpart the forward recursion amplifies its data by up to 2 + √3 per segment; when a
 // carried velocity grows too large for a segment it throws ConvergenceError, not wrap around.
@@ -58,9 +59,9 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <iostream>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -118,8 +119,63 @@ double dataScale(const std::vector<typename G::template Point<double>>& points,
   return scale;
 }
 
+/// Geometries whose geodesics are one-parameter subgroups, x Exp(λ W) with W the body tangent
+/// G::log(x, y) = Log(x⁻¹ y): SE(3) (screw), SO(3) × R³ (double geodesic), SO(3), R^n.
+template <class G>
+struct HasGroupGeodesics : std::false_type
+{
+};
+template <>
+struct HasGroupGeodesics<ScrewSe3> : std::true_type
+{
+};
+template <>
+struct HasGroupGeodesics<DoubleGeodesicSe3> : std::true_type
+{
+};
+template <>
+struct HasGroupGeodesics<So3> : std::true_type
+{
+};
+template <>
+struct HasGroupGeodesics<Euclidean> : std::true_type
+{
+};
+
+/// The accelerations (T2) at both ends of the generalised cubic with control points b on
+/// [0, h], by differentiating the de Casteljau algorithm in Jet<2> arithmetic (any geometry).
+template <class G>
+std::pair<typename G::template Tangent<double>, typename G::template Tangent<double>>
+cubicEndAccelerationsByJets(const std::vector<typename G::template Point<double>>& b, double h)
+{
+  using Tangent = typename G::template Tangent<double>;
+  const std::vector<Tangent> logs{ G::log(b[0], b[1]), G::log(b[1], b[2]), G::log(b[2], b[3]) };
+  const Jet<2> rate(1.0 / h);
+  return { tangentMotion<G>(deCasteljau<G>(b, logs, Jet<2>::variable(0.0) * rate)).acceleration,
+           tangentMotion<G>(deCasteljau<G>(b, logs, Jet<2>::variable(h) * rate)).acceleration };
+}
+
+/// On a group (HasGroupGeodesics), the acceleration (T2) at b_0 of the cubic b_0 … b_3 on [0, h]:
+///   (6/h²) J_r(W_0)⁻¹ (W_1 − W_0),   W_k = log(b_k, b_{k+1}),   J_r(W)⁻¹ u = d/dε Log(Exp(W) Exp(ε u)),
+/// which is Crouch Thm 2.9 (n = 3: n(n − 1) Υ_0 (V_1^1 − V_0^1)) read through the inversion g ↦ g⁻¹:
+/// it maps b_k Exp(λ W_k) to Exp(−λ W_k) b_k⁻¹ (their right-invariant form, V_k = −W_k, with
+/// Υ_0 = (∫_0^1 exp(−u ad W_0) du)⁻¹ = J_r(W_0)⁻¹) and the body twist ξ to Ω = −ξ, whose rate is
+/// (T2) (tangent_space.h). Only b_0, b_1, b_2 enter.
+template <class G>
+typename G::template Tangent<double> groupStartAcceleration(const typename G::template Point<double>& b0,
+                                                            const typename G::template Point<double>& b1,
+                                                            const typename G::template Point<double>& b2, double h)
+{
+  using J1 = Jet<1>;
+  const typename G::template Tangent<double> u = G::log(b1, b2) - G::log(b0, b1);
+  const typename G::template Tangent<J1> e(u.template cast<J1>() * J1::variable(0.0));
+  const typename G::template Point<J1> moved = G::exp(G::template cast<J1>(b1), e);
+  return jetCoefficients(G::log(G::template cast<J1>(b0), moved), 1) * (6.0 / (h * h));
+}
+
 /// The accelerations (T2) at both ends of the generalised cubic (H1) from x0 with velocity v0
-/// to x1 with velocity v1 in time h. Throws NonUniqueGeodesicError for antipodal control points.
+/// to x1 with velocity v1 in time h (the end one as the start one of the reversed polygon).
+/// Throws NonUniqueGeodesicError for antipodal control points.
 template <class G>
 std::pair<typename G::template Tangent<double>, typename G::template Tangent<double>>
 cubicEndAccelerations(const typename G::template Point<double>& x0, const typename G::template Point<double>& x1,
@@ -129,10 +185,10 @@ cubicEndAccelerations(const typename G::template Point<double>& x0, const typena
   using Tangent = typename G::template Tangent<double>;
   const std::vector<typename G::template Point<double>> b{ x0, G::exp(x0, Tangent(v0 * (h / 3.0))),
                                                           G::exp(x1, Tangent(v1 * (-h / 3.0))), x1 };
-  const std::vector<Tangent> logs{ G::log(b[0], b[1]), G::log(b[1], b[2]), G::log(b[2], b[3]) };
-  const Jet<2> rate(1.0 / h);
-  return { tangentMotion<G>(deCasteljau<G>(b, logs, Jet<2>::variable(0.0) * rate)).acceleration,
-           tangentMotion<G>(deCasteljau<G>(b, logs, Jet<2>::variable(h) * rate)).acceleration };
+  if constexpr (HasGroupGeodesics<G>::value)
+    return { groupStartAcceleration<G>(b[0], b[1], b[2], h), groupStartAcceleration<G>(b[3], b[2], b[1], h) };
+  else
+    return cubicEndAccelerationsByJets<G>(b, h);
 }
 
 /// Newton's method for the velocities of the natural / clamped spline (file comment).
@@ -170,7 +226,7 @@ public:
       throw ConvergenceError(prefix() + "the initial guess is not finite or not defined (are the waypoints finite?)");
     const Eigen::Index size = static_cast<Eigen::Index>(n_) * dof_;
     // Chord method: the factorised Jacobian is kept while it still contracts the residual
-    // tenfold per step (a reuse costs one residual instead of dof of them), else rebuilt.
+    // tenfold per step (a reuse costs one residual instead of the 2·dof of a Jacobian), else rebuilt.
     std::optional<BandedLu> jacobian;
     bool refresh = true;
     int polish = 0;
@@ -232,7 +288,6 @@ public:
         throw ConvergenceError(prefix() + "the Newton iteration stalled after " + std::to_string(iteration) +
                                " iterations" + where(worst));
       refresh = !accepted || !full_step || r.norm() > 0.1 * norm;
-      std::cerr << "DBG it " << iteration << " fresh " << fresh << " full " << full_step << " norm " << norm << " -> " << r.norm() << "\n";
     }
   }
 
@@ -380,24 +435,59 @@ private:
   std::vector<Eigen::MatrixXd> frames_;
 };
 
+/// The slopes v_i of the classical C² cubic spline through y_i at t_i (Thomas algorithm on the
+/// diagonally dominant slope equations, Δ_i = y_{i+1} − y_i):
+///   v_{i−1}/h_{i−1} + 2 (1/h_{i−1} + 1/h_i) v_i + v_{i+1}/h_i = 3 (Δ_{i−1}/h_{i−1}² + Δ_i/h_i²),
+///   natural: 2 v_0 + v_1 = 3 Δ_0/h_0,  v_{N−2} + 2 v_{N−1} = 3 Δ_{N−2}/h_{N−2};  clamped: v_0, v_{N−1} given.
+inline std::vector<Eigen::VectorXd> classicalSlopes(const std::vector<Eigen::VectorXd>& y, const std::vector<double>& t,
+                                                    EndCondition condition, const Eigen::VectorXd& start_velocity,
+                                                    const Eigen::VectorXd& end_velocity)
+{
+  const std::size_t n = y.size();
+  const bool natural = condition == EndCondition::kNatural;
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 0.0);
+  std::vector<Eigen::VectorXd> r(n);
+  auto h = [&t](std::size_t i) { return t[i + 1] - t[i]; };
+  b[0] = natural ? 2.0 : 1.0;
+  c[0] = natural ? 1.0 : 0.0;
+  r[0] = natural ? Eigen::VectorXd((y[1] - y[0]) * (3.0 / h(0))) : start_velocity;
+  for (std::size_t i = 1; i + 1 < n; ++i)
+  {
+    a[i] = 1.0 / h(i - 1);
+    c[i] = 1.0 / h(i);
+    b[i] = 2.0 * (a[i] + c[i]);
+    r[i] = (y[i] - y[i - 1]) * (3.0 * a[i] * a[i]) + (y[i + 1] - y[i]) * (3.0 * c[i] * c[i]);
+  }
+  a[n - 1] = natural ? 1.0 : 0.0;
+  b[n - 1] = natural ? 2.0 : 1.0;
+  r[n - 1] = natural ? Eigen::VectorXd((y[n - 1] - y[n - 2]) * (3.0 / h(n - 2))) : end_velocity;
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    const double w = a[i] / b[i - 1];
+    b[i] -= w * c[i - 1];
+    r[i] -= w * r[i - 1];
+  }
+  r[n - 1] /= b[n - 1];
+  for (std::size_t i = n - 1; i-- > 0;)
+    r[i] = (r[i] - c[i] * r[i + 1]) / b[i];
+  return r;
+}
+
 /// The initial velocities: the classical spline's slopes through the development (file comment).
 template <class G>
 std::vector<typename G::template Tangent<double>> chartGuess(const std::vector<typename G::template Point<double>>& x,
                                                             const std::vector<double>& times, EndCondition condition,
                                                             const typename G::template Tangent<double>& start_velocity,
-                                                            const typename G::template Tangent<double>& end_velocity,
-                                                            const SplineSolverOptions& options)
+                                                            const typename G::template Tangent<double>& end_velocity)
 {
   using Tangent = typename G::template Tangent<double>;
   const std::size_t n = x.size();
-  const Eigen::Index dim = tangentDimension<G>(x[0]);
   std::vector<Eigen::VectorXd> y(n);
-  y[0] = Eigen::VectorXd::Zero(dim);
+  y[0] = Eigen::VectorXd::Zero(tangentDimension<G>(x[0]));
   for (std::size_t i = 0; i + 1 < n; ++i)
     y[i + 1] = y[i] + Eigen::VectorXd(G::log(x[i], x[i + 1]));
-  const C2SplineSolver<Euclidean> chart(y, times, condition, Eigen::VectorXd(start_velocity),
-                                        Eigen::VectorXd(end_velocity), options);
-  const std::vector<Eigen::VectorXd> slopes = chart.solve(std::vector<Eigen::VectorXd>(n, Eigen::VectorXd::Zero(dim)));
+  const std::vector<Eigen::VectorXd> slopes =
+      classicalSlopes(y, times, condition, Eigen::VectorXd(start_velocity), Eigen::VectorXd(end_velocity));
   std::vector<Tangent> v;
   v.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -456,7 +546,7 @@ std::shared_ptr<const HermiteSpline<G>> solveC2Spline(const std::vector<typename
   }
   const detail::C2SplineSolver<G> solver(points, times, condition, v0, v1, options);
   return detail::solvedSpline<G>(points, times,
-                                 solver.solve(detail::chartGuess<G>(points, times, condition, v0, v1, options)),
+                                 solver.solve(detail::chartGuess<G>(points, times, condition, v0, v1)),
                                  std::string("curve 'interpolating' (end_condition '") +
                                      detail::endConditionName(condition) + "'): ",
                                  "; the waypoints are probably too far apart in rotation for a C² spline through "
@@ -466,11 +556,10 @@ std::shared_ptr<const HermiteSpline<G>> solveC2Spline(const std::vector<typename
 /// `interpolating` with end_condition start (Algorithm 7.4.1 / Case 2, file comment): the C²
 /// piecewise cubic from the velocity and acceleration (G's representation) at the first point.
 template <class G>
-std::shared_ptr<const HermiteSpline<G>> solveForwardSpline(const std::vector<typename G::template Point<double>>& points,
-                                                           const std::vector<double>& times,
-                                                           const typename G::template Tangent<double>& start_velocity,
-                                                           const typename G::template Tangent<double>& start_acceleration,
-                                                           const SplineSolverOptions& options = {})
+std::shared_ptr<const HermiteSpline<G>> solveForwardSpline(
+    const std::vector<typename G::template Point<double>>& points, const std::vector<double>& times,
+    const typename G::template Tangent<double>& start_velocity,
+    const typename G::template Tangent<double>& start_acceleration, const SplineSolverOptions& options = {})
 {
   using Tangent = typename G::template Tangent<double>;
   const Eigen::Index dim = detail::requireSplineData<G>(points, times);
@@ -509,9 +598,8 @@ std::shared_ptr<const HermiteSpline<G>> solveForwardSpline(const std::vector<typ
       return f->allFinite();
     };
     // Euclidean start: v_{i+1} = 3 (x_{i+1} − x_i)/h − 2 v_i − h a_i/2 (the classical continuation).
-    Eigen::VectorXd z =
-        b_out.transpose() * Eigen::VectorXd(G::log(points[i + 1], points[i]) * (-3.0 / h) - v[i] * 2.0 - a * (h / 2.0)) /
-        scale;
+    const Tangent classical = G::log(points[i + 1], points[i]) * (-3.0 / h) - v[i] * 2.0 - a * (h / 2.0);
+    Eigen::VectorXd z = b_out.transpose() * Eigen::VectorXd(classical) / scale;
     Eigen::VectorXd f;
     if (!residual(z, &f))
       throw ConvergenceError(prefix + segment + " is not defined" + growth);

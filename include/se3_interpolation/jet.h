@@ -17,6 +17,22 @@
 #include <array>
 #include <cmath>
 
+// The coefficient loops have compile-time bounds; unrolling and inlining them matters
+// (a Jet<2> product is 6 multiply-adds, not a call into a generic loop).
+#define SE3_JET_PRAGMA(x) _Pragma(#x)
+#if defined(__clang__)
+#define SE3_JET_UNROLL SE3_JET_PRAGMA(unroll)
+#elif defined(__GNUC__)
+#define SE3_JET_UNROLL SE3_JET_PRAGMA(GCC unroll 16)
+#else
+#define SE3_JET_UNROLL
+#endif
+#if defined(__GNUC__)
+#define SE3_JET_INLINE __attribute__((always_inline)) inline
+#else
+#define SE3_JET_INLINE inline
+#endif
+
 namespace se3_interpolation
 {
 template <int K>
@@ -27,6 +43,11 @@ public:
   static constexpr int kOrder = K;
 
   Jet() { c_.fill(0.0); }
+  /// Uninitialised coefficients, for results that assign every one.
+  struct NoInit
+  {
+  };
+  explicit Jet(NoInit /*tag*/) {}
   Jet(double value)  // NOLINT(google-explicit-constructor): constants mix with jets
   {
     c_.fill(0.0);
@@ -48,19 +69,22 @@ public:
   double derivative(int k) const
   {
     double factorial = 1.0;
+    SE3_JET_UNROLL
     for (int i = 2; i <= k; ++i)
       factorial *= i;
     return factorial * c_[k];
   }
 
-  Jet& operator+=(const Jet& o)
+  SE3_JET_INLINE Jet& operator+=(const Jet& o)
   {
+    SE3_JET_UNROLL
     for (int k = 0; k <= K; ++k)
       c_[k] += o.c_[k];
     return *this;
   }
-  Jet& operator-=(const Jet& o)
+  SE3_JET_INLINE Jet& operator-=(const Jet& o)
   {
+    SE3_JET_UNROLL
     for (int k = 0; k <= K; ++k)
       c_[k] -= o.c_[k];
     return *this;
@@ -68,34 +92,62 @@ public:
   Jet& operator*=(const Jet& o) { return *this = *this * o; }
   Jet& operator/=(const Jet& o) { return *this = *this / o; }
 
-  friend Jet operator+(Jet a, const Jet& b) { return a += b; }
-  friend Jet operator-(Jet a, const Jet& b) { return a -= b; }
-  friend Jet operator-(const Jet& a)
+  friend SE3_JET_INLINE Jet operator+(Jet a, const Jet& b) { return a += b; }
+  friend SE3_JET_INLINE Jet operator-(Jet a, const Jet& b) { return a -= b; }
+
+  // Mixed arithmetic with constants: no jet-by-jet product for a scalar factor.
+  friend SE3_JET_INLINE Jet operator*(Jet a, double b)
   {
-    Jet r;
+    SE3_JET_UNROLL
+    for (int k = 0; k <= K; ++k)
+      a.c_[k] *= b;
+    return a;
+  }
+  friend SE3_JET_INLINE Jet operator*(double a, Jet b) { return b * a; }
+  friend SE3_JET_INLINE Jet operator/(const Jet& a, double b) { return a * (1.0 / b); }
+  friend SE3_JET_INLINE Jet operator+(Jet a, double b)
+  {
+    a.c_[0] += b;
+    return a;
+  }
+  friend SE3_JET_INLINE Jet operator+(double a, Jet b) { return b + a; }
+  friend SE3_JET_INLINE Jet operator-(Jet a, double b)
+  {
+    a.c_[0] -= b;
+    return a;
+  }
+  friend SE3_JET_INLINE Jet operator-(double a, const Jet& b) { return -b + a; }
+  friend SE3_JET_INLINE Jet operator-(const Jet& a)
+  {
+    Jet r{ NoInit{} };
+    SE3_JET_UNROLL
     for (int k = 0; k <= K; ++k)
       r.c_[k] = -a.c_[k];
     return r;
   }
   friend Jet operator+(const Jet& a) { return a; }
-  friend Jet operator*(const Jet& a, const Jet& b)
+  friend SE3_JET_INLINE Jet operator*(const Jet& a, const Jet& b)
   {
-    Jet r;
+    Jet r{ NoInit{} };
+    SE3_JET_UNROLL
     for (int k = 0; k <= K; ++k)
     {
       double s = 0.0;
+      SE3_JET_UNROLL
       for (int i = 0; i <= k; ++i)
         s += a.c_[i] * b.c_[k - i];
       r.c_[k] = s;
     }
     return r;
   }
-  friend Jet operator/(const Jet& a, const Jet& b)
+  friend SE3_JET_INLINE Jet operator/(const Jet& a, const Jet& b)
   {
-    Jet r;
+    Jet r{ NoInit{} };
+    SE3_JET_UNROLL
     for (int k = 0; k <= K; ++k)
     {
       double s = a.c_[k];
+      SE3_JET_UNROLL
       for (int i = 1; i <= k; ++i)
         s -= b.c_[i] * r.c_[k - i];
       r.c_[k] = s / b.c_[0];
@@ -114,9 +166,11 @@ public:
   {
     Jet r;
     r.c_[0] = std::sqrt(a.c_[0]);
+    SE3_JET_UNROLL
     for (int k = 1; k <= K; ++k)
     {
       double s = a.c_[k];
+      SE3_JET_UNROLL
       for (int i = 1; i < k; ++i)
         s -= r.c_[i] * r.c_[k - i];
       r.c_[k] = s / (2.0 * r.c_[0]);
@@ -131,10 +185,12 @@ public:
     Jet& c = *cosine;
     s.c_[0] = std::sin(a.c_[0]);
     c.c_[0] = std::cos(a.c_[0]);
+    SE3_JET_UNROLL
     for (int k = 1; k <= K; ++k)
     {
       double ss = 0.0;
       double cc = 0.0;
+      SE3_JET_UNROLL
       for (int j = 1; j <= k; ++j)
       {
         ss += j * a.c_[j] * c.c_[k - j];
@@ -171,6 +227,7 @@ public:
     const Jet h = (x * dy - y * dx) / (x * x + y * y);
     Jet r;
     r.c_[0] = std::atan2(y.c_[0], x.c_[0]);
+    SE3_JET_UNROLL
     for (int k = 1; k <= K; ++k)
       r.c_[k] = h.c_[k - 1] / k;
     return r;
@@ -191,6 +248,7 @@ private:
   Jet derivativeSeries() const
   {
     Jet d;
+    SE3_JET_UNROLL
     for (int k = 0; k < K; ++k)
       d.c_[k] = (k + 1) * c_[k + 1];
     return d;

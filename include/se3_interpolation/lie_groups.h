@@ -85,6 +85,15 @@ S screwB(const S& theta2)
   return (theta - sin(theta)) / (theta2 * theta);
 }
 
+/// B(θ) from θ², k = sin(θ/2)/θ and c = cos(θ/2), reusing them: sin θ/θ = 2kc.
+template <class S>
+S screwB(const S& theta2, const S& k, const S& c)
+{
+  if (valueOf(theta2) < kSeriesThetaSquared)
+    return screwB(theta2);
+  return (S(1.0) - 2.0 * k * c) / theta2;
+}
+
 /// C(θ) = (1 − (θ/2) cot(θ/2))/θ², the coefficient of [ω]×² in V(ω)⁻¹.
 template <class S>
 S screwC(const S& theta2)
@@ -168,6 +177,12 @@ struct Pose
   static Pose Identity() { return Pose(); }
 
   Pose operator*(const Pose& o) const { return Pose(q * o.q, q * o.p + p); }
+  /// this⁻¹ · o without forming the inverse: (q* q_o, q* (p_o − p)).
+  Pose inverseTimes(const Pose& o) const
+  {
+    const Quaternion<S> qi = q.conjugate();
+    return Pose(qi * o.q, qi * Vector3<S>(o.p - p));
+  }
   Pose inverse() const
   {
     const Quaternion<S> qi = q.conjugate();
@@ -188,8 +203,8 @@ Vector3<S> screwV(const Vector3<S>& omega, const Vector3<S>& v)
   const S theta2 = omega.squaredNorm();
   S k, c;
   detail::halfAngle(theta2, &k, &c);
-  const S a = S(2.0) * k * k;  // (1 − cos θ)/θ²
-  const S b = detail::screwB(theta2);
+  const S a = 2.0 * k * k;  // (1 − cos θ)/θ²
+  const S b = detail::screwB(theta2, k, c);
   const Vector3<S> wv = omega.cross(v);
   return v + a * wv + b * omega.cross(wv);
 }
@@ -203,21 +218,34 @@ Pose<S> se3Exp(const Vector6<S>& xi)
   const S theta2 = omega.squaredNorm();
   S k, c;
   detail::halfAngle(theta2, &k, &c);
-  const S a = S(2.0) * k * k;
-  const S b = detail::screwB(theta2);
+  const S a = 2.0 * k * k;
+  const S b = detail::screwB(theta2, k, c);
   const Vector3<S> wv = omega.cross(v);
   return Pose<S>(Quaternion<S>(c, k * omega.x(), k * omega.y(), k * omega.z()), v + a * wv + b * omega.cross(wv));
 }
 
 /// Log: SE(3) → se(3), twist (ω, v) with |ω| ≤ π. Throws at rotation angle π.
+/// V(ω)⁻¹'s coefficient C(θ) reuses the quaternion: (θ/2) cot(θ/2) = (θ/2) w/|vec(q)|.
 template <class S>
 Vector6<S> se3Log(const Pose<S>& g)
 {
-  const Vector3<S> omega = so3Log(g.q);
-  const S c = detail::screwC(S(omega.squaredNorm()));
+  S w = g.q.w();
+  Vector3<S> v = g.q.vec();
+  if (valueOf(w) < 0.0)
+  {
+    w = -w;
+    v = -v;
+  }
+  if (valueOf(w) <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is π: the shortest rotation is not unique");
+  const S f = detail::logFactor(S(v.squaredNorm()), w);  // θ/|vec(q)|
+  const Vector3<S> omega = v * f;
+  const S theta2 = omega.squaredNorm();
+  const S c = valueOf(theta2) < kSeriesThetaSquared ? detail::screwC(theta2) : S((1.0 - 0.5 * f * w) / theta2);
   const Vector3<S> wp = omega.cross(g.p);
   Vector6<S> xi;
-  xi << omega, g.p - S(0.5) * wp + c * omega.cross(wp);
+  xi.template head<3>() = omega;
+  xi.template tail<3>() = g.p - 0.5 * wp + c * omega.cross(wp);
   return xi;
 }
 

@@ -45,7 +45,7 @@ typename G::template Point<S> geodesicFromLog(const typename G::template Point<d
                                               const typename G::template Tangent<double>& log, const S& lambda)
 {
   using Tangent = typename G::template Tangent<S>;
-  return G::exp(G::template cast<S>(p), Tangent(log.template cast<S>() * lambda));
+  return G::exp(G::template cast<S>(p), Tangent(log * lambda));
 }
 
 /// The generalised de Casteljau algorithm (thesis Alg. 4.1.2) at parameter λ, with the
@@ -58,10 +58,9 @@ typename G::template Point<S> deCasteljau(const std::vector<typename G::template
   const std::size_t n = points.size();
   if (n == 1)
     return G::template cast<S>(points[0]);
-  std::vector<typename G::template Point<S>> b;
-  b.reserve(n - 1);
+  ScratchBuffer<typename G::template Point<S>> b(n - 1);
   for (std::size_t i = 0; i + 1 < n; ++i)
-    b.push_back(geodesicFromLog<G>(points[i], logs[i], lambda));
+    b[i] = geodesicFromLog<G>(points[i], logs[i], lambda);
   for (std::size_t level = 2; level < n; ++level)
     for (std::size_t i = 0; i + level < n; ++i)
       b[i] = geodesic<G>(b[i], b[i + 1], lambda);

@@ -37,9 +37,9 @@ struct Se3TangentConversion<ScrewSe3>
   /// (V1)
   static Vector6<double> velocity(const Pose<double>& x, const Twist& v)
   {
-    const Eigen::Matrix3d rt = x.q.toRotationMatrix().transpose();
+    const Eigen::Matrix3d r = x.q.toRotationMatrix();
     Vector6<double> xi;
-    xi << rt * v.angular, rt * v.linear;
+    xi << r.transpose() * v.angular, r.transpose() * v.linear;
     return xi;
   }
   static Twist twist(const Pose<double>& x, const Vector6<double>& xi)
@@ -53,9 +53,9 @@ struct Se3TangentConversion<ScrewSe3>
   /// (A1)
   static Vector6<double> acceleration(const Pose<double>& x, const Twist& v, const Twist& a)
   {
-    const Eigen::Matrix3d rt = x.q.toRotationMatrix().transpose();
+    const Eigen::Matrix3d r = x.q.toRotationMatrix();
     Vector6<double> alpha;
-    alpha << rt * a.angular, rt * (a.linear - v.angular.cross(v.linear));
+    alpha << r.transpose() * a.angular, r.transpose() * (a.linear - v.angular.cross(v.linear));
     return alpha;
   }
   static Twist twistAcceleration(const Pose<double>& x, const Twist& v, const Vector6<double>& alpha)

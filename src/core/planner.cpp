@@ -113,6 +113,28 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   out.waypoint_times = times;
   for (double& t : out.waypoint_times)
     t = out.start_time + (t - out.start_time) * out.time_scale;
+  // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
+  // response as ∞ or NaN.
+  const std::pair<const char*, double> figures[] = {
+    { "time_scale", out.time_scale },
+    { "duration", out.duration },
+    { "length", out.length },
+    { "rotation_length", out.rotation_length },
+    { "max_linear_speed", out.max_linear_speed },
+    { "max_angular_speed", out.max_angular_speed },
+    { "max_linear_acceleration", out.max_linear_acceleration },
+    { "max_angular_acceleration", out.max_angular_acceleration },
+    { "energy", out.energy },
+  };
+  for (const auto& f : figures)
+    if (!std::isfinite(f.second))
+      throw InterpolationError(std::string("the trajectory's ") + f.first + " is " + number(f.second) +
+                               " (the input's magnitudes are too large: positions, times, rotation_scale or "
+                               "max_* bounds)");
+  for (std::size_t i = 0; i < out.waypoint_times.size(); ++i)
+    if (!std::isfinite(out.waypoint_times[i]))
+      throw InterpolationError("waypoints[" + std::to_string(i) + "]: its stretched time is " +
+                               number(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
 
   const std::vector<double> ts = sampleTimes(r, curve->startTime(), curve->endTime(), limits);
   out.samples.resize(ts.size());
