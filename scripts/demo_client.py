@@ -32,7 +32,7 @@ def main():
     rospy.init_node("se3_interpolation_demo")
     path = rospy.get_param("~waypoints_file")
     service = rospy.get_param("~service", "/se3_interpolation_node/generate")
-    curves = rospy.get_param("~curves", ["piecewise_geodesic", "bezier", "bspline"])
+    curves = rospy.get_param("~curves", ["piecewise_geodesic", "bezier", "bspline", "hermite", "interpolating", "blended"])
     geometries = rospy.get_param("~geometries", ["double_geodesic", "screw"])
     duration = float(rospy.get_param("~duration", 6.0))
     summary_file = rospy.get_param("~summary_file", "")
