@@ -118,7 +118,7 @@ private:
   BlendingPolynomial(int n, bool increasing) : n_(n)
   {
     if (n < 1)
-      throw InvalidInputError("continuity: " + std::to_string(n) + " must be ≥ 1");
+      throw InvalidInputError("continuity: " + std::to_string(n) + " must be >= 1");
     const int d = 2 * n + 1;
     control_.assign(static_cast<std::size_t>(d) + 1, 0.0);
     weight_.assign(static_cast<std::size_t>(d) + 1, 0.0);

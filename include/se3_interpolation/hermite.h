@@ -123,8 +123,8 @@ typename G::template Point<double> controlPointFrom(const typename G::template P
   }
   if (!ok)
     throw InvalidInputError(field + ": too large for segment " + std::to_string(segment) +
-                            ": the control point exp(x, ±h v/3) is half a turn or more away, where the "
-                            "geodesic from the waypoint no longer reaches it (|h v/3| must stay below π rad)");
+                            ": the control point exp(x, +/-h v/3) is half a turn or more away, where the "
+                            "geodesic from the waypoint no longer reaches it (|h v/3| must stay below pi rad)");
   return b;
 }
 

@@ -310,7 +310,7 @@ private:
     else
       row = "the acceleration at " + indexedField("waypoints", worst.second);
     return " (largest residual " + scientific(worst.first) + " at " + row + ", tolerance " + scientific(tolerance_) +
-           "); the waypoints are probably too far apart in rotation for a C² spline through them: add waypoints, "
+           "); the waypoints are probably too far apart in rotation for a C^2 spline through them: add waypoints, "
            "or use curve 'hermite'";
   }
 
@@ -549,7 +549,7 @@ std::shared_ptr<const HermiteSpline<G>> solveC2Spline(const std::vector<typename
                                  solver.solve(detail::chartGuess<G>(points, times, condition, v0, v1)),
                                  std::string("curve 'interpolating' (end_condition '") +
                                      detail::endConditionName(condition) + "'): ",
-                                 "; the waypoints are probably too far apart in rotation for a C² spline through "
+                                 "; the waypoints are probably too far apart in rotation for a C^2 spline through "
                                  "them: add waypoints, or use curve 'hermite'");
 }
 
@@ -569,7 +569,7 @@ std::shared_ptr<const HermiteSpline<G>> solveForwardSpline(
   const double tolerance = options.tolerance * detail::dataScale<G>(points, logs);
   const std::string prefix = "curve 'interpolating' (end_condition 'start'): ";
   const std::string growth =
-      "; the forward construction (Algorithm 7.4.1) amplifies the start data along the spline (up to 2 + √3 per "
+      "; the forward construction (Algorithm 7.4.1) amplifies the start data along the spline (up to 2 + sqrt3 per "
       "segment): use end_condition 'natural' or 'clamped', fewer waypoints, or start data closer to the motion";
   const std::size_t n = points.size();
   std::vector<Tangent> v(n);
@@ -579,7 +579,7 @@ std::shared_ptr<const HermiteSpline<G>> solveForwardSpline(
   {
     const double h = times[i + 1] - times[i];
     const std::string segment = "segment " + std::to_string(i) + " (" + detail::indexedField("waypoints", i) +
-                                " → " + detail::indexedField("waypoints", i + 1) + ")";
+                                " -> " + detail::indexedField("waypoints", i + 1) + ")";
     const Eigen::MatrixXd b_in = TangentFrame<G>::basis(points[i]);
     const Eigen::MatrixXd b_out = TangentFrame<G>::basis(points[i + 1]);
     // Unknown: v_{i+1} = B z, in units of h/3 so that z moves the control point b_2 by ~|z|.

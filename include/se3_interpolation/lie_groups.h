@@ -154,7 +154,7 @@ Vector3<S> so3Log(const Quaternion<S>& q)
     v = -v;
   }
   if (valueOf(w) <= kAntipodalTolerance)
-    throw NonUniqueGeodesicError("the rotation angle is π: the shortest rotation is not unique");
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
   return v * detail::logFactor(S(v.squaredNorm()), w);
 }
 
@@ -237,7 +237,7 @@ Vector6<S> se3Log(const Pose<S>& g)
     v = -v;
   }
   if (valueOf(w) <= kAntipodalTolerance)
-    throw NonUniqueGeodesicError("the rotation angle is π: the shortest rotation is not unique");
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
   const S f = detail::logFactor(S(v.squaredNorm()), w);  // θ/|vec(q)|
   const Vector3<S> omega = v * f;
   const S theta2 = omega.squaredNorm();

@@ -41,7 +41,7 @@ long toInteger(const YAML::Node& node, const std::string& field, long lo, long h
     throw InvalidInputError(field + ": '" + node.Scalar() + "' is not an integer");
   }
   if (v < lo || v > hi)
-    throw InvalidInputError(field + ": " + std::to_string(v) + " is outside " + std::to_string(lo) + " … " +
+    throw InvalidInputError(field + ": " + std::to_string(v) + " is outside " + std::to_string(lo) + " ... " +
                             std::to_string(hi));
   return v;
 }

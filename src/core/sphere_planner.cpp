@@ -61,7 +61,7 @@ void requireFiniteNonNegative(double x, const std::string& field)
 {
   requireFinite(x, field);
   if (x < 0.0)
-    throw InvalidInputError(field + ": " + number(x) + " must be ≥ 0");
+    throw InvalidInputError(field + ": " + number(x) + " must be >= 0");
 }
 
 void requireUnused(double x, const std::string& field, const std::string& instead)
@@ -129,7 +129,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   const Eigen::Index dim = r.waypoints[0].size();
   if (dim < 3)
     throw InvalidInputError("waypoints[0]: has " + std::to_string(dim) +
-                            " components; a point of the sphere S^m ⊂ R^{m+1}, m ≥ 2, needs at least 3");
+                            " components; a point of the sphere S^m in R^{m+1}, m >= 2, needs at least 3");
   for (std::size_t i = 0; i < n; ++i)
     v.waypoints.push_back(validPoint(r.waypoints[i], dim, indexed("waypoints", i)));
 
@@ -176,7 +176,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   polygonLogs<Sphere>(v.waypoints, "waypoints");
 
   if (r.degree < 0)
-    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be ≥ 1");
+    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
   const int max_degree = static_cast<int>(n) - 1;
   v.degree = r.degree == 0 ? std::min(3, max_degree) : r.degree;
   if (v.curve == CurveType::kBspline && v.degree > max_degree)
@@ -191,7 +191,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
     v.knots = r.knots;
   }
   if (r.continuity < 0 || r.continuity > 8)
-    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 … 8");
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... 8");
   v.continuity = r.continuity == 0 ? 2 : r.continuity;
 
   v.start_velocity = validTangent(r.start_velocity, v.waypoints.front(), "start_velocity");
@@ -212,7 +212,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   v.duration = r.duration;
   requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
   requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
-                "; bound the acceleration with max_angular_acceleration (rad/s²)");
+                "; bound the acceleration with max_angular_acceleration (rad/s^2)");
   requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
   requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
   v.max_speed = r.max_angular_velocity;

@@ -31,7 +31,7 @@ void requireFiniteNonNegative(double x, const std::string& field)
 {
   requireFinite(x, field);
   if (x < 0.0)
-    throw InvalidInputError(field + ": " + number(x) + " must be ≥ 0");
+    throw InvalidInputError(field + ": " + number(x) + " must be >= 0");
 }
 
 void requireFinite(const Eigen::Vector3d& v, const std::string& field)
@@ -167,10 +167,10 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   for (std::size_t i = 0; i + 1 < n; ++i)
     if (std::abs(v.waypoints[i].q.coeffs().dot(v.waypoints[i + 1].q.coeffs())) <= kAntipodalTolerance)
       throw NonUniqueGeodesicError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
-                                   ": the relative rotation is exactly π, so the geodesic between them is not unique");
+                                   ": the relative rotation is exactly pi, so the geodesic between them is not unique");
 
   if (r.degree < 0)
-    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be ≥ 1");
+    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
   const int max_degree = static_cast<int>(n) - 1;
   v.degree = r.degree == 0 ? std::min(3, max_degree) : r.degree;
   if (v.curve == CurveType::kBspline && v.degree > max_degree)
@@ -185,7 +185,7 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
     v.knots = r.knots;
   }
   if (r.continuity < 0 || r.continuity > 8)
-    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 … 8");
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... 8");
   v.continuity = r.continuity == 0 ? 2 : r.continuity;
 
   requireFinite(r.start_velocity, "start_velocity");

@@ -112,7 +112,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     std::ostringstream msg;
     msg << result.samples.size() << " samples over " << result.duration << " s";
     if (result.time_scale > 1.0)
-      msg << " (time stretched ×" << result.time_scale << " to meet the bounds)";
+      msg << " (time stretched x" << result.time_scale << " to meet the bounds)";
     res.message = msg.str();
     if (req.publish)
       publish(result, res, header, child);

@@ -38,23 +38,23 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
                "must be in (0, 1000] Hz");
   read<bool>(nh, "loop", &p.loop, any, "");
   read<int>(nh, "max_tf_samples", &p.max_tf_samples, [](const int& x) { return x >= 0 && x <= 1000; },
-            "must be in 0 … 1000");
+            "must be in 0 ... 1000");
   read<bool>(nh, "auto_generate", &p.auto_generate, any, "");
   read<bool>(nh, "publish_tf", &p.publish_tf, any, "");
-  read<int>(nh, "marker_axes", &p.marker_axes, [](const int& x) { return x >= 0 && x <= 1000; }, "must be in 0 … 1000");
+  read<int>(nh, "marker_axes", &p.marker_axes, [](const int& x) { return x >= 0 && x <= 1000; }, "must be in 0 ... 1000");
   read<double>(nh, "axis_length", &p.axis_length, positive, "must be > 0 m");
-  read<double>(nh, "tf_timeout", &p.tf_timeout, non_negative, "must be ≥ 0 s");
+  read<double>(nh, "tf_timeout", &p.tf_timeout, non_negative, "must be >= 0 s");
   int max_samples = static_cast<int>(p.limits.max_samples);
-  read<int>(nh, "max_samples", &max_samples, [](const int& x) { return x >= 2; }, "must be ≥ 2");
+  read<int>(nh, "max_samples", &max_samples, [](const int& x) { return x >= 2; }, "must be >= 2");
   p.limits.max_samples = static_cast<std::size_t>(max_samples);
   int max_waypoints = static_cast<int>(p.limits.max_waypoints);
-  read<int>(nh, "max_waypoints", &max_waypoints, [](const int& x) { return x >= 2; }, "must be ≥ 2");
+  read<int>(nh, "max_waypoints", &max_waypoints, [](const int& x) { return x >= 2; }, "must be >= 2");
   p.limits.max_waypoints = static_cast<std::size_t>(max_waypoints);
   read<std::string>(nh, "curve", &p.curve, non_empty, "must not be empty");
   read<std::string>(nh, "geometry", &p.geometry, non_empty, "must not be empty");
   read<std::string>(nh, "parameterization", &p.parameterization, non_empty, "must not be empty");
-  read<double>(nh, "duration", &p.duration, non_negative, "must be ≥ 0 s");
-  read<int>(nh, "sample_count", &p.sample_count, [](const int& x) { return x >= 2; }, "must be ≥ 2");
+  read<double>(nh, "duration", &p.duration, non_negative, "must be >= 0 s");
+  read<int>(nh, "sample_count", &p.sample_count, [](const int& x) { return x >= 2; }, "must be >= 2");
   return p;
 }
 
