@@ -122,7 +122,59 @@ Pose<double> toPose(const YAML::Node& node, const std::string& field)
   }
   return p;
 }
+/// The document check and every field the pose and sphere requests share, by name.
+template <class Request>
+void readCommonFields(const YAML::Node& root, Request* r)
+{
+  if (!root || root.IsNull())
+    throw InvalidInputError("request: the YAML document is empty");
+  requireKeys(root, "",
+              { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
+                "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
+                "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
+                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
+                "sample_count", "child_frame_id", "publish" });
+  if (root["times"])
+    r->times = toDoubles(root["times"], "times");
+  if (root["curve"])
+    r->curve = toString(root["curve"], "curve");
+  if (root["geometry"])
+    r->geometry = toString(root["geometry"], "geometry");
+  if (root["degree"])
+    r->degree = static_cast<int>(toInteger(root["degree"], "degree", 0, 255));
+  if (root["knots"])
+    r->knots = toDoubles(root["knots"], "knots");
+  if (root["continuity"])
+    r->continuity = static_cast<int>(toInteger(root["continuity"], "continuity", 0, 255));
+  if (root["end_condition"])
+    r->end_condition = toString(root["end_condition"], "end_condition");
+  if (root["parameterization"])
+    r->parameterization = toString(root["parameterization"], "parameterization");
+  if (root["rotation_scale"])
+    r->rotation_scale = toDouble(root["rotation_scale"], "rotation_scale");
+  if (root["duration"])
+    r->duration = toDouble(root["duration"], "duration");
+  if (root["max_linear_velocity"])
+    r->max_linear_velocity = toDouble(root["max_linear_velocity"], "max_linear_velocity");
+  if (root["max_angular_velocity"])
+    r->max_angular_velocity = toDouble(root["max_angular_velocity"], "max_angular_velocity");
+  if (root["max_linear_acceleration"])
+    r->max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
+  if (root["max_angular_acceleration"])
+    r->max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
+  if (root["sample_times"])
+    r->sample_times = toDoubles(root["sample_times"], "sample_times");
+  if (root["sample_period"])
+    r->sample_period = toDouble(root["sample_period"], "sample_period");
+  if (root["sample_count"])
+    r->sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
+  if (root["publish"])
+    toBool(root["publish"], "publish");
+  if (root["child_frame_id"])
+    toString(root["child_frame_id"], "child_frame_id");
+}
 }  // namespace
+
 
 std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field)
 {
@@ -136,34 +188,13 @@ std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const s
 
 TrajectoryRequest requestFromYaml(const YAML::Node& root)
 {
-  if (!root || root.IsNull())
-    throw InvalidInputError("request: the YAML document is empty");
-  requireKeys(root, "",
-              { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
-                "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
-                "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish" });
   TrajectoryRequest r;
+  readCommonFields(root, &r);
   if (!root["waypoints"] || !root["waypoints"].IsSequence())
     throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]})");
   const YAML::Node w = root["waypoints"];
   for (std::size_t i = 0; i < w.size(); ++i)
     r.waypoints.push_back(toPose(w[i], at("waypoints", i)));
-  if (root["times"])
-    r.times = toDoubles(root["times"], "times");
-  if (root["curve"])
-    r.curve = toString(root["curve"], "curve");
-  if (root["geometry"])
-    r.geometry = toString(root["geometry"], "geometry");
-  if (root["degree"])
-    r.degree = static_cast<int>(toInteger(root["degree"], "degree", 0, 255));
-  if (root["knots"])
-    r.knots = toDoubles(root["knots"], "knots");
-  if (root["continuity"])
-    r.continuity = static_cast<int>(toInteger(root["continuity"], "continuity", 0, 255));
-  if (root["end_condition"])
-    r.end_condition = toString(root["end_condition"], "end_condition");
   if (root["start_velocity"])
     r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])
@@ -178,66 +209,21 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     for (std::size_t i = 0; i < v.size(); ++i)
       r.velocities.push_back(toTwist(v[i], at("velocities", i)));
   }
-  if (root["parameterization"])
-    r.parameterization = toString(root["parameterization"], "parameterization");
-  if (root["rotation_scale"])
-    r.rotation_scale = toDouble(root["rotation_scale"], "rotation_scale");
-  if (root["duration"])
-    r.duration = toDouble(root["duration"], "duration");
-  if (root["max_linear_velocity"])
-    r.max_linear_velocity = toDouble(root["max_linear_velocity"], "max_linear_velocity");
-  if (root["max_angular_velocity"])
-    r.max_angular_velocity = toDouble(root["max_angular_velocity"], "max_angular_velocity");
-  if (root["max_linear_acceleration"])
-    r.max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
-  if (root["max_angular_acceleration"])
-    r.max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
-  if (root["sample_times"])
-    r.sample_times = toDoubles(root["sample_times"], "sample_times");
-  if (root["sample_period"])
-    r.sample_period = toDouble(root["sample_period"], "sample_period");
-  if (root["sample_count"])
-    r.sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
-  if (root["publish"])
-    toBool(root["publish"], "publish");
-  if (root["child_frame_id"])
-    toString(root["child_frame_id"], "child_frame_id");
   return r;
 }
 
 SphereRequest sphereRequestFromYaml(const YAML::Node& root)
 {
-  if (!root || root.IsNull())
-    throw InvalidInputError("request: the YAML document is empty");
-  requireKeys(root, "",
-              { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
-                "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
-                "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish" });
+  SphereRequest r;
+  readCommonFields(root, &r);
   auto toVectorX = [](const YAML::Node& node, const std::string& field) {
     const std::vector<double> v = toDoubles(node, field);
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
   };
-  SphereRequest r;
   if (!root["waypoints"] || !root["waypoints"].IsSequence())
     throw InvalidInputError("waypoints: missing (a list of unit vectors [x1, ..., x{m+1}])");
   for (const auto& v : vectorsFromYaml(root["waypoints"], "waypoints"))
     r.waypoints.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
-  if (root["times"])
-    r.times = toDoubles(root["times"], "times");
-  if (root["curve"])
-    r.curve = toString(root["curve"], "curve");
-  if (root["geometry"])
-    r.geometry = toString(root["geometry"], "geometry");
-  if (root["degree"])
-    r.degree = static_cast<int>(toInteger(root["degree"], "degree", 0, 255));
-  if (root["knots"])
-    r.knots = toDoubles(root["knots"], "knots");
-  if (root["continuity"])
-    r.continuity = static_cast<int>(toInteger(root["continuity"], "continuity", 0, 255));
-  if (root["end_condition"])
-    r.end_condition = toString(root["end_condition"], "end_condition");
   if (root["start_velocity"])
     r.start_velocity = toVectorX(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])
@@ -247,30 +233,6 @@ SphereRequest sphereRequestFromYaml(const YAML::Node& root)
   if (root["velocities"])
     for (const auto& v : vectorsFromYaml(root["velocities"], "velocities"))
       r.velocities.push_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
-  if (root["parameterization"])
-    r.parameterization = toString(root["parameterization"], "parameterization");
-  if (root["rotation_scale"])
-    r.rotation_scale = toDouble(root["rotation_scale"], "rotation_scale");
-  if (root["duration"])
-    r.duration = toDouble(root["duration"], "duration");
-  if (root["max_linear_velocity"])
-    r.max_linear_velocity = toDouble(root["max_linear_velocity"], "max_linear_velocity");
-  if (root["max_angular_velocity"])
-    r.max_angular_velocity = toDouble(root["max_angular_velocity"], "max_angular_velocity");
-  if (root["max_linear_acceleration"])
-    r.max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
-  if (root["max_angular_acceleration"])
-    r.max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
-  if (root["sample_times"])
-    r.sample_times = toDoubles(root["sample_times"], "sample_times");
-  if (root["sample_period"])
-    r.sample_period = toDouble(root["sample_period"], "sample_period");
-  if (root["sample_count"])
-    r.sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
-  if (root["publish"])
-    toBool(root["publish"], "publish");
-  if (root["child_frame_id"])
-    toString(root["child_frame_id"], "child_frame_id");
   return r;
 }
 

@@ -7,19 +7,12 @@
 #include "se3_interpolation/bspline.h"
 #include "se3_interpolation/curve_factory.h"
 #include "se3_interpolation/kinematics.h"
+#include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-std::string number(double x)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
-
 /// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
 /// speeds scale by 1/k and accelerations by 1/k².
 double stretchFactor(const ValidatedRequest& r, const CurveFigures& f)
@@ -38,45 +31,6 @@ double stretchFactor(const ValidatedRequest& r, const CurveFigures& f)
   accel(f.max_linear_acceleration, r.max_linear_acceleration);
   accel(f.max_angular_acceleration, r.max_angular_acceleration);
   return k;
-}
-
-std::vector<double> sampleTimes(const ValidatedRequest& r, double t0, double t1, const PlannerLimits& limits)
-{
-  std::vector<double> ts;
-  if (!r.sample_times.empty())
-  {
-    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
-    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
-    {
-      const double t = r.sample_times[i];
-      if (t < t0 - tol || t > t1 + tol)
-        throw InvalidInputError("sample_times[" + std::to_string(i) + "]: " + number(t) +
-                                " s is outside the trajectory [" + number(t0) + ", " + number(t1) + "] s");
-      ts.push_back(std::min(std::max(t, t0), t1));
-    }
-    return ts;
-  }
-  if (r.sample_period > 0.0)
-  {
-    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
-    if (count > static_cast<double>(limits.max_samples))
-      throw LimitExceededError("sample_period: " + number(r.sample_period) + " s gives " + number(count) +
-                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-    for (std::size_t i = 0;; ++i)
-    {
-      const double t = t0 + static_cast<double>(i) * r.sample_period;
-      if (t >= t1 - 1e-9 * r.sample_period)
-        break;
-      ts.push_back(t);
-    }
-    ts.push_back(t1);
-    return ts;
-  }
-  ts.resize(r.sample_count);
-  for (std::size_t i = 0; i < ts.size(); ++i)
-    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
-  ts.back() = t1;
-  return ts;
 }
 
 template <class G>
@@ -128,15 +82,16 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   };
   for (const auto& f : figures)
     if (!std::isfinite(f.second))
-      throw InterpolationError(std::string("the trajectory's ") + f.first + " is " + number(f.second) +
+      throw InterpolationError(std::string("the trajectory's ") + f.first + " is " + formatNumber(f.second) +
                                " (the input's magnitudes are too large: positions, times, rotation_scale or "
                                "max_* bounds)");
   for (std::size_t i = 0; i < out.waypoint_times.size(); ++i)
     if (!std::isfinite(out.waypoint_times[i]))
       throw InterpolationError("waypoints[" + std::to_string(i) + "]: its stretched time is " +
-                               number(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
+                               formatNumber(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
 
-  const std::vector<double> ts = sampleTimes(r, curve->startTime(), curve->endTime(), limits);
+  const std::vector<double> ts =
+      sampleTimes(Sampling{ r.sample_times, r.sample_period, r.sample_count }, curve->startTime(), curve->endTime(), limits);
   out.samples.resize(ts.size());
   Quaternion<double> previous(1.0, 0.0, 0.0, 0.0);
   for (std::size_t i = 0; i < ts.size(); ++i)
@@ -154,7 +109,7 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
     for (double x : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.w(), s.velocity.linear.norm(),
                       s.velocity.angular.norm(), s.acceleration.linear.norm(), s.acceleration.angular.norm() })
       if (!std::isfinite(x))
-        throw InterpolationError("the curve is not finite at t = " + number(ts[i]) +
+        throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
                                  " s (the input is too close to a singular configuration)");
   }
   return out;

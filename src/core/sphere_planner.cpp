@@ -10,24 +10,12 @@
 #include "se3_interpolation/interpolating_spline.h"
 #include "se3_interpolation/polynomial_curves.h"
 #include "se3_interpolation/sphere.h"
+#include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-std::string number(double x)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
-
-std::string indexed(const std::string& field, std::size_t i)
-{
-  return field + "[" + std::to_string(i) + "]";
-}
-
 /// A SphereRequest after validation: defaults resolved, points normalised, tangents projected.
 struct ValidSphereRequest
 {
@@ -46,23 +34,8 @@ struct ValidSphereRequest
   double duration = 0.0;
   double max_speed = 0.0;
   double max_acceleration = 0.0;
-  std::vector<double> sample_times;
-  double sample_period = 0.0;
-  std::uint32_t sample_count = 100;
+  Sampling sampling;
 };
-
-void requireFinite(double x, const std::string& field)
-{
-  if (!std::isfinite(x))
-    throw InvalidInputError(field + ": " + number(x) + " is not a finite number");
-}
-
-void requireFiniteNonNegative(double x, const std::string& field)
-{
-  requireFinite(x, field);
-  if (x < 0.0)
-    throw InvalidInputError(field + ": " + number(x) + " must be >= 0");
-}
 
 void requireUnused(double x, const std::string& field, const std::string& instead)
 {
@@ -93,10 +66,10 @@ Eigen::VectorXd validPoint(const Eigen::VectorXd& raw, Eigen::Index dim, const s
     throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; waypoints[0] has " +
                             std::to_string(dim) + " (all waypoints need the same dimension)");
   for (Eigen::Index j = 0; j < raw.size(); ++j)
-    requireFinite(raw[j], indexed(field, static_cast<std::size_t>(j)));
+    requireFinite(raw[j], indexedField(field, static_cast<std::size_t>(j)));
   const double n = raw.norm();
   if (!(n >= 0.99 && n <= 1.01))
-    throw InvalidInputError(field + ": norm " + number(n) + " is outside [0.99, 1.01] (expected a unit vector)");
+    throw InvalidInputError(field + ": norm " + formatNumber(n) + " is outside [0.99, 1.01] (expected a unit vector)");
   return raw / n;
 }
 
@@ -109,11 +82,11 @@ Eigen::VectorXd validTangent(const Eigen::VectorXd& raw, const Eigen::VectorXd& 
     throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; expected " +
                             std::to_string(x.size()) + " (a tangent vector of R^" + std::to_string(x.size()) + ")");
   for (Eigen::Index j = 0; j < raw.size(); ++j)
-    requireFinite(raw[j], indexed(field, static_cast<std::size_t>(j)));
+    requireFinite(raw[j], indexedField(field, static_cast<std::size_t>(j)));
   const double normal = raw.dot(x);
   if (std::abs(normal) > 0.01 * raw.norm())
     throw InvalidInputError(field + ": is not tangent to the sphere at its waypoint (normal component " +
-                            number(normal) + " of a vector of length " + number(raw.norm()) + ")");
+                            formatNumber(normal) + " of a vector of length " + formatNumber(raw.norm()) + ")");
   return raw - normal * x;
 }
 
@@ -131,7 +104,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
     throw InvalidInputError("waypoints[0]: has " + std::to_string(dim) +
                             " components; a point of the sphere S^m in R^{m+1}, m >= 2, needs at least 3");
   for (std::size_t i = 0; i < n; ++i)
-    v.waypoints.push_back(validPoint(r.waypoints[i], dim, indexed("waypoints", i)));
+    v.waypoints.push_back(validPoint(r.waypoints[i], dim, indexedField("waypoints", i)));
 
   if (!r.geometry.empty())
     throw InvalidInputError("geometry: not used on the sphere (its metric is the round one); leave it empty");
@@ -150,26 +123,16 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
                                                      { "centripetal", Parameterization::kCentripetal } },
                                                    Parameterization::kChord);
 
+  validateTimes(r.times, n);
   if (!r.times.empty())
   {
-    if (r.times.size() != n)
-      throw InvalidInputError("times: " + std::to_string(r.times.size()) + " given for " + std::to_string(n) +
-                              " waypoints (give one time per waypoint, or none)");
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      requireFinite(r.times[i], indexed("times", i));
-      if (i > 0 && !(r.times[i] > r.times[i - 1]))
-        throw InvalidInputError(indexed("times", i) + ": " + number(r.times[i]) + " is not after times[" +
-                                std::to_string(i - 1) + "] = " + number(r.times[i - 1]) +
-                                " (times must be strictly increasing)");
-    }
     v.times = r.times;
   }
   else
   {
     for (std::size_t i = 0; i + 1 < n; ++i)
       if (v.waypoints[i] == v.waypoints[i + 1])
-        throw InvalidInputError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
+        throw InvalidInputError(indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1) +
                                 ": identical consecutive waypoints need explicit times (to dwell)");
   }
   // Antipodal neighbours: NonUniqueGeodesicError naming both.
@@ -203,8 +166,8 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   for (std::size_t i = 0; i < r.velocities.size(); ++i)
   {
     if (r.velocities[i].size() == 0)
-      throw InvalidInputError(indexed("velocities", i) + ": is empty (expected a tangent vector)");
-    v.velocities.push_back(validTangent(r.velocities[i], v.waypoints[i], indexed("velocities", i)));
+      throw InvalidInputError(indexedField("velocities", i) + ": is empty (expected a tangent vector)");
+    v.velocities.push_back(validTangent(r.velocities[i], v.waypoints[i], indexedField("velocities", i)));
   }
 
   requireUnused(r.rotation_scale, "rotation_scale", " (chord spacing uses the great-circle angle)");
@@ -218,25 +181,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   v.max_speed = r.max_angular_velocity;
   v.max_acceleration = r.max_angular_acceleration;
 
-  if (r.sample_times.size() > limits.max_samples)
-    throw LimitExceededError("sample_times: " + std::to_string(r.sample_times.size()) +
-                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-  for (std::size_t i = 0; i < r.sample_times.size(); ++i)
-  {
-    requireFinite(r.sample_times[i], indexed("sample_times", i));
-    if (i > 0 && r.sample_times[i] < r.sample_times[i - 1])
-      throw InvalidInputError(indexed("sample_times", i) + ": " + number(r.sample_times[i]) +
-                              " is before the previous sample time (sample_times must be non-decreasing)");
-  }
-  v.sample_times = r.sample_times;
-  requireFiniteNonNegative(r.sample_period, "sample_period");
-  v.sample_period = r.sample_period;
-  if (r.sample_count == 1)
-    throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
-  v.sample_count = r.sample_count == 0 ? 100 : r.sample_count;
-  if (r.sample_times.empty() && r.sample_period == 0.0 && v.sample_count > limits.max_samples)
-    throw LimitExceededError("sample_count: " + std::to_string(v.sample_count) +
-                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   return v;
 }
 
@@ -264,7 +209,7 @@ std::vector<double> sphereWaypointTimes(const ValidSphereRequest& r)
   times.back() = total;
   for (std::size_t i = 1; i < n; ++i)
     if (!(times[i] > times[i - 1]))
-      throw InvalidInputError(indexed("waypoints", i - 1) + " and " + indexed("waypoints", i) +
+      throw InvalidInputError(indexedField("waypoints", i - 1) + " and " + indexedField("waypoints", i) +
                               ": too close to be spaced apart in time; give explicit times");
   return times;
 }
@@ -293,44 +238,6 @@ std::shared_ptr<const Curve<Sphere>> makeSphereCurve(const ValidSphereRequest& r
   throw InvalidInputError(std::string("curve: '") + toString(r.curve) + "' is not available on the sphere");
 }
 
-std::vector<double> sampleTimes(const ValidSphereRequest& r, double t0, double t1, const PlannerLimits& limits)
-{
-  std::vector<double> ts;
-  if (!r.sample_times.empty())
-  {
-    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
-    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
-    {
-      const double t = r.sample_times[i];
-      if (t < t0 - tol || t > t1 + tol)
-        throw InvalidInputError(indexed("sample_times", i) + ": " + number(t) + " s is outside the trajectory [" +
-                                number(t0) + ", " + number(t1) + "] s");
-      ts.push_back(std::min(std::max(t, t0), t1));
-    }
-    return ts;
-  }
-  if (r.sample_period > 0.0)
-  {
-    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
-    if (count > static_cast<double>(limits.max_samples))
-      throw LimitExceededError("sample_period: " + number(r.sample_period) + " s gives " + number(count) +
-                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-    for (std::size_t i = 0;; ++i)
-    {
-      const double t = t0 + static_cast<double>(i) * r.sample_period;
-      if (t >= t1 - 1e-9 * r.sample_period)
-        break;
-      ts.push_back(t);
-    }
-    ts.push_back(t1);
-    return ts;
-  }
-  ts.resize(r.sample_count);
-  for (std::size_t i = 0; i < ts.size(); ++i)
-    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
-  ts.back() = t1;
-  return ts;
-}
 }  // namespace
 
 SphereResult generateSphereTrajectory(const SphereRequest& request, const PlannerLimits& limits)
@@ -366,7 +273,7 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
   for (double& t : out.waypoint_times)
     t = out.start_time + (t - out.start_time) * out.time_scale;
 
-  const std::vector<double> ts = sampleTimes(r, curve->startTime(), curve->endTime(), limits);
+  const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
   out.samples.resize(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
   {
@@ -377,7 +284,7 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
     s.velocity = kin.velocity;
     s.acceleration = kin.acceleration;
     if (!s.point.allFinite() || !s.velocity.allFinite() || !s.acceleration.allFinite())
-      throw InterpolationError("the curve is not finite at t = " + number(ts[i]) +
+      throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
                                " s (the input is too close to a singular configuration)");
   }
   return out;

@@ -3,35 +3,22 @@
 
 #include "se3_interpolation/bspline.h"
 #include "se3_interpolation/planner.h"
+#include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
+using se3_interpolation::requireFinite;  // the scalar overload, beside the vector ones below
+
 std::string indexed(const std::string& field, std::size_t i)
 {
-  return field + "[" + std::to_string(i) + "]";
+  return indexedField(field, i);
 }
 
 std::string number(double x)
 {
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
-
-void requireFinite(double x, const std::string& field)
-{
-  if (!std::isfinite(x))
-    throw InvalidInputError(field + ": " + number(x) + " is not a finite number");
-}
-
-void requireFiniteNonNegative(double x, const std::string& field)
-{
-  requireFinite(x, field);
-  if (x < 0.0)
-    throw InvalidInputError(field + ": " + number(x) + " must be >= 0");
+  return formatNumber(x);
 }
 
 void requireFinite(const Eigen::Vector3d& v, const std::string& field)
@@ -140,19 +127,9 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
                                    { "centripetal", Parameterization::kCentripetal } },
                                  Parameterization::kChord);
 
+  validateTimes(r.times, n);
   if (!r.times.empty())
   {
-    if (r.times.size() != n)
-      throw InvalidInputError("times: " + std::to_string(r.times.size()) + " given for " + std::to_string(n) +
-                              " waypoints (give one time per waypoint, or none)");
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      requireFinite(r.times[i], indexed("times", i));
-      if (i > 0 && !(r.times[i] > r.times[i - 1]))
-        throw InvalidInputError(indexed("times", i) + ": " + number(r.times[i]) +
-                                " is not after times[" + std::to_string(i - 1) + "] = " + number(r.times[i - 1]) +
-                                " (times must be strictly increasing)");
-    }
     v.times = r.times;
   }
   else
@@ -214,26 +191,119 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   v.max_linear_acceleration = r.max_linear_acceleration;
   v.max_angular_acceleration = r.max_angular_acceleration;
 
-  if (r.sample_times.size() > limits.max_samples)
-    throw LimitExceededError("sample_times: " + std::to_string(r.sample_times.size()) +
-                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-  for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+  const Sampling sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
+  v.sample_times = sampling.sample_times;
+  v.sample_period = sampling.sample_period;
+  v.sample_count = sampling.sample_count;
+  return v;
+}
+
+std::string indexedField(const std::string& field, std::size_t i)
+{
+  return field + "[" + std::to_string(i) + "]";
+}
+
+std::string formatNumber(double x)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+void requireFinite(double x, const std::string& field)
+{
+  if (!std::isfinite(x))
+    throw InvalidInputError(field + ": " + formatNumber(x) + " is not a finite number");
+}
+
+void requireFiniteNonNegative(double x, const std::string& field)
+{
+  requireFinite(x, field);
+  if (x < 0.0)
+    throw InvalidInputError(field + ": " + formatNumber(x) + " must be >= 0");
+}
+
+void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
+{
+  if (times.empty())
+    return;
+  if (times.size() != num_waypoints)
+    throw InvalidInputError("times: " + std::to_string(times.size()) + " given for " + std::to_string(num_waypoints) +
+                            " waypoints (give one time per waypoint, or none)");
+  for (std::size_t i = 0; i < times.size(); ++i)
   {
-    requireFinite(r.sample_times[i], indexed("sample_times", i));
-    if (i > 0 && r.sample_times[i] < r.sample_times[i - 1])
-      throw InvalidInputError(indexed("sample_times", i) + ": " + number(r.sample_times[i]) +
+    requireFinite(times[i], indexedField("times", i));
+    if (i > 0 && !(times[i] > times[i - 1]))
+      throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is not after times[" +
+                              std::to_string(i - 1) + "] = " + formatNumber(times[i - 1]) +
+                              " (times must be strictly increasing)");
+  }
+}
+
+Sampling validateSampling(const std::vector<double>& sample_times, double sample_period, std::uint32_t sample_count,
+                          const PlannerLimits& limits)
+{
+  if (sample_times.size() > limits.max_samples)
+    throw LimitExceededError("sample_times: " + std::to_string(sample_times.size()) +
+                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+  for (std::size_t i = 0; i < sample_times.size(); ++i)
+  {
+    requireFinite(sample_times[i], indexedField("sample_times", i));
+    if (i > 0 && sample_times[i] < sample_times[i - 1])
+      throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(sample_times[i]) +
                               " is before the previous sample time (sample_times must be non-decreasing)");
   }
-  v.sample_times = r.sample_times;
-  requireFiniteNonNegative(r.sample_period, "sample_period");
-  v.sample_period = r.sample_period;
-  if (r.sample_count == 1)
+  requireFiniteNonNegative(sample_period, "sample_period");
+  if (sample_count == 1)
     throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
-  v.sample_count = r.sample_count == 0 ? 100 : r.sample_count;
-  if (r.sample_times.empty() && r.sample_period == 0.0 && v.sample_count > limits.max_samples)
-    throw LimitExceededError("sample_count: " + std::to_string(v.sample_count) +
+  Sampling s;
+  s.sample_times = sample_times;
+  s.sample_period = sample_period;
+  s.sample_count = sample_count == 0 ? 100 : sample_count;
+  if (sample_times.empty() && sample_period == 0.0 && s.sample_count > limits.max_samples)
+    throw LimitExceededError("sample_count: " + std::to_string(s.sample_count) +
                              " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-  return v;
+  return s;
+}
+
+std::vector<double> sampleTimes(const Sampling& r, double t0, double t1, const PlannerLimits& limits)
+{
+  std::vector<double> ts;
+  if (!r.sample_times.empty())
+  {
+    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
+    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
+    {
+      const double t = r.sample_times[i];
+      if (t < t0 - tol || t > t1 + tol)
+        throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(t) +
+                                " s is outside the trajectory [" + formatNumber(t0) + ", " + formatNumber(t1) + "] s");
+      ts.push_back(std::min(std::max(t, t0), t1));
+    }
+    return ts;
+  }
+  if (r.sample_period > 0.0)
+  {
+    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
+    if (!(count <= static_cast<double>(limits.max_samples)))
+      throw LimitExceededError("sample_period: " + formatNumber(r.sample_period) + " s gives " + formatNumber(count) +
+                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+    for (std::size_t i = 0;; ++i)
+    {
+      const double t = t0 + static_cast<double>(i) * r.sample_period;
+      if (t >= t1 - 1e-9 * r.sample_period)
+        break;
+      ts.push_back(t);
+    }
+    ts.push_back(t1);
+    return ts;
+  }
+  ts.resize(r.sample_count);
+  for (std::size_t i = 0; i < ts.size(); ++i)
+    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
+  ts.back() = t1;
+  return ts;
 }
 
 }  // namespace se3_interpolation
