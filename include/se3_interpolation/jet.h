@@ -21,7 +21,8 @@
 // (a Jet<2> product is 6 multiply-adds, not a call into a generic loop).
 #define SE3_JET_PRAGMA(x) _Pragma(#x)
 #if defined(__clang__)
-#define SE3_JET_UNROLL SE3_JET_PRAGMA(unroll)
+// clang unrolls these short constant-trip loops by itself; forcing it makes compile times explode.
+#define SE3_JET_UNROLL
 #elif defined(__GNUC__)
 #define SE3_JET_UNROLL SE3_JET_PRAGMA(GCC unroll 16)
 #else
