@@ -32,5 +32,20 @@ if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -l
   tail -n 40 "$SE3_WS/tests.log" >&2
   failed=$((failed + 1))
 fi
+# The core and unit tests under ASan + UBSan and a bounded libFuzzer run (scripts/run_sanitizers.sh):
+# each sanitized test case and the fuzz run count as tests here too.
+sanitizer_status=0
+bash "$SE3_ROOT/scripts/run_sanitizers.sh" >"$SE3_WS/sanitizers.log" 2>&1 || sanitizer_status=$?
+grep -vE '^sanitizers: ' "$SE3_WS/sanitizers.log" || true
+sanitizer_line=$(grep -E '^sanitizers: [0-9]+ passed, [0-9]+ failed$' "$SE3_WS/sanitizers.log" | tail -n 1 || true)
+sanitizer_passed=$(echo "$sanitizer_line" | sed -nE 's/^sanitizers: ([0-9]+) passed.*/\1/p')
+sanitizer_failed=$(echo "$sanitizer_line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
+sanitizer_passed=${sanitizer_passed:-0}; sanitizer_failed=${sanitizer_failed:-0}
+if [ "$sanitizer_status" -ne 0 ] && [ "$sanitizer_failed" -eq 0 ]; then
+  echo "scripts/run_sanitizers.sh failed (log: $SE3_WS/sanitizers.log)" >&2
+  sanitizer_failed=1
+fi
+passed=$((passed + sanitizer_passed))
+failed=$((failed + sanitizer_failed))
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
-#include <chrono>
 #include <random>
 
 #include "se3_interpolation/banded_lu.h"
@@ -503,21 +502,19 @@ TYPED_TEST(Se3Interpolation, TwoWaypointsNaturalIsTheGeodesic)
   }
 }
 
-TYPED_TEST(Se3Interpolation, TenThousandWaypointsInLinearTime)
+// Linear growth of the solve is measured by bench/bench_interpolating.cpp (no wall-clock
+// assertions in tests); here: 10^4 waypoints are solved and interpolated exactly.
+TYPED_TEST(Se3Interpolation, TenThousandWaypoints)
 {
   std::mt19937 rng(126);
   const std::size_t n = 10000;
   const std::vector<Pose<double>> x = randomPolygon(rng, n);
   const std::vector<double> t = randomTimes(rng, n);
-  const auto start = std::chrono::steady_clock::now();
   const auto c = spline<TypeParam>(x, t, EndCondition::kNatural);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(seconds, 10.0);
   double worst = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-    worst = std::max(worst, poseDistance(c->value(t[i]), x[i]));
+  for (std::size_t k = 0; k < n; ++k)
+    worst = std::max(worst, poseDistance(c->value(t[k]), x[k]));
   EXPECT_LT(worst, 1e-10);
-  this->RecordProperty("solve_seconds", std::to_string(seconds));
 }
 
 // ---- interpolating in the other geometries -----------------------------------------------

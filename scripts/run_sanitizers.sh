@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# Builds the core and every unit test with AddressSanitizer + UndefinedBehaviorSanitizer (plain
+# CMake, no ROS: test/sanitize/CMakeLists.txt) into $SE3_WS/sanitize, runs each test binary
+# (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer target
+# fuzz_generate for ${SE3_FUZZ_SECONDS:-60} s over a copy of test/fuzz/corpus. The last line is
+# `sanitizers: N passed, N failed` (the unit test cases plus the fuzz run as one test); exits
+# non-zero on any failure, sanitizer report or fuzzer finding.
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+se3_install_deps
+
+build="$SE3_WS/sanitize"
+results="$build/test_results"
+fuzz_seconds=${SE3_FUZZ_SECONDS:-60}
+mkdir -p "$build"
+echo "sanitized build (clang++, ASan + UBSan) in $build"
+if ! { cmake -S "$SE3_ROOT/test/sanitize" -B "$build" -DCMAKE_CXX_COMPILER=clang++ &&
+  cmake --build "$build" -j2; } >"$build/build.log" 2>&1; then
+  tail -n 60 "$build/build.log"
+  echo "sanitized build failed (full log: $build/build.log)" >&2
+  echo "sanitizers: 0 passed, 1 failed"
+  exit 1
+fi
+echo "built in ${SECONDS} s"
+
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
+
+# Prints the test cases run and failed in a gtest XML report (disabled and skipped ones are
+# not run; a missing or unreadable report counts 0 0).
+count_cases() {
+  python3 -c '
+import sys
+import xml.etree.ElementTree as ET
+try:
+    cases = list(ET.parse(sys.argv[1]).getroot().iter("testcase"))
+except (OSError, ET.ParseError):
+    cases = []
+run = [c for c in cases if c.get("status") != "notrun" and c.get("result") not in ("skipped", "suppressed")]
+bad = [c for c in run if c.find("failure") is not None or c.find("error") is not None]
+print(len(run), len(bad))
+' "$1"
+}
+
+rm -rf "$results"
+mkdir -p "$results"
+passed=0
+failed=0
+for source in "$SE3_ROOT"/test/unit/test_*.cpp; do
+  name=$(basename "$source" .cpp)
+  log="$results/$name.log"
+  xml="$results/$name.xml"
+  status=0
+  "$build/$name" --gtest_output="xml:$xml" >"$log" 2>&1 || status=$?
+  read -r run bad < <(count_cases "$xml")
+  # A sanitizer report, a crash or a leak after the last test: the binary failed as a whole.
+  if [ "$status" -ne 0 ] && [ "$bad" -eq 0 ]; then
+    bad=1
+    run=$((run + 1))
+  fi
+  if [ "$run" -eq 0 ]; then
+    bad=1
+    run=1
+  fi
+  passed=$((passed + run - bad))
+  failed=$((failed + bad))
+  if [ "$bad" -eq 0 ]; then
+    echo "PASS $name: $run test cases"
+  else
+    echo "FAIL $name: $bad of $run test cases failed (exit status $status, log: $log)"
+    grep -E '^\[  FAILED  \]|ERROR: (Address|Leak)Sanitizer|runtime error:|SUMMARY:' "$log" | head -n 20 || true
+  fi
+done
+
+echo "unit tests done at ${SECONDS} s"
+
+corpus="$build/fuzz_corpus"
+artifacts="$build/fuzz_artifacts"
+rm -rf "$corpus" "$artifacts"
+mkdir -p "$artifacts"
+cp -r "$SE3_ROOT/test/fuzz/corpus" "$corpus"
+echo "fuzz_generate: ${fuzz_seconds} s over a copy of test/fuzz/corpus ($(find "$corpus" -type f | wc -l) seeds)"
+status=0
+"$build/fuzz_generate" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=60 -print_final_stats=1 \
+  -artifact_prefix="$artifacts/" "$corpus" >"$build/fuzz.log" 2>&1 || status=$?
+runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$build/fuzz.log" | tail -n 1)
+if [ "$status" -eq 0 ] && [ -n "$runs" ] && [ -z "$(ls -A "$artifacts")" ]; then
+  passed=$((passed + 1))
+  echo "PASS fuzz_generate: $runs inputs, no finding; corpus $(find "$corpus" -type f | wc -l) files"
+else
+  failed=$((failed + 1))
+  echo "FAIL fuzz_generate: exit status $status (log: $build/fuzz.log; inputs: $artifacts)"
+  grep -E '^fuzz_generate:|ERROR: |runtime error:|SUMMARY:|Test unit written' "$build/fuzz.log" | head -n 20 || true
+fi
+
+echo "done in ${SECONDS} s"
+echo "sanitizers: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
