@@ -139,6 +139,8 @@ def main():
                                       sample_times=[0, 0.5, 1, 2]),
         "blended_bounds": request(poses, curve="blended", continuity=3, bounds=(0.5, 1, 2, None),
                                   sample_period=0.25),
+        "blended_twelve": request([((0.5 * i, (i % 3) * 0.5, 0), rotation((1, i % 2, 1), 0.3 * i)) for i in range(12)],
+                                  curve="blended", geometry="screw", parameterization="uniform", continuity=4),
         "text": b"curve: bspline\ndegree: 2\nwaypoints: [{position: [0, 0, 0]}]\n",
         "empty": b"",
     }

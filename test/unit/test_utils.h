@@ -11,14 +11,6 @@ namespace se3_interpolation
 {
 namespace test
 {
-/// Wall-clock budgets in tests are multiplied by this: the ASan + UBSan build
-/// (test/sanitize/CMakeLists.txt defines SE3_SANITIZED) runs several times slower.
-#ifdef SE3_SANITIZED
-constexpr double kTimeBudgetScale = 10.0;
-#else
-constexpr double kTimeBudgetScale = 1.0;
-#endif
-
 template <int N>
 Eigen::Matrix<double, N, 1> randomUnitVector(std::mt19937& rng)
 {
