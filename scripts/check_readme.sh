@@ -36,7 +36,7 @@ awk -v dir="$work" '
     printf "%d\t%d\t%s\t%s\n", n, NR + 1, action, arg > (dir "/blocks.tsv")
     next
   }
-  /^```[[:space:]]*$/ && inside { inside = 0; close(file); next }
+  /^```[[:space:]]*$/ && inside { inside = 0; close(file); prev = ""; next }
   inside { print >> file; next }
   { if ($0 !~ /^[[:space:]]*$/) prev = $0 }
 ' "$readme"
