@@ -26,7 +26,11 @@ import math
 import os
 import sys
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit("plot_trajectory: error: %s has no matplotlib; run the script as scripts/plot_trajectory.py "
+             "(its shebang is Debian's /usr/bin/python3, with python3-matplotlib)" % sys.executable)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
