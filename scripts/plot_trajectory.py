@@ -94,17 +94,29 @@ def rotation_vector(q):
 
 def unwrap(vectors):
     """Rotation vectors made continuous: each r = angle * axis is replaced by the equivalent
-    (angle + 2 pi k) * axis (k = -2 .. 2) nearest to the previous sample's vector."""
+    (angle + 2 pi k) * axis nearest to the previous sample's vector p, i.e. the integer k for
+    which angle + 2 pi k is nearest to p . axis (|(angle + 2 pi k) axis - p|^2 is a parabola in
+    angle + 2 pi k with its minimum there). At a whole number of turns (angle 0) the previous
+    axis is kept."""
     out = []
     for r in vectors:
         angle = math.sqrt(sum(c * c for c in r))
-        if not out or angle < 1e-12:
+        if not out:
             out.append(r)
             continue
+        if angle < 1e-12:
+            # A whole number of turns: the axis is the previous one's, the count k the nearest.
+            prev = math.sqrt(sum(c * c for c in out[-1]))
+            if prev < 1e-12:
+                out.append(r)
+                continue
+            k = round(prev / (2 * math.pi))
+            out.append([2 * math.pi * k * c / prev for c in out[-1]])
+            continue
         axis = [c / angle for c in r]
-        prev = out[-1]
-        candidates = [[(angle + 2 * math.pi * k) * a for a in axis] for k in range(-2, 3)]
-        out.append(min(candidates, key=lambda c: sum((ci - pi) ** 2 for ci, pi in zip(c, prev))))
+        along = sum(a * p for a, p in zip(axis, out[-1]))
+        k = round((along - angle) / (2 * math.pi))
+        out.append([(angle + 2 * math.pi * k) * a for a in axis])
     return out
 
 
