@@ -8,8 +8,9 @@
 #   <!-- readme-check: skip REASON -->            not run here (interactive, or this check itself)
 #   <!-- readme-check: wait-for-service NAME -->  after the block, wait up to 60 s for service NAME
 #
-# The ROS master port is $SE3_ROS_PORT (default 11398): ROS_MASTER_URI points there before the
-# first block, so no command touches the default port 11311. Everything the blocks start is
+# The ROS master port is $SE3_ROS_PORT (default: the first free port from 11398 on, so two checks on
+# one machine do not meet): ROS_MASTER_URI points there before the first block, so no command
+# touches the default port 11311. Everything the blocks start is
 # stopped at the end (one process group). The whole run is capped at $SE3_README_TIMEOUT s
 # (default 240); blocks not reached count as failed.
 #
@@ -18,7 +19,16 @@
 # $SE3_WS/readme_check.log. Assumes the dependencies are installed and $SE3_WS is built
 # (scripts/run_tests.sh runs it after the build).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-export SE3_ROS_PORT=${SE3_ROS_PORT:-11398}
+if [ -z "${SE3_ROS_PORT:-}" ]; then
+  for candidate in $(seq 11398 11497); do
+    if /usr/bin/python3 -c 'import socket, sys; socket.socket().bind(("127.0.0.1", int(sys.argv[1])))' \
+        "$candidate" 2>/dev/null; then
+      SE3_ROS_PORT=$candidate
+      break
+    fi
+  done
+fi
+export SE3_ROS_PORT=${SE3_ROS_PORT:?no free port in 11398 ... 11497; set SE3_ROS_PORT}
 export ROS_MASTER_URI=http://localhost:$SE3_ROS_PORT
 readme="$SE3_ROOT/README.md"
 work="$SE3_WS/readme_check"
