@@ -1,18 +1,21 @@
-# Shared by the README's commands: dependencies, workspace, build. Source it, do not run it.
-# The catkin workspace lives in $SE3_WS (default: .ws/ in the repository, git-ignored), so no
-# build output ever lands in the source tree.
+# Shared by the README's commands: dependencies, workspace, build. Source it from a script, do
+# not run it (it sets -euo pipefail; in an interactive shell use scripts/setup.bash instead).
+# The catkin workspace is $SE3_WS, by default one per clone outside the source tree (see
+# scripts/setup.bash, which chooses it), so no build output lands in the source tree and no path
+# loops back into it.
 set -euo pipefail
-SE3_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-SE3_WS=${SE3_WS:-$SE3_ROOT/.ws}
-# Debian's ROS lives under /usr; a pyenv python3 earlier on PATH lacks its modules.
-export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
-export ROS_PYTHON_VERSION=3
+# shellcheck source=scripts/setup.bash
+source "$(dirname "${BASH_SOURCE[0]}")/setup.bash" --env-only
 
+# The one list of Debian packages: everything the README's commands use. The runtime ones are
+# declared in package.xml too (exec_depend). rosbash gives rosrun (only a recommendation of
+# ros-core); tf2-tools gives tf2_ros/static_transform_publisher and tf2_tools/echo.py.
 SE3_APT_PACKAGES=(
-  build-essential cmake ros-core-dev libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
+  build-essential cmake ros-core-dev rosbash tf2-tools libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
   libeigen3-dev libnav-msgs-dev libvisualization-msgs-dev libtrajectory-msgs-dev libstd-srvs-dev
-  python3-rostest python3-geometry-msgs python3-nav-msgs python3-visualization-msgs python3-std-srvs
-  python3-trajectory-msgs libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
+  python3-rospy python3-rostest python3-rosservice python3-rostopic python3-geometry-msgs python3-nav-msgs
+  python3-visualization-msgs python3-std-srvs python3-trajectory-msgs python3-tf2-ros
+  libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev
 )
 
@@ -31,6 +34,11 @@ se3_install_deps() {
 }
 
 se3_build() {
+  echo "catkin workspace: $SE3_WS (use it in a shell with: source scripts/setup.bash)"
+  if [ -L "$SE3_ROOT/.ws/src/se3_interpolation" ] && [ "$SE3_WS" != "$SE3_ROOT/.ws" ]; then
+    echo "note: .ws/ is an old workspace inside the repository; its link back makes rosrun's find" \
+         "report 'File system loop detected': remove it with rm -rf .ws" >&2
+  fi
   mkdir -p "$SE3_WS/src"
   ln -sfn "$SE3_ROOT" "$SE3_WS/src/se3_interpolation"
   (cd "$SE3_WS" && catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release "$@" -j2 >"$SE3_WS/build.log" 2>&1) || {

@@ -47,8 +47,8 @@ def main():
         print(text)
 
     say("se3_interpolation demo: %d waypoints from %s, %.1f s" % (len(waypoints.poses), path, duration))
-    header = "%-20s %-16s %8s %9s %9s %10s %10s %12s" % (
-        "curve", "geometry", "samples", "length_m", "rot_rad", "v_max_m/s", "w_max_rad/s", "energy")
+    header = "%-20s %-16s %8s %10s %10s %11s %13s %15s" % (
+        "curve", "geometry", "samples", "length[m]", "rot[rad]", "v_max[m/s]", "w_max[rad/s]", "energy[m2/s3]")
     say(header)
     say("-" * len(header))
     failures = 0
@@ -66,9 +66,14 @@ def main():
                 failures += 1
                 say("%-20s %-16s FAILED: %s" % (curve, geometry, res.message))
                 continue
-            say("%-20s %-16s %8d %9.4f %9.4f %10.4f %10.4f %12.4f" % (
+            say("%-20s %-16s %8d %10.4f %10.4f %11.4f %13.4f %15.4f" % (
                 curve, geometry, len(res.path.poses), res.length, res.rotation_length,
                 res.max_linear_speed, res.max_angular_speed, res.energy))
+    say("length: translation path length; rot: rotation angle travelled; v_max, w_max: peak linear and")
+    say("angular speed; energy: integral of |p''|^2 + rho^2 |w'|^2 dt over the smooth pieces (Crouch et al.")
+    say("eq. 32, rho = rotation_scale = 1 m/rad; README \"Sampling and figures\"). The velocity jumps of")
+    say("piecewise_geodesic at the waypoints are not counted, so with double_geodesic (straight lines and")
+    say("fixed-axis turns at constant rates) its energy is 0; screw segments are helices, accelerated.")
     say("Published the last trajectory on ~path, ~trajectory, ~markers and TF frame 'interpolated'.")
     sys.stdout.flush()
     if summary_file:

@@ -1,34 +1,74 @@
 #!/usr/bin/python3
 """Plot a trajectory CSV written by se3_interpolate (pose space) into a PNG.
 
-usage: plot_trajectory.py TRAJECTORY.csv OUT.png [--title TITLE]
+usage: plot_trajectory.py [CSV|-] [OUT.png] [--figures FIGURES.txt] [--max-linear-velocity V] ...
 
-Panels against time: position (x, y, z), rotation vector (the axis-angle vector of the
-orientation relative to the first sample, rad), linear and angular speed (|v|, |ω|), and
-linear and angular acceleration magnitudes (|a|, |α|).
+CSV is the CLI's output file, or `-` / nothing for standard input, so
+`rosrun se3_interpolation se3_interpolate REQUEST.yaml | scripts/plot_trajectory.py - OUT.png` works.
+OUT.png defaults to trajectory.png (CSV from stdin) or the CSV's name with .png.
+
+Two columns, linear quantities left and angular right, each panel with its own unit, against
+time t [s]: position x, y, z [m] | rotation vector [rad]; speed |v| [m/s] | |w| [rad/s];
+acceleration |a| [m/s^2] | |dw/dt| [rad/s^2]. The rotation vector is that of R(t) R(0)^T
+(world frame, relative to the first sample), unwrapped: past an angle of pi it continues along
+the same axis (angles beyond pi) instead of jumping to the opposite vector.
+
+--figures takes the CLI's standard error (`2>FIGURES.txt`): its `waypoint_times` are drawn as
+vertical dotted lines with the waypoint index, and the figures go into the title. The
+--max-* options (the request's field names) draw bounds as dashed horizontal lines.
+
+Runs with Debian's /usr/bin/python3 (the shebang): run it as scripts/plot_trajectory.py; a
+`python3` from pyenv or a virtualenv may lack matplotlib.
 """
 import argparse
 import csv
 import math
+import os
 import sys
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit("plot_trajectory: error: %s has no matplotlib; run the script as scripts/plot_trajectory.py "
+             "(its shebang is Debian's /usr/bin/python3, with python3-matplotlib)" % sys.executable)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+COLUMNS = ["t", "x", "y", "z", "qx", "qy", "qz", "qw", "vx", "vy", "vz", "wx", "wy", "wz",
+           "ax", "ay", "az", "alx", "aly", "alz"]
 
-def read_csv(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
+
+def read_csv(stream, name):
+    rows = list(csv.DictReader(stream))
     if not rows:
-        raise ValueError("%s: no samples" % path)
-    required = ["t", "x", "y", "z", "qx", "qy", "qz", "qw", "vx", "vy", "vz", "wx", "wy", "wz",
-                "ax", "ay", "az", "alx", "aly", "alz"]
-    missing = [c for c in required if c not in rows[0]]
+        raise ValueError("%s: no samples" % name)
+    missing = [c for c in COLUMNS if c not in rows[0]]
     if missing:
-        raise ValueError("%s: missing columns %s (expected se3_interpolate's pose CSV)" % (path, missing))
-    return {c: [float(r[c]) for r in rows] for c in required}
+        raise ValueError("%s: missing columns %s (expected se3_interpolate's pose CSV)" % (name, missing))
+    try:
+        return {c: [float(r[c]) for r in rows] for c in COLUMNS}
+    except (TypeError, ValueError):
+        raise ValueError("%s: a value is not a number" % name)
+
+
+def read_figures(path):
+    """`name: value` lines of the CLI's standard error; waypoint_times as a list."""
+    figures = {}
+    with open(path) as f:
+        for line in f:
+            name, sep, value = line.partition(": ")
+            if not sep:
+                continue
+            value = value.strip()
+            if name == "waypoint_times":
+                figures[name] = [float(v) for v in value.split(",") if v.strip()]
+            else:
+                try:
+                    figures[name] = float(value)
+                except ValueError:
+                    pass
+    return figures
 
 
 def quat_mul(a, b):
@@ -41,6 +81,7 @@ def quat_mul(a, b):
 
 
 def rotation_vector(q):
+    """Principal rotation vector (angle in [0, pi]) of the unit quaternion q = (x, y, z, w)."""
     x, y, z, w = q
     if w < 0:
         x, y, z, w = -x, -y, -z, -w
@@ -51,47 +92,126 @@ def rotation_vector(q):
     return (angle * x / n, angle * y / n, angle * z / n)
 
 
+def unwrap(vectors):
+    """Rotation vectors made continuous: each r = angle * axis is replaced by the equivalent
+    (angle + 2 pi k) * axis nearest to the previous sample's vector p, i.e. the integer k for
+    which angle + 2 pi k is nearest to p . axis (|(angle + 2 pi k) axis - p|^2 is a parabola in
+    angle + 2 pi k with its minimum there). At a whole number of turns (angle 0) the previous
+    axis is kept."""
+    out = []
+    for r in vectors:
+        angle = math.sqrt(sum(c * c for c in r))
+        if not out:
+            out.append(r)
+            continue
+        if angle < 1e-12:
+            # A whole number of turns: the axis is the previous one's, the count k the nearest.
+            prev = math.sqrt(sum(c * c for c in out[-1]))
+            if prev < 1e-12:
+                out.append(r)
+                continue
+            k = round(prev / (2 * math.pi))
+            out.append([2 * math.pi * k * c / prev for c in out[-1]])
+            continue
+        axis = [c / angle for c in r]
+        along = sum(a * p for a, p in zip(axis, out[-1]))
+        k = round((along - angle) / (2 * math.pi))
+        out.append([(angle + 2 * math.pi * k) * a for a in axis])
+    return out
+
+
 def norm(xs, ys, zs):
     return [math.sqrt(a * a + b * b + c * c) for a, b, c in zip(xs, ys, zs)]
 
 
+def positive(text):
+    v = float(text)
+    if not (v > 0 and math.isfinite(v)):
+        raise argparse.ArgumentTypeError("expected a positive number, got %s" % text)
+    return v
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("csv")
-    parser.add_argument("png")
+    parser.add_argument("csv", nargs="?", default="-", help="se3_interpolate's CSV, or - (default) for stdin")
+    parser.add_argument("png", nargs="?", help="output PNG (default: trajectory.png, or CSV name with .png)")
     parser.add_argument("--title", default="")
+    parser.add_argument("--figures", metavar="FILE",
+                        help="se3_interpolate's standard error: marks its waypoint_times")
+    parser.add_argument("--max-linear-velocity", type=positive, metavar="M_PER_S")
+    parser.add_argument("--max-angular-velocity", type=positive, metavar="RAD_PER_S")
+    parser.add_argument("--max-linear-acceleration", type=positive, metavar="M_PER_S2")
+    parser.add_argument("--max-angular-acceleration", type=positive, metavar="RAD_PER_S2")
     args = parser.parse_args(argv)
+    if args.png is None:
+        args.png = "trajectory.png" if args.csv == "-" else os.path.splitext(args.csv)[0] + ".png"
     try:
-        d = read_csv(args.csv)
+        if args.csv == "-":
+            d = read_csv(sys.stdin, "standard input")
+        else:
+            with open(args.csv) as f:
+                d = read_csv(f, args.csv)
+        figures = read_figures(args.figures) if args.figures else {}
     except (OSError, ValueError) as e:
         print("plot_trajectory: error: %s" % e, file=sys.stderr)
         return 2
     t = d["t"]
     q0 = (d["qx"][0], d["qy"][0], d["qz"][0], d["qw"][0])
     q0_inv = (-q0[0], -q0[1], -q0[2], q0[3])
-    rv = [rotation_vector(quat_mul(q, q0_inv)) for q in zip(d["qx"], d["qy"], d["qz"], d["qw"])]
+    rv = unwrap([rotation_vector(quat_mul(q, q0_inv)) for q in zip(d["qx"], d["qy"], d["qz"], d["qw"])])
 
-    fig, ax = plt.subplots(4, 1, figsize=(9, 11), sharex=True)
+    fig, ax = plt.subplots(3, 2, figsize=(12, 9), sharex=True)
     for c in "xyz":
-        ax[0].plot(t, d[c], label=c)
-    ax[0].set_ylabel("position [m]")
+        ax[0][0].plot(t, d[c], label=c)
+    ax[0][0].set_ylabel("position [m]")
     for i, c in enumerate("xyz"):
-        ax[1].plot(t, [r[i] for r in rv], label="r" + c)
-    ax[1].set_ylabel("rotation vector [rad]\n(relative to start)")
-    ax[2].plot(t, norm(d["vx"], d["vy"], d["vz"]), label="|v| [m/s]")
-    ax[2].plot(t, norm(d["wx"], d["wy"], d["wz"]), label="|ω| [rad/s]")
-    ax[2].set_ylabel("speed")
-    ax[3].plot(t, norm(d["ax"], d["ay"], d["az"]), label="|a| [m/s²]")
-    ax[3].plot(t, norm(d["alx"], d["aly"], d["alz"]), label="|α| [rad/s²]")
-    ax[3].set_ylabel("acceleration")
-    ax[3].set_xlabel("t [s]")
-    for a in ax:
-        a.grid(True, alpha=0.3)
-        a.legend(loc="upper right", fontsize=8)
-    if args.title:
-        fig.suptitle(args.title)
+        ax[0][1].plot(t, [r[i] for r in rv], label="r" + c)
+    ax[0][1].set_ylabel("rotation vector [rad]\n(of R(t) R(0)^T, unwrapped)")
+    ax[1][0].plot(t, norm(d["vx"], d["vy"], d["vz"]), label="|v|", color="C0")
+    ax[1][0].set_ylabel("linear speed |v| [m/s]")
+    ax[1][1].plot(t, norm(d["wx"], d["wy"], d["wz"]), label="|w|", color="C1")
+    ax[1][1].set_ylabel("angular speed |w| [rad/s]")
+    ax[2][0].plot(t, norm(d["ax"], d["ay"], d["az"]), label="|a|", color="C0")
+    ax[2][0].set_ylabel("linear acceleration |a| [m/s$^2$]")
+    ax[2][1].plot(t, norm(d["alx"], d["aly"], d["alz"]), label="|dw/dt|", color="C1")
+    ax[2][1].set_ylabel("angular acceleration |dw/dt| [rad/s$^2$]")
+    # Magnitudes start at 0; rounding noise (1e-15 on a geodesic) is not blown up to full height.
+    for a in (ax[1][0], ax[1][1], ax[2][0], ax[2][1]):
+        top = max(max(line.get_ydata()) for line in a.get_lines())
+        a.set_ylim(0, 1.08 * top if top > 1e-9 else 1)
+    bounds = [(ax[1][0], args.max_linear_velocity, "max_linear_velocity"),
+              (ax[1][1], args.max_angular_velocity, "max_angular_velocity"),
+              (ax[2][0], args.max_linear_acceleration, "max_linear_acceleration"),
+              (ax[2][1], args.max_angular_acceleration, "max_angular_acceleration")]
+    for a, bound, name in bounds:
+        if bound is not None:
+            a.axhline(bound, color="red", linestyle="--", linewidth=1, label="%s %g" % (name, bound))
+            a.set_ylim(0, max(a.get_ylim()[1], 1.08 * bound))
+    for i, tw in enumerate(figures.get("waypoint_times", [])):
+        for row in ax:
+            for a in row:
+                a.axvline(tw, color="grey", linestyle=":", linewidth=1)
+        for a in ax[0]:
+            a.annotate(str(i), xy=(tw, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
+                       textcoords="offset points", fontsize=8, color="grey", ha="center", va="bottom")
+    for row in ax:
+        for a in row:
+            a.grid(True, alpha=0.3)
+            a.legend(loc="best", fontsize=8)
+    for a in ax[2]:
+        a.set_xlabel("t [s]")
+    title = args.title
+    if figures:
+        parts = ["%s %.4g" % (k, figures[k]) for k in ("duration", "length", "rotation_length", "energy")
+                 if k in figures]
+        if "waypoint_times" in figures:
+            parts.append("dotted: waypoint times (index above)")
+        title = (title + "\n" if title else "") + ", ".join(parts)
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(args.png, dpi=90)
+    fig.savefig(args.png, dpi=80)
+    print("plot_trajectory: wrote %s" % args.png)
     return 0
 
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, runs every test (unit, CLI, rostest integration) and
-# prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
+# Installs what is missing, builds, runs every test (unit, CLI, rostest integration, the rviz
+# screenshot, the README's command blocks, sanitizers) and prints `N passed, N failed`. Exits
+# non-zero if any test fails. Idempotent.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 se3_build
@@ -32,6 +33,20 @@ if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -l
   tail -n 40 "$SE3_WS/tests.log" >&2
   failed=$((failed + 1))
 fi
+# Every ```bash block of README.md, run verbatim in order (scripts/check_readme.sh): each block is a test.
+readme_status=0
+bash "$SE3_ROOT/scripts/check_readme.sh" >"$SE3_WS/readme_summary.log" 2>&1 || readme_status=$?
+grep -vE '^readme: |: ok$' "$SE3_WS/readme_summary.log" || true
+readme_line=$(grep -E '^readme: [0-9]+ passed, [0-9]+ failed$' "$SE3_WS/readme_summary.log" | tail -n 1 || true)
+readme_passed=$(echo "$readme_line" | sed -nE 's/^readme: ([0-9]+) passed.*/\1/p')
+readme_failed=$(echo "$readme_line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
+readme_passed=${readme_passed:-0}; readme_failed=${readme_failed:-0}
+if [ "$readme_status" -ne 0 ] && [ "$readme_failed" -eq 0 ]; then
+  echo "scripts/check_readme.sh failed (log: $SE3_WS/readme_summary.log)" >&2
+  readme_failed=1
+fi
+passed=$((passed + readme_passed))
+failed=$((failed + readme_failed))
 # The core and unit tests under ASan + UBSan and a bounded libFuzzer run (scripts/run_sanitizers.sh):
 # each sanitized test case and the fuzz run count as tests here too.
 sanitizer_status=0

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "se3_interpolation/planner.h"
 #include "se3_interpolation/sphere_planner.h"
@@ -95,11 +96,22 @@ std::string sphereCsv(const se3_interpolation::SphereResult& result)
   return out.str();
 }
 
+/// `waypoint_times: t0, t1, ...`: when the trajectory passes (or is controlled by) each waypoint,
+/// after any stretch; scripts/plot_trajectory.py --figures marks them.
+void printWaypointTimes(const std::vector<double>& times)
+{
+  std::cerr << "waypoint_times: ";
+  for (std::size_t i = 0; i < times.size(); ++i)
+    std::cerr << (i ? ", " : "") << times[i];
+  std::cerr << "\n";
+}
+
 void printSphereFigures(const se3_interpolation::SphereResult& r)
 {
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.length
             << "\nmax_speed: " << r.max_speed << "\nmax_acceleration: " << r.max_acceleration
             << "\nenergy: " << r.energy << "\n";
+  printWaypointTimes(r.waypoint_times);
 }
 
 void printFigures(const se3_interpolation::TrajectoryResult& r)
@@ -107,6 +119,7 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.length
             << "\nrotation_length: " << r.rotation_length << "\nmax_linear_speed: " << r.max_linear_speed
             << "\nmax_angular_speed: " << r.max_angular_speed << "\nenergy: " << r.energy << "\n";
+  printWaypointTimes(r.waypoint_times);
 }
 
 /// Writes `text` to `path` through a temporary file renamed into place.

@@ -75,14 +75,6 @@ std::vector<double> toDoubles(const YAML::Node& node, const std::string& field)
   return v;
 }
 
-Eigen::Vector3d toVector3(const YAML::Node& node, const std::string& field)
-{
-  const std::vector<double> v = toDoubles(node, field);
-  if (v.size() != 3)
-    throw InvalidInputError(field + ": expected 3 numbers [x, y, z], got " + std::to_string(v.size()));
-  return Eigen::Vector3d(v[0], v[1], v[2]);
-}
-
 void requireKeys(const YAML::Node& node, const std::string& field, const std::set<std::string>& allowed)
 {
   if (!node.IsMap())
@@ -93,6 +85,43 @@ void requireKeys(const YAML::Node& node, const std::string& field, const std::se
     if (allowed.count(key) == 0)
       throw InvalidInputError(field + (field.empty() ? "" : ".") + key + ": unknown field");
   }
+}
+
+/// The components of a list [x, y, ...] or of a ROS message map {x: .., y: .., ...}; in the map
+/// form a missing component is 0, as when `rosservice call` fills a geometry_msgs message.
+std::vector<double> toComponents(const YAML::Node& node, const std::string& field, const std::vector<std::string>& names)
+{
+  std::string list = "[";
+  std::string map = "{";
+  for (std::size_t i = 0; i < names.size(); ++i)
+  {
+    list += (i ? ", " : "") + names[i];
+    map += (i ? ", " : "") + names[i] + ": ..";
+  }
+  list += "]";
+  map += "}";
+  if (node.IsMap())
+  {
+    requireKeys(node, field, std::set<std::string>(names.begin(), names.end()));
+    std::vector<double> v(names.size(), 0.0);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (node[names[i]])
+        v[i] = toDouble(node[names[i]], field + "." + names[i]);
+    return v;
+  }
+  if (!node.IsSequence())
+    throw InvalidInputError(field + ": expected " + list + " or " + map);
+  const std::vector<double> v = toDoubles(node, field);
+  if (v.size() != names.size())
+    throw InvalidInputError(field + ": expected " + std::to_string(names.size()) + " numbers " + list + ", got " +
+                            std::to_string(v.size()));
+  return v;
+}
+
+Eigen::Vector3d toVector3(const YAML::Node& node, const std::string& field)
+{
+  const std::vector<double> v = toComponents(node, field, { "x", "y", "z" });
+  return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
 Twist toTwist(const YAML::Node& node, const std::string& field)
@@ -115,9 +144,7 @@ Pose<double> toPose(const YAML::Node& node, const std::string& field)
   p.p = toVector3(node["position"], field + ".position");
   if (node["orientation"])
   {
-    const std::vector<double> q = toDoubles(node["orientation"], field + ".orientation");
-    if (q.size() != 4)
-      throw InvalidInputError(field + ".orientation: expected 4 numbers [x, y, z, w], got " + std::to_string(q.size()));
+    const std::vector<double> q = toComponents(node["orientation"], field + ".orientation", { "x", "y", "z", "w" });
     p.q = Quaternion<double>(q[3], q[0], q[1], q[2]);
   }
   return p;
@@ -190,11 +217,25 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
 {
   TrajectoryRequest r;
   readCommonFields(root, &r);
-  if (!root["waypoints"] || !root["waypoints"].IsSequence())
-    throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]})");
-  const YAML::Node w = root["waypoints"];
-  for (std::size_t i = 0; i < w.size(); ++i)
-    r.waypoints.push_back(toPose(w[i], at("waypoints", i)));
+  // The list form, or the service's geometry_msgs/PoseArray {header: {...}, poses: [...]}. The CLI
+  // has no frames, so a header is checked for its field names only. Indices name the poses as the
+  // service's messages do: waypoints[i].
+  const YAML::Node given = root["waypoints"];
+  YAML::Node poses = given;
+  if (given && given.IsMap())
+  {
+    requireKeys(given, "waypoints", { "header", "poses" });
+    if (given["header"])
+      requireKeys(given["header"], "waypoints.header", { "seq", "stamp", "frame_id" });
+    if (!given["poses"])
+      throw InvalidInputError("waypoints.poses: missing (a list of poses)");
+    poses.reset(given["poses"]);
+  }
+  if (!poses || !poses.IsSequence())
+    throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
+                            "{header: {frame_id: ..}, poses: [...]} as in the service)");
+  for (std::size_t i = 0; i < poses.size(); ++i)
+    r.waypoints.push_back(toPose(poses[i], at("waypoints", i)));
   if (root["start_velocity"])
     r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])

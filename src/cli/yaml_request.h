@@ -1,7 +1,11 @@
 // Reading a GenerateTrajectory request from YAML (the CLI's input format).
 //
 // Field names are those of srv/GenerateTrajectory.srv. A waypoint is
-// {position: [x, y, z], orientation: [x, y, z, w]}, a twist {linear: [..], angular: [..]}.
+// {position: [x, y, z], orientation: [x, y, z, w]}, a twist {linear: [..], angular: [..]}; the
+// spelling `rosservice call` takes is accepted too, so one file serves both: `waypoints` as a
+// geometry_msgs/PoseArray {header: {..}, poses: [..]} and vectors/quaternions as maps {x, y, z(, w)}
+// where a missing component is 0 ({w: 1} is the identity, {} the zero quaternion, which validation
+// refuses). A waypoint without `orientation` is the identity rotation; `position` is required.
 // Unknown keys are errors (they are usually typos). Errors are InvalidInputError
 // naming the field and index.
 #pragma once

@@ -45,6 +45,15 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   tf_timer_ = tf_nh.createTimer(ros::Duration(1.0 / params_.tf_rate), &InterpolationNode::tfTimerCallback, this);
   tf_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &tf_queue_);
   tf_spinner_->start();
+  ROS_INFO_STREAM("se3_interpolation_node ready: services " << generate_service_.getService() << ", "
+                  << clear_service_.getService() << "; waypoints on " << waypoint_sub_.getTopic() << ", "
+                  << waypoints_sub_.getTopic() << "; frames " << params_.frame_id << " -> " << params_.child_frame_id
+                  << (params_.publish_tf ? "" : " (TF off)") << " at " << params_.tf_rate << " Hz"
+                  << (params_.loop ? " looping" : "") << ", " << params_.max_tf_samples << " static; defaults curve "
+                  << params_.curve << ", geometry " << params_.geometry << ", parameterization "
+                  << params_.parameterization << "; auto_generate " << (params_.auto_generate ? "on" : "off")
+                  << "; max_samples " << params_.limits.max_samples << ", max_waypoints "
+                  << params_.limits.max_waypoints);
 }
 
 InterpolationNode::~InterpolationNode()
@@ -69,6 +78,10 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       std::lock_guard<std::mutex> lock(buffer_mutex_);
       poses = buffer_;
       frame = buffer_frame_;
+      if (poses.size() < 2)
+        throw InvalidInputError("waypoints: 0 given and the ~waypoint buffer " +
+                                (poses.empty() ? std::string("is empty") : "holds only 1") +
+                                "; at least 2 are needed");
     }
     else
     {

@@ -50,6 +50,14 @@ std::string data(const std::string& name)
   return std::string(SE3_TEST_DATA) + "/" + name;
 }
 
+/// Writes `text` to a file in the test's temporary directory and returns its path.
+std::string writeTemp(const std::string& name, const std::string& text)
+{
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
 std::vector<std::vector<double>> parseCsv(const std::string& text, std::string* header)
 {
   std::istringstream in(text);
@@ -201,4 +209,108 @@ TEST(Cli, SphereSpaceBlendedCircleAndErrors)
   const CliRun unknown = run(data("sphere_circle_blended.yaml") + " --space torus");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("--space: unknown value 'torus'"), std::string::npos) << unknown.err;
+}
+
+// The same request in the list spelling and in the service's (rosservice call) spelling: a
+// PoseArray with {x, y, z(, w)} maps whose missing components are 0, and map twists.
+TEST(Cli, ServiceSpellingEqualsListSpelling)
+{
+  const std::string tail =
+      "times: [0, 1.5, 3, 4]\ncurve: interpolating\ngeometry: screw\nend_condition: clamped\nsample_count: 9\n";
+  const std::string list = writeTemp(
+      "list_spelling.yaml",
+      "waypoints:\n"
+      "  - {position: [0, 0, 0.5], orientation: [0, 0, 0, 1]}\n"
+      "  - {position: [1, 0, 1], orientation: [0, 0, 0.7071068, 0.7071068]}\n"
+      "  - {position: [1, 1, 1], orientation: [0.5, 0.5, 0.5, 0.5]}\n"
+      "  - {position: [0, 1, 0.5], orientation: [0, 0, 1, 0]}\n"
+      "start_velocity: {linear: [0.2, 0, 0], angular: [0, 0, 0]}\n"
+      "end_velocity: {linear: [0, 0, 0], angular: [0, 0, 0.5]}\n" +
+          tail);
+  const std::string service = writeTemp(
+      "service_spelling.yaml",
+      "waypoints:\n"
+      "  header: {seq: 0, stamp: {secs: 0, nsecs: 0}, frame_id: map}\n"
+      "  poses:\n"
+      "    - {position: {x: 0, y: 0, z: 0.5}, orientation: {w: 1}}\n"
+      "    - {position: {x: 1, z: 1}, orientation: {z: 0.7071068, w: 0.7071068}}\n"
+      "    - {position: {x: 1, y: 1, z: 1}, orientation: {x: 0.5, y: 0.5, z: 0.5, w: 0.5}}\n"
+      "    - {position: {y: 1, z: 0.5}, orientation: {z: 1}}\n"
+      "start_velocity: {linear: {x: 0.2}, angular: {}}\n"
+      "end_velocity: {angular: {z: 0.5}}\n"
+      "publish: true\nchild_frame_id: moving\n" +
+          tail);
+  const CliRun a = run(list);
+  const CliRun b = run(service);
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_EQ(a.err, b.err);
+  // The file the README shows for both the CLI and `rosservice call` is this request.
+  const CliRun readme = run(std::string(SE3_TEST_DATA) + "/../../../config/example_request.yaml");
+  ASSERT_EQ(readme.status, 0) << readme.err;
+  EXPECT_EQ(readme.out, a.out);
+  // Independent of the spelling: the clamped ends carry the given twists, and the curve passes
+  // through the waypoints at their times (rows at t = 0, 0.5, ..., 4: waypoint 1 is row 3).
+  std::string header;
+  const auto rows = parseCsv(b.out, &header);
+  ASSERT_EQ(rows.size(), 9U);
+  EXPECT_NEAR(rows[0][8], 0.2, 1e-12);
+  EXPECT_NEAR(rows[0][9], 0.0, 1e-12);
+  EXPECT_NEAR(rows[8][13], 0.5, 1e-12);
+  EXPECT_NEAR(rows[3][1], 1.0, 1e-12);
+  EXPECT_NEAR(rows[3][2], 0.0, 1e-12);
+  EXPECT_NEAR(rows[3][3], 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(rows[8][6]), 1.0, 1e-12);
+  EXPECT_NE(b.err.find("waypoint_times: 0, 1.5, 3, 4\n"), std::string::npos) << b.err;
+}
+
+TEST(Cli, ServiceSpellingRefusals)
+{
+  const std::string two = "  - {position: [1, 0, 0]}\n";
+  const std::pair<std::string, const char*> cases[] = {
+    // {} is the zero quaternion (every component 0), refused as from the service.
+    { "waypoints:\n  - {position: {x: 0}, orientation: {}}\n" + two,
+      "waypoints[0].orientation: quaternion norm 0 is outside [0.99, 1.01]" },
+    { "waypoints:\n  - {position: {x: 0}, orientation: {x: 0, y: 0, z: 0.5}}\n" + two,
+      "waypoints[0].orientation: quaternion norm 0.5 is outside" },
+    { "waypoints:\n  - {position: {x: 0, q: 1}}\n" + two, "waypoints[0].position.q: unknown field" },
+    { "waypoints:\n  - {position: {x: 0}, orientation: {x: 0, w: one}}\n" + two,
+      "waypoints[0].orientation.w: 'one' is not a number" },
+    { "waypoints:\n  - {position: [0, 0]}\n" + two, "waypoints[0].position: expected 3 numbers [x, y, z], got 2" },
+    { "waypoints:\n  - {position: 3}\n" + two, "waypoints[0].position: expected [x, y, z] or {x: .., y: .., z: ..}" },
+    { "waypoints:\n  - {position: {x: .nan}}\n" + two, "waypoints[0].position.x: nan is not a finite number" },
+    { "waypoints: {header: {frame_id: map}}\n", "waypoints.poses: missing" },
+    { "waypoints: {frame_id: map, poses: []}\n", "waypoints.frame_id: unknown field" },
+    { "waypoints: {header: {frame: map}, poses: []}\n", "waypoints.header.frame: unknown field" },
+    { "waypoints: {poses: []}\n", "waypoints: 0 given; at least 2 are needed" },
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nstart_velocity: {linear: {x: 1, w: 0}}\n",
+      "start_velocity.linear.w: unknown field" },
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nvelocities: [{angular: [1, 2]}, {}]\n",
+      "velocities[0].angular: expected 3 numbers" },
+  };
+  const std::string out = testing::TempDir() + "spelling_must_not_exist.csv";
+  for (const auto& c : cases)
+  {
+    std::remove(out.c_str());
+    const CliRun r = run(writeTemp("refused.yaml", c.first) + " -o " + out);
+    EXPECT_EQ(r.status, 2) << c.first;
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << "\n" << r.err;
+    EXPECT_FALSE(exists(out)) << c.first;
+  }
+  // {w: 1} is the identity, a position map with missing components is 0: the origin, at rest.
+  const CliRun identity = run(
+      writeTemp("identity.yaml", "waypoints: {poses: [{position: {}, orientation: {w: 1}}, {position: {x: 2}, "
+                                 "orientation: {w: 1}}]}\ntimes: [0, 1]\nsample_count: 2\n"));
+  ASSERT_EQ(identity.status, 0) << identity.err;
+  std::string header;
+  const auto rows = parseCsv(identity.out, &header);
+  ASSERT_EQ(rows.size(), 2U);
+  const std::vector<double> first = { 0, 0, 0, 0, 0, 0, 0, 1 };
+  const std::vector<double> last = { 1, 2, 0, 0, 0, 0, 0, 1 };
+  for (std::size_t j = 0; j < first.size(); ++j)
+  {
+    EXPECT_EQ(rows[0][j], first[j]) << j;
+    EXPECT_EQ(rows[1][j], last[j]) << j;
+  }
 }

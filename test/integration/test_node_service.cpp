@@ -88,6 +88,9 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
     { "zero quaternion", [](auto& s) { s.request.waypoints.poses[1].orientation = geometry_msgs::Quaternion(); },
       "waypoints[1].orientation" },
     { "one waypoint", [](auto& s) { s.request.waypoints.poses.resize(1); }, "waypoints" },
+    // No poses means "use the buffer"; nothing was sent to ~waypoint(s) here, so it is empty.
+    { "no waypoints, empty buffer", [](auto& s) { s.request.waypoints.poses.clear(); },
+      "waypoints: 0 given and the ~waypoint buffer is empty; at least 2 are needed" },
     { "unknown curve", [](auto& s) { s.request.curve = "catmull_rom"; }, "curve" },
     { "unknown geometry", [](auto& s) { s.request.geometry = "euler"; }, "geometry" },
     { "bad knots", [](auto& s) { s.request.curve = "bspline"; s.request.knots = { 0, 1 }; }, "knots" },

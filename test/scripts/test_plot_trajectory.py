@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+"""scripts/plot_trajectory.py: the unwrapped rotation vector against closed forms (rotations about
+one axis, through and beyond pi, with quaternion sign flips), the CLI figures it reads, and a PNG
+from standard input. Run by rostest (test/scripts/plot_trajectory.test)."""
+import importlib.util
+import io
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+spec = importlib.util.spec_from_file_location("plot_trajectory",
+                                              os.path.join(HERE, "..", "..", "scripts", "plot_trajectory.py"))
+plot = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(plot)
+
+
+def about(axis, angle):
+    """Unit quaternion (x, y, z, w) of a rotation by angle about the unit axis."""
+    s = math.sin(angle / 2)
+    return (axis[0] * s, axis[1] * s, axis[2] * s, math.cos(angle / 2))
+
+
+class PlotTrajectory(unittest.TestCase):
+    def check(self, axis, angles, flip_every=0):
+        qs = [about(axis, a) for a in angles]
+        if flip_every:
+            qs = [tuple(-c for c in q) if (i // flip_every) % 2 else q for i, q in enumerate(qs)]
+        rv = plot.unwrap([plot.rotation_vector(q) for q in qs])
+        for a, r in zip(angles, rv):
+            for c, n in zip(r, axis):
+                self.assertAlmostEqual(c, a * n, delta=1e-12, msg="angle %r" % a)
+
+    def test_about_z_past_pi_has_no_jump(self):
+        # Principal vectors jump from +pi to -pi at pi; the unwrapped one is the angle itself.
+        self.check((0.0, 0.0, 1.0), [1.5 * math.pi * i / 100 for i in range(101)])
+
+    def test_oblique_axis_to_three_and_a_half_turns_with_sign_flips(self):
+        n = (1 / math.sqrt(3), -1 / math.sqrt(3), 1 / math.sqrt(3))
+        self.check(n, [7.0 * math.pi * i / 350 for i in range(351)], flip_every=7)
+
+    def test_through_pi_minus_and_plus_epsilon(self):
+        self.check((0.0, 1.0, 0.0), [0.0, 1.0, math.pi - 1e-9, math.pi + 1e-9, 4.0])
+
+    def test_backwards_below_zero(self):
+        self.check((1.0, 0.0, 0.0), [-4.0 * i / 50 for i in range(51)])
+
+    def test_figures_and_waypoint_times(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+            f.write("duration: 2\nenergy: 1e-30\nwaypoint_times: 0, 0.5, 1.5, 2\n")
+        figures = plot.read_figures(f.name)
+        os.unlink(f.name)
+        self.assertEqual(figures["waypoint_times"], [0.0, 0.5, 1.5, 2.0])
+        self.assertEqual(figures["duration"], 2.0)
+        self.assertEqual(figures["energy"], 1e-30)
+
+    def test_png_from_standard_input_and_errors(self):
+        header = ",".join(plot.COLUMNS)
+        rows = ["%g,%g,0,0,0,0,%r,%r" % (t, t, math.sin(t), math.cos(t)) + ",1,0,0,0,0,2" + ",0" * 6
+                for t in [i * 0.1 for i in range(40)]]
+        out = os.path.join(tempfile.mkdtemp(), "plot.png")
+        stdin = sys.stdin
+        try:
+            sys.stdin = io.StringIO(header + "\n" + "\n".join(rows) + "\n")
+            self.assertEqual(plot.main(["-", out, "--max-linear-velocity", "1.5"]), 0)
+            sys.stdin = io.StringIO("t,x\n0,1\n")
+            self.assertEqual(plot.main(["-", out + ".bad.png"]), 2)
+        finally:
+            sys.stdin = stdin
+        with open(out, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        self.assertFalse(os.path.exists(out + ".bad.png"))
+
+
+if __name__ == "__main__":
+    import rostest
+    rostest.rosrun("se3_interpolation", "plot_trajectory", PlotTrajectory)
