@@ -84,6 +84,8 @@ struct TrajectoryRequest
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 0;
+  /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
+  double blend_radius = 0.0;
 };
 
 /// Resource bounds per request (node parameters ~max_samples, ~max_waypoints).
@@ -118,6 +120,7 @@ struct ValidatedRequest
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 100;
+  double blend_radius = 0.0;
 };
 
 struct TrajectorySample
@@ -134,6 +137,9 @@ struct TrajectoryResult
   std::vector<double> waypoint_times;  ///< final times of the waypoints (after any stretch)
   std::vector<Pose<double>> waypoints;  ///< the validated (normalised) input waypoints
   std::vector<Pose<double>> control_points;
+  /// Per waypoint, the radius r_i of its corner blend (m, chord distance; 0 = not blended).
+  /// Empty unless the request has a blend_radius.
+  std::vector<double> blend_radii;
   double start_time = 0.0;
   double duration = 0.0;         ///< s
   double time_scale = 1.0;       ///< uniform stretch applied to meet the max_* bounds (≥ 1)

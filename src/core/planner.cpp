@@ -38,9 +38,11 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 {
   const std::vector<double> times = waypointTimes(r);
   std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  TrajectoryResult out;
+  if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
+    out.blend_radii = blended->radii();
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
 
-  TrajectoryResult out;
   out.time_scale = stretchFactor(r, fig);
   if (out.time_scale > 1.0)
   {

@@ -191,6 +191,12 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   v.max_linear_acceleration = r.max_linear_acceleration;
   v.max_angular_acceleration = r.max_angular_acceleration;
 
+  requireFiniteNonNegative(r.blend_radius, "blend_radius");
+  if (r.blend_radius > 0.0 && v.curve != CurveType::kPiecewiseGeodesic)
+    throw InvalidInputError("blend_radius: only used by curve 'piecewise_geodesic' (curve is '" +
+                            std::string(toString(v.curve)) + "')");
+  v.blend_radius = r.blend_radius;
+
   const Sampling sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   v.sample_times = sampling.sample_times;
   v.sample_period = sampling.sample_period;
