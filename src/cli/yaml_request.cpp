@@ -133,7 +133,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
                 "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish" });
+                "sample_count", "child_frame_id", "publish", "blend_radius" });
   if (root["times"])
     r->times = toDoubles(root["times"], "times");
   if (root["curve"])
@@ -190,6 +190,8 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
 {
   TrajectoryRequest r;
   readCommonFields(root, &r);
+  if (root["blend_radius"])
+    r.blend_radius = toDouble(root["blend_radius"], "blend_radius");
   if (!root["waypoints"] || !root["waypoints"].IsSequence())
     throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]})");
   const YAML::Node w = root["waypoints"];
@@ -216,6 +218,8 @@ SphereRequest sphereRequestFromYaml(const YAML::Node& root)
 {
   SphereRequest r;
   readCommonFields(root, &r);
+  if (root["blend_radius"])
+    throw InvalidInputError("blend_radius: corner blending is for poses only (not with --space sphere)");
   auto toVectorX = [](const YAML::Node& node, const std::string& field) {
     const std::vector<double> v = toDoubles(node, field);
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));

@@ -84,6 +84,9 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     TrajectoryRequest r = fromRequestMsg(req, poses);
     if (r.curve.empty())
       r.curve = params_.curve;
+    // The node's default radius applies to the curve that uses it only (never an error elsewhere).
+    if (r.blend_radius == 0.0 && r.curve == "piecewise_geodesic")
+      r.blend_radius = params_.blend_radius;
     if (r.geometry.empty())
       r.geometry = params_.geometry;
     if (r.parameterization.empty())

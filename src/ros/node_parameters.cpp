@@ -55,6 +55,7 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   read<std::string>(nh, "parameterization", &p.parameterization, non_empty, "must not be empty");
   read<double>(nh, "duration", &p.duration, non_negative, "must be >= 0 s");
   read<int>(nh, "sample_count", &p.sample_count, [](const int& x) { return x >= 2; }, "must be >= 2");
+  read<double>(nh, "blend_radius", &p.blend_radius, non_negative, "must be >= 0 m");
   return p;
 }
 

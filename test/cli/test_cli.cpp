@@ -147,6 +147,36 @@ TEST(Cli, ErrorsExitTwoWithoutOutputFile)
   EXPECT_NE(usage.err.find("usage:"), std::string::npos);
 }
 
+TEST(Cli, BlendRadiusCutsTheCornerWithTheEuclideanQuartic)
+{
+  const CliRun r = run(data("blend_translation.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_EQ(rows.size(), 5U);
+  // Outside [0.75, 1.25] s the polygon of translation.yaml at the same times; at t = 1 the
+  // quartic Bezier (1.5,0) (1.75,0) (2,0) (2,0.25) (2,0.5) at lambda = 1/2 and its velocity
+  // B'(1/2) d(lambda)/dt = (0.5, 0.5) * 2.
+  const double expected[5][5] = { { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 30.5 / 16, 1.5 / 16, 1, 1 },
+                                  { 2, 2, 2, 0, 2 }, { 3, 2, 4, 0, 2 } };
+  for (int i = 0; i < 5; ++i)
+  {
+    ASSERT_EQ(rows[i].size(), 20U);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(rows[i][k], expected[i][k], 1e-14) << i << " " << k;
+    EXPECT_NEAR(rows[i][8], expected[i][3], 1e-13) << i;
+    EXPECT_NEAR(rows[i][9], expected[i][4], 1e-13) << i;
+  }
+  EXPECT_NE(r.err.find("duration: 3"), std::string::npos) << r.err;
+
+  const std::string out = testing::TempDir() + "must_not_exist.csv";
+  std::remove(out.c_str());
+  const CliRun bad = run(data("blend_other_curve.yaml") + " -o " + out);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("blend_radius: only used by curve 'piecewise_geodesic'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(exists(out));
+}
+
 TEST(Cli, SphereSpaceBlendedCircleAndErrors)
 {
   // --space sphere: points on the circle of angular radius 1 rad about x3 at times equal to their

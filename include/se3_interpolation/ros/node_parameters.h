@@ -29,6 +29,7 @@ struct NodeParameters
   std::string parameterization = "chord";
   double duration = 0.0;
   int sample_count = 100;
+  double blend_radius = 0.0;  ///< m, for piecewise_geodesic requests without one (0: sharp corners)
 };
 
 /// Reads every parameter from `nh` (the private handle). An invalid value is refused
