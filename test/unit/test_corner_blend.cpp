@@ -2,7 +2,7 @@
 // constructions for pure translations and for rotations about one axis, the polyline outside
 // the blends (same poses at the same times), the ball of radius r_i, C² joins from one-sided
 // jets, clamping to half legs, finite differences, hard corners (collinear, reversal, tiny
-// radius) and the request's validation. Both SE(3) geometries.
+// radius), time-optimal timing through blends and the request's validation. Both SE(3) geometries.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +13,7 @@
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/kinematics.h"
 #include "se3_interpolation/planner.h"
+#include "se3_interpolation/timing/time_optimal.h"
 #include "test_utils.h"
 
 using namespace se3_interpolation;
@@ -479,4 +480,84 @@ TEST(CornerBlendRequest, BadRadiusIsAnErrorNamingTheField)
   expectBlendRadiusError(other);
   other.curve = "bezier";
   expectBlendRadiusError(other);
+}
+
+TYPED_TEST(CornerBlendTest, TimeOptimalFliesThroughBlendedCorners)
+{
+  // A zigzag with turns in both channels. Sharp corners are velocity corners: TOPP-RA stops
+  // there. Blended corners are C2: the motion keeps moving through them and finishes sooner.
+  std::vector<Pose<double>> x;
+  for (int i = 0; i < 5; ++i)
+    x.emplace_back(so3Exp<double>(Eigen::Vector3d(0.0, 0.3 * (i % 2), 0.5 * i)), Eigen::Vector3d(i, i % 2, 0.0));
+  const std::vector<double> times{ 0.0, 1.0, 2.0, 3.0, 4.0 };
+  timing::RateBounds bounds;
+  bounds.velocity = { 1.0, 1.0 };
+  bounds.acceleration = { 2.0, 2.0 };
+  auto blended_path = std::make_shared<const CornerBlendedGeodesic<TypeParam>>(x, times, 0.3, 1.0);
+  auto sharp_path = std::make_shared<const PiecewiseGeodesic<TypeParam>>(x, times);
+  const auto blended = timing::makeTimeOptimalCurve<TypeParam>(blended_path, bounds);
+  const auto sharp = timing::makeTimeOptimalCurve<TypeParam>(sharp_path, bounds);
+  const double d_blended = blended->endTime() - blended->startTime();
+  const double d_sharp = sharp->endTime() - sharp->startTime();
+  EXPECT_LT(d_blended, 0.9 * d_sharp) << d_blended << " vs " << d_sharp;
+  for (std::size_t i = 1; i + 1 < x.size(); ++i)  // the sharp motion is at rest at each corner
+  {
+    const Kinematics k = kinematicsAt(*sharp, sharp->profile().timeAt(times[i]));
+    EXPECT_LT(k.velocity.linear.norm() + k.velocity.angular.norm(), 1e-9) << i;
+  }
+  const auto zones = blended_path->zones();
+  ASSERT_EQ(zones.size(), 3u);
+  for (const CornerBlendZone& z : zones)
+  {
+    const double t0 = blended->profile().timeAt(z.start_time), t1 = blended->profile().timeAt(z.end_time);
+    ASSERT_LT(t0, t1);
+    double slowest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= 200; ++k)
+    {
+      const Kinematics s = kinematicsAt(*blended, t0 + (t1 - t0) * k / 200.0);
+      slowest = std::min(slowest, std::max(s.velocity.linear.norm(), s.velocity.angular.norm()));
+      EXPECT_LE(s.velocity.linear.norm(), 1.0 + 1e-9);
+      EXPECT_LE(s.velocity.angular.norm(), 1.0 + 1e-9);
+      EXPECT_LE(s.acceleration.linear.norm(), 2.0 + 1e-9);
+      EXPECT_LE(s.acceleration.angular.norm(), 2.0 + 1e-9);
+    }
+    EXPECT_GT(slowest, 0.05) << "corner " << z.corner;
+    const Kinematics at_corner = kinematicsAt(*blended, blended->profile().timeAt(times[z.corner]));
+    EXPECT_GT(at_corner.velocity.linear.norm(), 0.05) << "corner " << z.corner;
+  }
+}
+
+TEST(CornerBlendRequest, TimeOptimalThroughBlendsIsFasterThanStoppingAtEveryCorner)
+{
+  for (const char* geometry : { "double_geodesic", "screw" })
+  {
+    TrajectoryRequest r = blendedRequest(0.25);
+    r.geometry = geometry;
+    r.timing = "time_optimal";
+    r.max_linear_velocity = 1.0;
+    r.max_angular_velocity = 1.0;
+    r.max_linear_acceleration = 1.5;
+    r.max_angular_acceleration = 1.5;
+    r.sample_count = 400;
+    const TrajectoryResult blended = generateTrajectory(r, PlannerLimits());
+    r.blend_radius = 0.0;
+    const TrajectoryResult sharp = generateTrajectory(r, PlannerLimits());
+    EXPECT_LT(blended.duration, 0.9 * sharp.duration) << geometry;
+    EXPECT_LE(blended.max_linear_speed, 1.0 + 1e-9);
+    EXPECT_LE(blended.max_linear_acceleration, 1.5 + 1e-9);
+    // At rest only at the two ends: every interior sample of the blended motion moves.
+    for (std::size_t i = 1; i + 1 < blended.samples.size(); ++i)
+      EXPECT_GT(blended.samples[i].velocity.linear.norm() + blended.samples[i].velocity.angular.norm(), 0.0) << i;
+    // At the corners' timed waypoint times the sharp motion is at rest, the blended one is not.
+    r.sample_times = sharp.waypoint_times;
+    const TrajectoryResult sharp_at_corners = generateTrajectory(r, PlannerLimits());
+    r.blend_radius = 0.25;
+    r.sample_times = blended.waypoint_times;
+    const TrajectoryResult blended_at_corners = generateTrajectory(r, PlannerLimits());
+    for (std::size_t w = 1; w + 1 < r.waypoints.size(); ++w)
+    {
+      EXPECT_LT(sharp_at_corners.samples[w].velocity.linear.norm(), 1e-9) << geometry << " " << w;
+      EXPECT_GT(blended_at_corners.samples[w].velocity.linear.norm(), 0.05) << geometry << " " << w;
+    }
+  }
 }
