@@ -132,7 +132,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
+                "max_linear_acceleration", "max_angular_acceleration", "timing", "sample_times", "sample_period",
                 "sample_count", "child_frame_id", "publish", "blend_radius" });
   if (root["times"])
     r->times = toDoubles(root["times"], "times");
@@ -162,6 +162,8 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
   if (root["max_angular_acceleration"])
     r->max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
+  if (root["timing"])
+    r->timing = toString(root["timing"], "timing");
   if (root["sample_times"])
     r->sample_times = toDoubles(root["sample_times"], "sample_times");
   if (root["sample_period"])

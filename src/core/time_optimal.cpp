@@ -21,10 +21,17 @@ constexpr double kMoveTolerance = 1e-9;
 constexpr double kBisectionTolerance = 1e-12;
 constexpr int kBisectionSteps = 200;
 /// Intervals whose middle suggests (by a parabola through ends and middle) a rate within this
-/// fraction of the worst one seen are refined by golden-section search.
+/// fraction of the worst one seen are searched for their maximum.
 constexpr double kRefineMargin = 1e-4;
-/// Golden-section search: width relative to the interval.
-constexpr double kGoldenTolerance = 1e-7;
+/// That search: steps, and the step (fraction of the interval) at which it stops; the maximum's
+/// value is then exact to ~(1e-7)² relative.
+constexpr int kLocalMaxSteps = 12;
+constexpr double kLocalMaxTolerance = 1e-7;
+/// Local passes: where an interval's middle exceeds a bound by more than kLocalTolerance, the
+/// bound is tightened at its ends by the excess and the passes are rerun (at most kLocalPasses
+/// times), so that the final uniform stretch only absorbs what is left (O(Δ³)).
+constexpr int kLocalPasses = 4;
+constexpr double kLocalTolerance = 1e-4;
 
 const char* const kVelocityName[2] = { "max_linear_velocity", "max_angular_velocity" };
 const char* const kAccelerationName[2] = { "max_linear_acceleration", "max_angular_acceleration" };
@@ -63,10 +70,13 @@ void intersectEllipse(double alpha, double beta, double aa, double cross, double
 /// One side of one grid point, as the constraints see it.
 struct PointData
 {
-  PathJet jet;                    ///< for the constraints (floored at stationary points)
-  PathJet raw;                    ///< the path's own, for the final check
-  double x_max = kInf;            ///< from (2) and the extents of the ellipses (3)
+  PathJet jet;          ///< for the constraints (floored at stationary points)
+  PathJet raw;          ///< the path's own, for the checks
+  double x_max = kInf;  ///< from (2) and the extents of the ellipses (3), with the local factors
 };
+
+/// The four rates: linear / angular velocity (0, 1), linear / angular acceleration (2, 3).
+using Rates = std::array<double, 4>;
 
 class Solver
 {
@@ -74,16 +84,20 @@ public:
   Solver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options)
     : path_(path), bounds_(bounds)
   {
-    for (int c = 0; c < 2; ++c)
-      a2_[c] = bounds.acceleration[c] * bounds.acceleration[c];
     buildGrid(options);
     evaluateGrid();
   }
 
   TimingProfile solve()
   {
-    backward();
-    forward();
+    for (int pass = 0;; ++pass)
+    {
+      updateCaps();
+      backward();
+      forward();
+      if (pass == kLocalPasses || !tightenWhereTheMiddlesExceed())
+        break;
+    }
     verifyAndStretch();
     return std::move(profile_);
   }
@@ -116,7 +130,9 @@ private:
     const std::size_t n = s.size();
     right_.resize(n);
     left_.resize(n);
+    middle_.resize(n - 1);
     corner_.assign(n, false);
+    factor_.assign(n, Rates{ 1.0, 1.0, 1.0, 1.0 });
     std::vector<bool> at_breakpoint(n, false);
     for (std::size_t i : breakpoint_)
       at_breakpoint[i] = true;
@@ -126,6 +142,8 @@ private:
       left_[i].raw = at_breakpoint[i] ? path_.jet(s[i], Side::kLeft) : right_[i].raw;
       if (at_breakpoint[i] && i > 0 && i + 1 < n)
         corner_[i] = path_.isCorner(s[i]);
+      if (i + 1 < n)
+        middle_[i] = path_.jet(0.5 * (s[i] + s[i + 1]), Side::kRight);
     }
     // The largest |C′| of each channel: the scale of "moves".
     std::array<double, 2> largest{};
@@ -155,7 +173,7 @@ private:
     }
   }
 
-  /// Checks that the motion at this point is bounded, floors stationary points, and computes x_max.
+  /// Checks that the motion at this point is bounded and floors stationary points.
   void prepare(PointData* p, double s) const
   {
     p->jet = p->raw;
@@ -177,8 +195,9 @@ private:
       const int c = unlimited;
       const std::string where = "the path " + std::string(kMotionVerb[c]) + " at path time " + formatNumber(s) + " s";
       if (bounds_.velocity[c] > 0.0)
-        throw InvalidInputError(std::string(kAccelerationName[c]) + ": 0 (unbounded), but timing 'time_optimal' needs it: " +
-                                where + " where no acceleration bound acts (the motion starts and stops at rest)");
+        throw InvalidInputError(std::string(kAccelerationName[c]) +
+                                ": 0 (unbounded), but timing 'time_optimal' needs it: " + where +
+                                " where no acceleration bound acts (the motion starts and stops at rest)");
       throw InvalidInputError(std::string(kVelocityName[c]) + " and " + kAccelerationName[c] +
                               ": 0 (unbounded), but timing 'time_optimal' needs a bound on this motion: " + where +
                               " where no other bound acts (set " + kAccelerationName[c] + ", and " + kVelocityName[c] +
@@ -198,20 +217,34 @@ private:
         }
       }
     }
-    p->x_max = kInf;
-    for (int c = 0; c < 2; ++c)
-    {
-      const ChannelJet& j = p->jet[c];
-      if (bounds_.velocity[c] > 0.0 && j.bb > 0.0)
-        p->x_max = std::min(p->x_max, bounds_.velocity[c] * bounds_.velocity[c] / j.bb);
-      if (bounds_.acceleration[c] > 0.0)
+  }
+
+  double velocityBound(std::size_t i, int c) const { return bounds_.velocity[c] * factor_[i][c]; }
+  double accelerationBound(std::size_t i, int c) const { return bounds_.acceleration[c] * factor_[i][2 + c]; }
+
+  /// x_max of both sides of every point with the current local factors.
+  void updateCaps()
+  {
+    for (std::size_t i = 0; i < profile_.s.size(); ++i)
+      for (PointData* p : { &right_[i], &left_[i] })
       {
-        if (j.cross > 0.0)
-          p->x_max = std::min(p->x_max, bounds_.acceleration[c] * std::sqrt(j.bb / j.cross));
-        else if (j.bb == 0.0 && j.aa > 0.0)
-          p->x_max = std::min(p->x_max, bounds_.acceleration[c] / std::sqrt(j.aa));
+        p->x_max = kInf;
+        for (int c = 0; c < 2; ++c)
+        {
+          const ChannelJet& j = p->jet[c];
+          const double v = velocityBound(i, c);
+          const double a = accelerationBound(i, c);
+          if (v > 0.0 && j.bb > 0.0)
+            p->x_max = std::min(p->x_max, v * v / j.bb);
+          if (a > 0.0)
+          {
+            if (j.cross > 0.0)
+              p->x_max = std::min(p->x_max, a * std::sqrt(j.bb / j.cross));
+            else if (j.bb == 0.0 && j.aa > 0.0)
+              p->x_max = std::min(p->x_max, a / std::sqrt(j.aa));
+          }
+        }
       }
-    }
   }
 
   double delta(std::size_t i) const { return profile_.s[i + 1] - profile_.s[i]; }
@@ -233,11 +266,13 @@ private:
       if (!(bounds_.acceleration[c] > 0.0))
         continue;
       // At s_i: |C″ x + C′ u|.
-      intersectEllipse(a[c].bb, a[c].ab, a[c].aa, a[c].cross, a2_[c], x, &u);
+      const double a0 = accelerationBound(i, c);
+      intersectEllipse(a[c].bb, a[c].ab, a[c].aa, a[c].cross, a0 * a0, x, &u);
       // At s_{i+1}: |C″ (x + 2Δu) + C′ u| = |C″ x + (C′ + 2Δ C″) u|.
       const ChannelJet& e = b[c];
+      const double a1 = accelerationBound(i + 1, c);
       const double alpha = std::max(0.0, 4.0 * d * d * e.aa + 4.0 * d * e.ab + e.bb);
-      intersectEllipse(alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a2_[c], x, &u);
+      intersectEllipse(alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a1 * a1, x, &u);
       if (u.empty)
         return u;
     }
@@ -247,6 +282,8 @@ private:
   void backward()
   {
     const std::size_t n = profile_.s.size();
+    // Tightening only shrinks the sets: a later pass starts from the previous one's.
+    const std::vector<double> previous = k_.empty() ? std::vector<double>(n, kInf) : k_;
     k_.assign(n, 0.0);
     for (std::size_t i = n - 1; i-- > 0;)
     {
@@ -254,7 +291,7 @@ private:
         continue;
       const double next = nextLimit(i);
       auto admissible = [&](double x) { return !controls(i, x, next).isEmpty(); };
-      double hi = right_[i].x_max;
+      double hi = std::min(right_[i].x_max, previous[i]);
       if (std::isfinite(hi) && admissible(hi))
       {
         k_[i] = hi;
@@ -310,9 +347,9 @@ private:
   }
 
   /// The stretch each bounded rate would need at a point: |v|/v_max, √(|a|/a_max).
-  std::array<double, 4> needs(const PathJet& j, double x, double u) const
+  Rates needs(const PathJet& j, double x, double u) const
   {
-    std::array<double, 4> r{};
+    Rates r{};
     for (int c = 0; c < 2; ++c)
     {
       if (bounds_.velocity[c] > 0.0)
@@ -326,13 +363,38 @@ private:
     return r;
   }
 
-  /// The rates' needs at time τ into interval i.
-  std::array<double, 4> needsInside(std::size_t i, double tau) const
+  /// The needs at s_i + λ Δ_i (x is linear in s on the interval, u constant).
+  Rates needsAt(std::size_t i, double lambda) const
   {
-    const double v = std::sqrt(profile_.x[i]) + profile_.u[i] * tau;
-    const double s = profile_.s[i] + std::sqrt(profile_.x[i]) * tau + 0.5 * profile_.u[i] * tau * tau;
-    const double inside = std::min(std::max(s, profile_.s[i]), profile_.s[i + 1]);
-    return needs(path_.jet(inside, Side::kRight), v * v, profile_.u[i]);
+    const double x = profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]);
+    return needs(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), x, profile_.u[i]);
+  }
+
+  Rates needsAtMiddle(std::size_t i) const
+  {
+    return needs(middle_[i], 0.5 * (profile_.x[i] + profile_.x[i + 1]), profile_.u[i]);
+  }
+
+  /// Where the middle of an interval exceeds a bound (the ends satisfy them by construction),
+  /// tightens that bound at both ends by the excess. Returns whether anything was tightened.
+  bool tightenWhereTheMiddlesExceed()
+  {
+    bool tightened = false;
+    for (std::size_t i = 0; i + 1 < profile_.s.size(); ++i)
+    {
+      const Rates r = needsAtMiddle(i);
+      for (int q = 0; q < 4; ++q)
+      {
+        if (!(r[q] > 1.0 + kLocalTolerance))
+          continue;
+        // Velocities scale with the bound, accelerations' needs with its square root.
+        const double f = q < 2 ? 1.0 / r[q] : 1.0 / (r[q] * r[q]);
+        factor_[i][q] = std::min(factor_[i][q], f * factor_[i][q]);
+        factor_[i + 1][q] = std::min(factor_[i + 1][q], f * factor_[i + 1][q]);
+        tightened = true;
+      }
+    }
+    return tightened;
   }
 
   void verifyAndStretch()
@@ -340,14 +402,13 @@ private:
     const std::size_t n = profile_.s.size();
     const std::vector<double>& x = profile_.x;
     const std::vector<double>& u = profile_.u;
-    const std::vector<double>& t = profile_.t;
-    std::vector<std::array<double, 4>> f0(n - 1), fm(n - 1), f1(n - 1);
+    std::vector<Rates> f0(n - 1), fm(n - 1), f1(n - 1);
     double worst = 0.0;
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
       f0[i] = needs(right_[i].raw, x[i], u[i]);
       f1[i] = needs(left_[i + 1].raw, x[i + 1], u[i]);
-      fm[i] = needsInside(i, 0.5 * (t[i + 1] - t[i]));
+      fm[i] = needsAtMiddle(i);
       for (int q = 0; q < 4; ++q)
         worst = std::max({ worst, f0[i][q], fm[i][q], f1[i][q] });
     }
@@ -367,7 +428,7 @@ private:
         const double predicted = f0[i][q] + c1 * vertex + c2 * vertex * vertex;
         if (predicted < threshold)
           continue;
-        refined = std::max(refined, goldenMax(i, q));
+        refined = std::max(refined, localMax(i, q, f0[i][q], fm[i][q], f1[i][q]));
       }
     const double k = std::max(1.0, refined);
     profile_.stretch = k;
@@ -384,50 +445,67 @@ private:
     }
   }
 
-  /// The largest need q inside interval i, by golden-section search.
-  double goldenMax(std::size_t i, int q) const
+  /// The largest need q inside interval i: successive parabolic interpolation from the three
+  /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
+  double localMax(std::size_t i, int q, double f0, double fm, double f1) const
   {
-    const double r = 0.5 * (std::sqrt(5.0) - 1.0);
-    const double width = profile_.t[i + 1] - profile_.t[i];
-    double a = 0.0;
-    double b = width;
-    double x1 = b - r * (b - a);
-    double x2 = a + r * (b - a);
-    double f1 = needsInside(i, x1)[q];
-    double f2 = needsInside(i, x2)[q];
-    while (b - a > kGoldenTolerance * width)
+    std::array<double, 3> l{ 0.0, 0.5, 1.0 };
+    std::array<double, 3> f{ f0, fm, f1 };
+    double best = std::max({ f0, fm, f1 });
+    for (int step = 0; step < kLocalMaxSteps; ++step)
     {
-      if (f1 > f2)
+      // The vertex of the parabola through the three points (l sorted, f[1] the largest inside).
+      const double d1 = (l[1] - l[0]) * (f[1] - f[2]);
+      const double d2 = (l[1] - l[2]) * (f[1] - f[0]);
+      const double den = 2.0 * (d1 - d2);
+      double next = den != 0.0 ? l[1] - ((l[1] - l[0]) * d1 - (l[1] - l[2]) * d2) / den : -1.0;
+      if (!(next > l[0] && next < l[2]) || next == l[1])
+        next = l[2] - l[1] > l[1] - l[0] ? l[1] + 0.381966 * (l[2] - l[1]) : l[1] - 0.381966 * (l[1] - l[0]);
+      const double fn = needsAt(i, next)[q];
+      best = std::max(best, fn);
+      const double moved = std::abs(next - l[1]);
+      // Keep the bracket around the best interior point.
+      if (fn >= f[1])
       {
-        b = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = b - r * (b - a);
-        f1 = needsInside(i, x1)[q];
+        if (next > l[1])
+        {
+          l = { l[1], next, l[2] };
+          f = { f[1], fn, f[2] };
+        }
+        else
+        {
+          l = { l[0], next, l[1] };
+          f = { f[0], fn, f[1] };
+        }
+      }
+      else if (next > l[1])
+      {
+        l[2] = next;
+        f[2] = fn;
       }
       else
       {
-        a = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = a + r * (b - a);
-        f2 = needsInside(i, x2)[q];
+        l[0] = next;
+        f[0] = fn;
       }
+      if (moved < kLocalMaxTolerance)
+        break;
     }
-    return std::max(f1, f2);
+    return best;
   }
 
   const PathModel& path_;
   RateBounds bounds_;
-  std::array<double, 2> a2_{};
   std::array<bool, 2> moves_{};
   std::array<double, 2> floor_{};
   TimingProfile profile_;
   std::vector<std::size_t> breakpoint_;
   std::vector<PointData> right_;
   std::vector<PointData> left_;
+  std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
   std::vector<bool> corner_;
-  std::vector<double> k_;  ///< upper ends of the controllable sets
+  std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
+  std::vector<double> k_;        ///< upper ends of the controllable sets
 };
 }  // namespace
 

@@ -72,6 +72,7 @@ TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const s
   r.max_angular_velocity = msg.max_angular_velocity;
   r.max_linear_acceleration = msg.max_linear_acceleration;
   r.max_angular_acceleration = msg.max_angular_acceleration;
+  r.timing = msg.timing;
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;

@@ -91,6 +91,14 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       r.geometry = params_.geometry;
     if (r.parameterization.empty())
       r.parameterization = params_.parameterization;
+    if (r.timing.empty())
+      r.timing = params_.timing;
+    for (auto bound : { std::make_pair(&r.max_linear_velocity, params_.max_linear_velocity),
+                        std::make_pair(&r.max_angular_velocity, params_.max_angular_velocity),
+                        std::make_pair(&r.max_linear_acceleration, params_.max_linear_acceleration),
+                        std::make_pair(&r.max_angular_acceleration, params_.max_angular_acceleration) })
+      if (*bound.first == 0.0)
+        *bound.first = bound.second;
     if (r.duration == 0.0)
       r.duration = params_.duration;
     if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)

@@ -94,6 +94,35 @@ TEST(Cli, PureTranslationCsvIsTheClassicalPolygon)
   EXPECT_NE(r.err.find("duration: 3"), std::string::npos) << r.err;
 }
 
+TEST(Cli, TimeOptimalPolylineIsTheSumOfTheTrapezoids)
+{
+  const CliRun r = run(data("time_optimal.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_EQ(rows.size(), 401U);
+  // Closed form: rest at the corner, 2 m and 4 m at 1 m/s cruise and 2 m/s^2: 2.5 s + 4.5 s.
+  const double duration = rows.back()[0] - rows.front()[0];
+  EXPECT_NEAR(duration, 7.0, 0.005 * 7.0);
+  const std::size_t at = r.err.find("duration: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NEAR(std::stod(r.err.substr(at + 10)), duration, 1e-9);
+  for (const auto& row : rows)
+  {
+    EXPECT_LE(Eigen::Vector3d(row[8], row[9], row[10]).norm(), 1.0 * (1 + 1e-9)) << row[0];
+    EXPECT_LE(Eigen::Vector3d(row[14], row[15], row[16]).norm(), 2.0 * (1 + 1e-9)) << row[0];
+  }
+  EXPECT_EQ(Eigen::Vector3d(rows.front()[8], rows.front()[9], rows.front()[10]).norm(), 0.0);
+  EXPECT_EQ(Eigen::Vector3d(rows.back()[8], rows.back()[9], rows.back()[10]).norm(), 0.0);
+  // Cruising at the bound on the long segment.
+  EXPECT_NEAR(rows[300][9], 1.0, 1e-6);
+
+  const CliRun bad = run(data("unknown_timing.yaml"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal)"), std::string::npos)
+      << bad.err;
+}
+
 TEST(Cli, ScrewBezierCsvToFile)
 {
   const std::string out = testing::TempDir() + "bezier.csv";

@@ -72,6 +72,52 @@ TEST(NodeService, EveryCurveAndGeometry)
     }
 }
 
+TEST(NodeService, TimeOptimalTimingWithinTheBounds)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.curve = "interpolating";
+  srv.request.timing = "time_optimal";
+  srv.request.max_linear_velocity = 0.5;
+  srv.request.max_angular_velocity = 0.8;
+  srv.request.max_linear_acceleration = 1.0;
+  srv.request.max_angular_acceleration = 2.0;
+  srv.request.sample_count = 500;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  const auto& points = srv.response.trajectory.points;
+  ASSERT_EQ(points.size(), 500U);
+  EXPECT_NEAR(points.back().time_from_start.toSec() - points.front().time_from_start.toSec(), srv.response.duration,
+              1e-6);
+  EXPECT_LE(srv.response.max_linear_speed, 0.5 * (1 + 1e-9));
+  EXPECT_LE(srv.response.max_angular_speed, 0.8 * (1 + 1e-9));
+  for (const auto& p : points)
+  {
+    const auto& v = p.velocities.at(0);
+    const auto& a = p.accelerations.at(0);
+    EXPECT_LE(std::hypot(v.linear.x, v.linear.y, v.linear.z), 0.5 * (1 + 1e-9));
+    EXPECT_LE(std::hypot(a.linear.x, a.linear.y, a.linear.z), 1.0 * (1 + 1e-9));
+    EXPECT_LE(std::hypot(a.angular.x, a.angular.y, a.angular.z), 2.0 * (1 + 1e-9));
+  }
+  const auto& v0 = points.front().velocities.at(0).linear;
+  EXPECT_EQ(std::hypot(v0.x, v0.y, v0.z), 0.0);
+  // Faster than the uniform stretch of the same path under the same bounds.
+  auto stretched = srv;
+  stretched.request.timing = "stretch";
+  ASSERT_TRUE(call(stretched));
+  ASSERT_TRUE(stretched.response.success) << stretched.response.message;
+  EXPECT_LT(srv.response.duration, stretched.response.duration);
+  // A pure rotation with linear bounds only: an error naming the missing bound.
+  auto bad = goodRequest();
+  bad.request.waypoints.poses = { pose(0, 0, 0, 0), pose(0, 0, 0, 1) };
+  bad.request.timing = "time_optimal";
+  bad.request.max_linear_velocity = 1.0;
+  bad.request.max_linear_acceleration = 1.0;
+  ASSERT_TRUE(call(bad));
+  EXPECT_FALSE(bad.response.success);
+  EXPECT_EQ(bad.response.message.find("max_angular_velocity"), 0U) << bad.response.message;
+}
+
 TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
 {
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
