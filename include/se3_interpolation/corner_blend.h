@@ -106,7 +106,7 @@ double legParameterAtDistance(const typename G::template Tangent<double>& v, dou
     double next = df > 0.0 ? s - g / df : 0.5 * (lo + hi);
     if (!(next > lo && next < hi))
       next = 0.5 * (lo + hi);
-    if (std::abs(next - s) <= 4.0 * std::numeric_limits<double>::epsilon() * s || hi - lo <= 0.0)
+    if (std::abs(next - s) <= 4.0 * std::numeric_limits<double>::epsilon() * s)
       return next;
     s = next;
   }
