@@ -139,6 +139,13 @@ struct TimingProfile
   std::vector<double> x;  ///< ṡ² at each grid point (0 at both ends and at corners)
   std::vector<double> u;  ///< s̈ on [t_i, t_{i+1}] (one fewer than the grid)
   double stretch = 1.0;   ///< the final uniform correction k ≥ 1 (already applied to t, x, u)
+  /// Figures of the timed motion per channel (kLinear, kAngular), from the final check: the peak
+  /// speed |C′|ṡ and acceleration |C″ṡ² + C′s̈| over the ends and middles of all intervals (and
+  /// the searched interior maxima of the bounded rates), and ∫|a|² dt by the quadratic through
+  /// each interval's ends and middle (the path's length is the curve's: timing does not change it).
+  std::array<double, 2> max_speed{};
+  std::array<double, 2> max_acceleration{};
+  std::array<double, 2> acceleration_energy{};
 
   double duration() const { return t.back() - t.front(); }
 
