@@ -29,7 +29,7 @@ constexpr int kLocalMaxSteps = 12;
 constexpr double kLocalMaxTolerance = 1e-7;
 /// Local passes: where an interval's middle exceeds a bound by more than kLocalTolerance, the
 /// bound is tightened at its ends by the excess and the passes are rerun (at most kLocalPasses
-/// times), so that the final uniform stretch only absorbs what is left (O(Δ³)).
+/// times), so that the final uniform stretch only absorbs what is left (typically < 1e-3).
 constexpr int kLocalPasses = 4;
 constexpr double kLocalTolerance = 1e-4;
 
