@@ -477,16 +477,16 @@ private:
       // Nodes 0, τ_m (the time at the middle of the interval in s), h.
       const double h = p.t[i + 1] - p.t[i];
       const double tm = delta(i) / (std::sqrt(p.x[i]) + std::sqrt(x_mid));
-      const double w0 = h * (3.0 * tm - h) / (6.0 * tm);
-      const double wm = h * h * h / (6.0 * tm * (h - tm));
-      const double w1 = h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm));
+      // The integral of the quadratic through (0, g0), (τ_m, g_m), (h, g1): Lagrange weights.
+      const bool inside = h > 0.0 && tm > 0.0 && tm < h;
+      const double w0 = inside ? h * (3.0 * tm - h) / (6.0 * tm) : 0.0;
+      const double wm = inside ? h * h * h / (6.0 * tm * (h - tm)) : 0.0;
+      const double w1 = inside ? h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) : 0.0;
       for (int c = 0; c < 2; ++c)
       {
         p.max_speed[c] = std::max({ p.max_speed[c], a[c], m[c], b[c] });
         p.max_acceleration[c] = std::max({ p.max_acceleration[c], a[2 + c], m[2 + c], b[2 + c] });
-        if (h > 0.0 && tm > 0.0 && tm < h)
-          p.acceleration_energy[c] +=
-              w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
+        p.acceleration_energy[c] += w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
       }
     }
     for (int c = 0; c < 2; ++c)
