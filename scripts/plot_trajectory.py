@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Plot a trajectory CSV written by se3_interpolate (pose space) into a PNG.
 
-usage: plot_trajectory.py TRAJECTORY.csv OUT.png [--title TITLE]
+usage: plot_trajectory.py TRAJECTORY.csv OUT.png [--title TITLE] [--bounds VMAX,WMAX,AMAX,ALPHAMAX]
 
 Panels against time: position (x, y, z), rotation vector (the axis-angle vector of the
 orientation relative to the first sample, rad), linear and angular speed (|v|, |ω|), and
-linear and angular acceleration magnitudes (|a|, |α|).
+linear and angular acceleration magnitudes (|a|, |α|). With --bounds (the request's
+max_linear_velocity, max_angular_velocity, max_linear_acceleration, max_angular_acceleration;
+0 = unbounded, not drawn) each bound is a dashed horizontal line in its rate's colour.
 """
 import argparse
 import csv
@@ -55,11 +57,30 @@ def norm(xs, ys, zs):
     return [math.sqrt(a * a + b * b + c * c) for a, b, c in zip(xs, ys, zs)]
 
 
+def parse_bounds(text):
+    """Four comma-separated numbers >= 0 (0: no line)."""
+    try:
+        values = [float(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError("expected VMAX,WMAX,AMAX,ALPHAMAX (numbers), got '%s'" % text)
+    if len(values) != 4 or any(not math.isfinite(v) or v < 0 for v in values):
+        raise argparse.ArgumentTypeError("expected four finite numbers >= 0 (0: unbounded), got '%s'" % text)
+    return values
+
+
+def plot_rate(axis, t, values, label, bound):
+    line, = axis.plot(t, values, label=label)
+    if bound > 0:
+        axis.axhline(bound, color=line.get_color(), linestyle="--", linewidth=1, label="bound %g" % bound)
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv")
     parser.add_argument("png")
     parser.add_argument("--title", default="")
+    parser.add_argument("--bounds", type=parse_bounds, default=[0.0, 0.0, 0.0, 0.0],
+                        help="VMAX,WMAX,AMAX,ALPHAMAX drawn as dashed lines (0: none)")
     args = parser.parse_args(argv)
     try:
         d = read_csv(args.csv)
@@ -78,11 +99,12 @@ def main(argv):
     for i, c in enumerate("xyz"):
         ax[1].plot(t, [r[i] for r in rv], label="r" + c)
     ax[1].set_ylabel("rotation vector [rad]\n(relative to start)")
-    ax[2].plot(t, norm(d["vx"], d["vy"], d["vz"]), label="|v| [m/s]")
-    ax[2].plot(t, norm(d["wx"], d["wy"], d["wz"]), label="|ω| [rad/s]")
+    vmax, wmax, amax, alphamax = args.bounds
+    plot_rate(ax[2], t, norm(d["vx"], d["vy"], d["vz"]), "|v| [m/s]", vmax)
+    plot_rate(ax[2], t, norm(d["wx"], d["wy"], d["wz"]), "|ω| [rad/s]", wmax)
     ax[2].set_ylabel("speed")
-    ax[3].plot(t, norm(d["ax"], d["ay"], d["az"]), label="|a| [m/s²]")
-    ax[3].plot(t, norm(d["alx"], d["aly"], d["alz"]), label="|α| [rad/s²]")
+    plot_rate(ax[3], t, norm(d["ax"], d["ay"], d["az"]), "|a| [m/s²]", amax)
+    plot_rate(ax[3], t, norm(d["alx"], d["aly"], d["alz"]), "|α| [rad/s²]", alphamax)
     ax[3].set_ylabel("acceleration")
     ax[3].set_xlabel("t [s]")
     for a in ax:

@@ -55,7 +55,16 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
-    fig = measureCurve(*curve, r.rotation_scale);
+    // Length and rotation length are the path's; the rates and the energy are the timed motion's.
+    const timing::TimingProfile& p = timed->profile();
+    fig.max_linear_speed = p.max_speed[timing::kLinear];
+    fig.max_angular_speed = p.max_speed[timing::kAngular];
+    fig.max_linear_acceleration = p.max_acceleration[timing::kLinear];
+    fig.max_angular_acceleration = p.max_acceleration[timing::kAngular];
+    const double angular = p.acceleration_energy[timing::kAngular];
+    // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
+    fig.energy = p.acceleration_energy[timing::kLinear] +
+                 (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
   }
   else
   {

@@ -263,7 +263,10 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
-    fig = measureSphereCurve(*curve);
+    // The length is the path's; the rates and the energy are the timed motion's.
+    fig.max_speed = timed->profile().max_speed[timing::kAngular];
+    fig.max_acceleration = timed->profile().max_acceleration[timing::kAngular];
+    fig.energy = timed->profile().acceleration_energy[timing::kAngular];
   }
   else
   {

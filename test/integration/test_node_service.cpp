@@ -118,6 +118,28 @@ TEST(NodeService, TimeOptimalTimingWithinTheBounds)
   EXPECT_EQ(bad.response.message.find("max_angular_velocity"), 0U) << bad.response.message;
 }
 
+TEST(NodeServiceDefaults, TimingAndBoundsFromTheNodeParameters)
+{
+  // Run by node_service_defaults.test (node with ~timing: time_optimal, ~max_linear_velocity 0.5,
+  // ~max_linear_acceleration 2); skipped in node_service.test.
+  if (!ros::NodeHandle("~").param("node_defaults", false))
+    GTEST_SKIP() << "needs the node parameters of node_service_defaults.test";
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(3, 0, 0, 0) };
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  // The closed-form trapezoid 3/0.5 + 0.5/2 s, at 0.5 m/s.
+  EXPECT_NEAR(srv.response.duration, 6.25, 0.005 * 6.25);
+  EXPECT_NEAR(srv.response.max_linear_speed, 0.5, 1e-6);
+  // A request's own fields win.
+  srv.request.timing = "stretch";
+  srv.request.max_linear_velocity = 1.5;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_NEAR(srv.response.max_linear_speed, 1.5, 1e-9);
+}
+
 TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
 {
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));

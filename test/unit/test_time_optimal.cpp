@@ -439,6 +439,41 @@ TEST(TimeOptimal, AccelerationsAreTheDerivativesOfTheVelocities)
     EXPECT_NEAR(p.pathParameter(p.timeAt(s), Side::kRight), s, 1e-12) << s;
 }
 
+TEST(TimeOptimal, ReportedFiguresAreThoseOfTheTimedMotion)
+{
+  // The response's peaks and energy (from the timing's own checks) against measureCurve's
+  // Gauss–Legendre integration and golden-section peaks on the timed curve; the lengths against
+  // the untimed path's (a reparameterisation keeps them).
+  std::mt19937 rng(5);
+  const std::vector<Pose<double>> w = test::randomPolygon(rng, 4, 0.8);
+  for (const Bounds4 b : { Bounds4{ 0.7, 0.9, 1.2, 2.0 }, Bounds4{ 0.0, 0.0, 1.2, 0.0 } })
+  {
+    TrajectoryRequest r = timeOptimalRequest(w, b);
+    r.curve = "hermite";
+    r.rotation_scale = 0.5;
+    const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+    const ValidatedRequest v = validateRequest(r, PlannerLimits());
+    const auto path = makeCurve<DoubleGeodesicSe3>(v, waypointTimes(v));
+    timing::RateBounds bounds;
+    bounds.velocity = { b.v, b.w };
+    bounds.acceleration = { b.a, b.alpha };
+    const auto timed = timing::makeTimeOptimalCurve<DoubleGeodesicSe3>(path, bounds);
+    const CurveFigures timed_fig = measureCurve(*timed, 0.5);
+    const CurveFigures path_fig = measureCurve(*path, 0.5);
+    EXPECT_NEAR(out.duration, timed->endTime() - timed->startTime(), 1e-12);
+    EXPECT_NEAR(out.length, path_fig.length, 1e-12);
+    EXPECT_NEAR(out.length, timed_fig.length, 1e-6 * out.length);
+    EXPECT_NEAR(out.rotation_length, timed_fig.rotation_length, 1e-6 * out.rotation_length);
+    EXPECT_NEAR(out.energy, timed_fig.energy, 2e-3 * timed_fig.energy);
+    EXPECT_NEAR(out.max_linear_speed, timed_fig.max_linear_speed, 1e-6 * timed_fig.max_linear_speed);
+    EXPECT_NEAR(out.max_angular_speed, timed_fig.max_angular_speed, 1e-3 * timed_fig.max_angular_speed);
+    EXPECT_NEAR(out.max_linear_acceleration, timed_fig.max_linear_acceleration,
+                1e-3 * timed_fig.max_linear_acceleration);
+    EXPECT_NEAR(out.max_angular_acceleration, timed_fig.max_angular_acceleration,
+                1e-3 * timed_fig.max_angular_acceleration);
+  }
+}
+
 TEST(TimeOptimal, FasterThanTheUniformStretch)
 {
   std::mt19937 rng(3);
