@@ -3,6 +3,7 @@
 #  1. bench_core (Google Benchmark): ns per operation for the screw and double-geodesic
 #     geometries against KDL and plain Eigen, the ratio table, and sampling throughput;
 #     bench_interpolating (the interpolating solve, N = 10 … 10⁴) when bench/bench_interpolating.cpp exists;
+#     bench_time_optimal (time-optimal timing of the interpolating spline, N = 100 … 3000);
 #  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
 #     the committed bench/instruction_counts.txt.
 # The benchmarks are built without catkin with g++ into $SE3_WS/bench.
@@ -57,6 +58,12 @@ if [ -f "$SE3_ROOT/bench/bench_interpolating.cpp" ]; then
   "$OUT/bench_interpolating" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
     --benchmark_display_aggregates_only=true
 fi
+
+build bench_time_optimal
+echo
+echo "== bench_time_optimal"
+"$OUT/bench_time_optimal" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true
 
 echo
 echo "== instruction counts"

@@ -6,6 +6,7 @@
 
 #include "se3_interpolation/blending.h"
 #include "se3_interpolation/bspline.h"
+#include "se3_interpolation/corner_blend.h"
 #include "se3_interpolation/hermite.h"
 #include "se3_interpolation/interpolating_spline.h"
 #include "se3_interpolation/planner.h"
@@ -21,6 +22,8 @@ std::shared_ptr<const Curve<G>> makeCurve(const ValidatedRequest& r, const std::
   switch (r.curve)
   {
     case CurveType::kPiecewiseGeodesic:
+      if (r.blend_radius > 0.0)
+        return std::make_shared<CornerBlendedGeodesic<G>>(x, times, r.blend_radius, r.rotation_scale);
       return std::make_shared<PiecewiseGeodesic<G>>(x, times);
     case CurveType::kBezier:
       return std::make_shared<BezierCurve<G>>(x, times.front(), times.back());

@@ -56,6 +56,12 @@ enum class Parameterization
   kUniform,
   kCentripetal
 };
+/// How the max_* bounds shape the timing (field `timing`).
+enum class Timing
+{
+  kStretch,     ///< "stretch": the curve's time axis stretched uniformly until every peak fits
+  kTimeOptimal  ///< "time_optimal": the fastest rest-to-rest traversal of the path (timing/time_optimal.h)
+};
 
 /// The request, field for field as in GenerateTrajectory.srv. Empty strings and zeros
 /// select the defaults documented in the README.
@@ -81,9 +87,12 @@ struct TrajectoryRequest
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
+  std::string timing;
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 0;
+  /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
+  double blend_radius = 0.0;
 };
 
 /// Resource bounds per request (node parameters ~max_samples, ~max_waypoints).
@@ -115,9 +124,11 @@ struct ValidatedRequest
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
+  Timing timing = Timing::kStretch;
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 100;
+  double blend_radius = 0.0;
 };
 
 struct TrajectorySample
@@ -134,9 +145,14 @@ struct TrajectoryResult
   std::vector<double> waypoint_times;  ///< final times of the waypoints (after any stretch)
   std::vector<Pose<double>> waypoints;  ///< the validated (normalised) input waypoints
   std::vector<Pose<double>> control_points;
+  /// Per waypoint, the radius r_i of its corner blend (m, chord distance; 0 = not blended).
+  /// Empty unless the request has a blend_radius.
+  std::vector<double> blend_radii;
   double start_time = 0.0;
   double duration = 0.0;         ///< s
-  double time_scale = 1.0;       ///< uniform stretch applied to meet the max_* bounds (≥ 1)
+  /// Uniform stretch applied to meet the max_* bounds (≥ 1); with timing time_optimal the final
+  /// correction of the optimal profile (TimingProfile::stretch, within a few 1e-3 of 1).
+  double time_scale = 1.0;
   double length = 0.0;           ///< ∫ |ṗ| dt, m
   double rotation_length = 0.0;  ///< ∫ |ω| dt, rad
   double max_linear_speed = 0.0;
@@ -164,5 +180,9 @@ TrajectoryResult generateTrajectory(const TrajectoryRequest& request, const Plan
 /// The names accepted in the request's string fields.
 const char* toString(CurveType c);
 const char* toString(GeometryType g);
+const char* toString(Timing t);
+
+/// The `timing` field: "" → stretch; unknown names throw InvalidInputError naming `timing`.
+Timing parseTiming(const std::string& name);
 
 }  // namespace se3_interpolation

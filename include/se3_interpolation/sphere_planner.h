@@ -15,7 +15,9 @@
 //    `centripetal` its square root; `duration` as for poses (default 1 s per segment);
 //  - bounds: max_angular_velocity bounds the speed |ẋ| (rad/s on the unit sphere) and
 //    max_angular_acceleration the covariant acceleration |D²x/dt²| (rad/s²); the time axis is
-//    stretched uniformly, never shrunk. `geometry`, `rotation_scale` and the max_linear_* bounds
+//    stretched uniformly, never shrunk; with `timing` "time_optimal" the same two bounds shape the
+//    fastest rest-to-rest traversal of the great-circle path instead (timing/time_optimal.h,
+//    max_angular_acceleration required). `geometry`, `rotation_scale` and the max_linear_* bounds
 //    have no meaning on the sphere and are rejected when set;
 //  - antipodal consecutive waypoints are an error naming both.
 // Errors are InterpolationError subclasses whose messages name the field and index.
@@ -53,6 +55,7 @@ struct SphereRequest
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;  ///< must be 0 (unused)
   double max_angular_acceleration = 0.0;
+  std::string timing;  ///< "stretch" (default) or "time_optimal"
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 0;
@@ -73,7 +76,7 @@ struct SphereResult
   std::vector<Eigen::VectorXd> waypoints;   ///< normalised
   double start_time = 0.0;
   double duration = 0.0;
-  double time_scale = 1.0;
+  double time_scale = 1.0;  ///< the stretch, or the time-optimal profile's final correction
   double length = 0.0;            ///< ∫ |ẋ| dt, rad
   double max_speed = 0.0;         ///< rad/s
   double max_acceleration = 0.0;  ///< covariant, rad/s²

@@ -159,8 +159,8 @@ void readCommonFields(const YAML::Node& root, Request* r)
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish" });
+                "max_linear_acceleration", "max_angular_acceleration", "timing", "sample_times", "sample_period",
+                "sample_count", "child_frame_id", "publish", "blend_radius" });
   if (root["times"])
     r->times = toDoubles(root["times"], "times");
   if (root["curve"])
@@ -189,6 +189,8 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
   if (root["max_angular_acceleration"])
     r->max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
+  if (root["timing"])
+    r->timing = toString(root["timing"], "timing");
   if (root["sample_times"])
     r->sample_times = toDoubles(root["sample_times"], "sample_times");
   if (root["sample_period"])
@@ -217,6 +219,8 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
 {
   TrajectoryRequest r;
   readCommonFields(root, &r);
+  if (root["blend_radius"])
+    r.blend_radius = toDouble(root["blend_radius"], "blend_radius");
   // The list form, or the service's geometry_msgs/PoseArray {header: {...}, poses: [...]}. The CLI
   // has no frames, so a header is checked for its field names only. Indices name the poses as the
   // service's messages do: waypoints[i].
@@ -257,6 +261,8 @@ SphereRequest sphereRequestFromYaml(const YAML::Node& root)
 {
   SphereRequest r;
   readCommonFields(root, &r);
+  if (root["blend_radius"])
+    throw InvalidInputError("blend_radius: corner blending is for poses only (not with --space sphere)");
   auto toVectorX = [](const YAML::Node& node, const std::string& field) {
     const std::vector<double> v = toDoubles(node, field);
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));

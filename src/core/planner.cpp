@@ -7,6 +7,7 @@
 #include "se3_interpolation/bspline.h"
 #include "se3_interpolation/curve_factory.h"
 #include "se3_interpolation/kinematics.h"
+#include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
@@ -38,11 +39,40 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 {
   const std::vector<double> times = waypointTimes(r);
   std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  TrajectoryResult out;
+  if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
+    out.blend_radii = blended->radii();
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
 
-  TrajectoryResult out;
-  out.time_scale = stretchFactor(r, fig);
-  if (out.time_scale > 1.0)
+  out.waypoint_times = times;
+  if (r.timing == Timing::kTimeOptimal)
+  {
+    timing::RateBounds bounds;
+    bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
+    bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+    auto timed = timing::makeTimeOptimalCurve<G>(curve, bounds);
+    out.time_scale = timed->profile().stretch;
+    for (double& t : out.waypoint_times)
+      t = timed->profile().timeAt(t);
+    curve = timed;
+    // Length and rotation length are the path's; the rates and the energy are the timed motion's.
+    const timing::TimingProfile& p = timed->profile();
+    fig.max_linear_speed = p.max_speed[timing::kLinear];
+    fig.max_angular_speed = p.max_speed[timing::kAngular];
+    fig.max_linear_acceleration = p.max_acceleration[timing::kLinear];
+    fig.max_angular_acceleration = p.max_acceleration[timing::kAngular];
+    const double angular = p.acceleration_energy[timing::kAngular];
+    // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
+    fig.energy = p.acceleration_energy[timing::kLinear] +
+                 (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
+  }
+  else
+  {
+    out.time_scale = stretchFactor(r, fig);
+    for (double& t : out.waypoint_times)
+      t = curve->startTime() + (t - curve->startTime()) * out.time_scale;
+  }
+  if (r.timing == Timing::kStretch && out.time_scale > 1.0)
   {
     const double k = out.time_scale;
     curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
@@ -64,9 +94,6 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   out.waypoints = r.waypoints;
   out.control_points = curve->controlPoints();
   out.pose_at = [curve](double t) { return curve->value(t); };
-  out.waypoint_times = times;
-  for (double& t : out.waypoint_times)
-    t = out.start_time + (t - out.start_time) * out.time_scale;
   // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
   // response as ∞ or NaN.
   const std::pair<const char*, double> figures[] = {

@@ -10,6 +10,7 @@
 #include "se3_interpolation/interpolating_spline.h"
 #include "se3_interpolation/polynomial_curves.h"
 #include "se3_interpolation/sphere.h"
+#include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
@@ -34,6 +35,7 @@ struct ValidSphereRequest
   double duration = 0.0;
   double max_speed = 0.0;
   double max_acceleration = 0.0;
+  Timing timing = Timing::kStretch;
   Sampling sampling;
 };
 
@@ -180,6 +182,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
   v.max_speed = r.max_angular_velocity;
   v.max_acceleration = r.max_angular_acceleration;
+  v.timing = parseTiming(r.timing);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   return v;
@@ -248,12 +251,33 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
   SphereCurveFigures fig = measureSphereCurve(*curve);
 
   SphereResult out;
+  out.waypoint_times = times;
   double k = 1.0;
-  if (r.max_speed > 0.0)
-    k = std::max(k, fig.max_speed / r.max_speed);
-  if (r.max_acceleration > 0.0)
-    k = std::max(k, std::sqrt(fig.max_acceleration / r.max_acceleration));
-  out.time_scale = k;
+  if (r.timing == Timing::kTimeOptimal)
+  {
+    timing::RateBounds bounds;
+    bounds.velocity[timing::kAngular] = r.max_speed;
+    bounds.acceleration[timing::kAngular] = r.max_acceleration;
+    auto timed = timing::makeTimeOptimalCurve<Sphere>(curve, bounds);
+    out.time_scale = timed->profile().stretch;
+    for (double& t : out.waypoint_times)
+      t = timed->profile().timeAt(t);
+    curve = timed;
+    // The length is the path's; the rates and the energy are the timed motion's.
+    fig.max_speed = timed->profile().max_speed[timing::kAngular];
+    fig.max_acceleration = timed->profile().max_acceleration[timing::kAngular];
+    fig.energy = timed->profile().acceleration_energy[timing::kAngular];
+  }
+  else
+  {
+    if (r.max_speed > 0.0)
+      k = std::max(k, fig.max_speed / r.max_speed);
+    if (r.max_acceleration > 0.0)
+      k = std::max(k, std::sqrt(fig.max_acceleration / r.max_acceleration));
+    out.time_scale = k;
+    for (double& t : out.waypoint_times)
+      t = curve->startTime() + (t - curve->startTime()) * k;
+  }
   if (k > 1.0)
   {
     curve = std::make_shared<TimeScaledCurve<Sphere>>(curve, k);
@@ -269,9 +293,6 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
   out.energy = fig.energy;
   out.waypoints = r.waypoints;
   out.point_at = [curve](double t) { return curve->value(t); };
-  out.waypoint_times = times;
-  for (double& t : out.waypoint_times)
-    t = out.start_time + (t - out.start_time) * out.time_scale;
 
   const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
   out.samples.resize(ts.size());

@@ -75,7 +75,24 @@ const std::vector<std::pair<const char*, GeometryType>> kGeometries = {
   { "double_geodesic", GeometryType::kDoubleGeodesic },
   { "screw", GeometryType::kScrew },
 };
+const std::vector<std::pair<const char*, Timing>> kTimings = {
+  { "stretch", Timing::kStretch },
+  { "time_optimal", Timing::kTimeOptimal },
+};
 }  // namespace
+
+const char* toString(Timing t)
+{
+  for (const auto& n : kTimings)
+    if (n.second == t)
+      return n.first;
+  return "";
+}
+
+Timing parseTiming(const std::string& name)
+{
+  return parseName(name, "timing", kTimings, Timing::kStretch);
+}
 
 const char* toString(CurveType c)
 {
@@ -190,6 +207,13 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   v.max_angular_velocity = r.max_angular_velocity;
   v.max_linear_acceleration = r.max_linear_acceleration;
   v.max_angular_acceleration = r.max_angular_acceleration;
+  v.timing = parseTiming(r.timing);
+
+  requireFiniteNonNegative(r.blend_radius, "blend_radius");
+  if (r.blend_radius > 0.0 && v.curve != CurveType::kPiecewiseGeodesic)
+    throw InvalidInputError("blend_radius: only used by curve 'piecewise_geodesic' (curve is '" +
+                            std::string(toString(v.curve)) + "')");
+  v.blend_radius = r.blend_radius;
 
   const Sampling sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   v.sample_times = sampling.sample_times;

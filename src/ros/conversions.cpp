@@ -58,6 +58,7 @@ TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const s
   r.degree = msg.degree;
   r.knots = msg.knots;
   r.continuity = msg.continuity;
+  r.blend_radius = msg.blend_radius;
   r.end_condition = msg.end_condition;
   r.start_velocity = fromTwistMsg(msg.start_velocity);
   r.end_velocity = fromTwistMsg(msg.end_velocity);
@@ -71,6 +72,7 @@ TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const s
   r.max_angular_velocity = msg.max_angular_velocity;
   r.max_linear_acceleration = msg.max_linear_acceleration;
   r.max_angular_acceleration = msg.max_angular_acceleration;
+  r.timing = msg.timing;
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;
@@ -168,6 +170,19 @@ visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, co
   for (const auto& s : result.samples)
     path.points.push_back(tf2::toMsg(Eigen::Vector3d(s.pose.p)));
   array.markers.push_back(path);
+
+  // Blend zones: the chord-distance ball of radius r_i projects onto positions as the sphere
+  // of radius r_i about the corner (|dp| <= r_i); the blended path stays inside it.
+  for (std::size_t i = 0; i < result.blend_radii.size() && i < result.waypoints.size(); ++i)
+  {
+    if (!(result.blend_radii[i] > 0.0))
+      continue;
+    auto zone = marker(header, "blend_zones", visualization_msgs::Marker::SPHERE, 2.0 * result.blend_radii[i],
+                       color(0.2F, 0.9F, 0.4F, 0.25F));
+    zone.id = static_cast<int>(i);
+    zone.pose.position = tf2::toMsg(Eigen::Vector3d(result.waypoints[i].p));
+    array.markers.push_back(zone);
+  }
 
   if (axes > 0 && !result.samples.empty())
   {

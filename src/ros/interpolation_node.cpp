@@ -97,10 +97,21 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     TrajectoryRequest r = fromRequestMsg(req, poses);
     if (r.curve.empty())
       r.curve = params_.curve;
+    // The node's default radius applies to the curve that uses it only (never an error elsewhere).
+    if (r.blend_radius == 0.0 && r.curve == "piecewise_geodesic")
+      r.blend_radius = params_.blend_radius;
     if (r.geometry.empty())
       r.geometry = params_.geometry;
     if (r.parameterization.empty())
       r.parameterization = params_.parameterization;
+    if (r.timing.empty())
+      r.timing = params_.timing;
+    for (auto bound : { std::make_pair(&r.max_linear_velocity, params_.max_linear_velocity),
+                        std::make_pair(&r.max_angular_velocity, params_.max_angular_velocity),
+                        std::make_pair(&r.max_linear_acceleration, params_.max_linear_acceleration),
+                        std::make_pair(&r.max_angular_acceleration, params_.max_angular_acceleration) })
+      if (*bound.first == 0.0)
+        *bound.first = bound.second;
     if (r.duration == 0.0)
       r.duration = params_.duration;
     if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)

@@ -53,8 +53,17 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   read<std::string>(nh, "curve", &p.curve, non_empty, "must not be empty");
   read<std::string>(nh, "geometry", &p.geometry, non_empty, "must not be empty");
   read<std::string>(nh, "parameterization", &p.parameterization, non_empty, "must not be empty");
+  read<std::string>(nh, "timing", &p.timing, [](const std::string& x) { return x == "stretch" || x == "time_optimal"; },
+                    "must be stretch or time_optimal");
+  read<double>(nh, "max_linear_velocity", &p.max_linear_velocity, non_negative, "must be >= 0 m/s (0: unbounded)");
+  read<double>(nh, "max_angular_velocity", &p.max_angular_velocity, non_negative, "must be >= 0 rad/s (0: unbounded)");
+  read<double>(nh, "max_linear_acceleration", &p.max_linear_acceleration, non_negative,
+               "must be >= 0 m/s^2 (0: unbounded)");
+  read<double>(nh, "max_angular_acceleration", &p.max_angular_acceleration, non_negative,
+               "must be >= 0 rad/s^2 (0: unbounded)");
   read<double>(nh, "duration", &p.duration, non_negative, "must be >= 0 s");
   read<int>(nh, "sample_count", &p.sample_count, [](const int& x) { return x >= 2; }, "must be >= 2");
+  read<double>(nh, "blend_radius", &p.blend_radius, non_negative, "must be >= 0 m");
   return p;
 }
 

@@ -102,6 +102,35 @@ TEST(Cli, PureTranslationCsvIsTheClassicalPolygon)
   EXPECT_NE(r.err.find("duration: 3"), std::string::npos) << r.err;
 }
 
+TEST(Cli, TimeOptimalPolylineIsTheSumOfTheTrapezoids)
+{
+  const CliRun r = run(data("time_optimal.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_EQ(rows.size(), 401U);
+  // Closed form: rest at the corner, 2 m and 4 m at 1 m/s cruise and 2 m/s^2: 2.5 s + 4.5 s.
+  const double duration = rows.back()[0] - rows.front()[0];
+  EXPECT_NEAR(duration, 7.0, 0.005 * 7.0);
+  const std::size_t at = r.err.find("duration: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NEAR(std::stod(r.err.substr(at + 10)), duration, 1e-9);
+  for (const auto& row : rows)
+  {
+    EXPECT_LE(Eigen::Vector3d(row[8], row[9], row[10]).norm(), 1.0 * (1 + 1e-9)) << row[0];
+    EXPECT_LE(Eigen::Vector3d(row[14], row[15], row[16]).norm(), 2.0 * (1 + 1e-9)) << row[0];
+  }
+  EXPECT_EQ(Eigen::Vector3d(rows.front()[8], rows.front()[9], rows.front()[10]).norm(), 0.0);
+  EXPECT_EQ(Eigen::Vector3d(rows.back()[8], rows.back()[9], rows.back()[10]).norm(), 0.0);
+  // Cruising at the bound on the long segment.
+  EXPECT_NEAR(rows[300][9], 1.0, 1e-6);
+
+  const CliRun bad = run(data("unknown_timing.yaml"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal)"), std::string::npos)
+      << bad.err;
+}
+
 TEST(Cli, ScrewBezierCsvToFile)
 {
   const std::string out = testing::TempDir() + "bezier.csv";
@@ -153,6 +182,36 @@ TEST(Cli, ErrorsExitTwoWithoutOutputFile)
   const CliRun usage = run("");
   EXPECT_EQ(usage.status, 2);
   EXPECT_NE(usage.err.find("usage:"), std::string::npos);
+}
+
+TEST(Cli, BlendRadiusCutsTheCornerWithTheEuclideanQuartic)
+{
+  const CliRun r = run(data("blend_translation.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_EQ(rows.size(), 5U);
+  // Outside [0.75, 1.25] s the polygon of translation.yaml at the same times; at t = 1 the
+  // quartic Bezier (1.5,0) (1.75,0) (2,0) (2,0.25) (2,0.5) at lambda = 1/2 and its velocity
+  // B'(1/2) d(lambda)/dt = (0.5, 0.5) * 2.
+  const double expected[5][5] = { { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 30.5 / 16, 1.5 / 16, 1, 1 },
+                                  { 2, 2, 2, 0, 2 }, { 3, 2, 4, 0, 2 } };
+  for (int i = 0; i < 5; ++i)
+  {
+    ASSERT_EQ(rows[i].size(), 20U);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(rows[i][k], expected[i][k], 1e-14) << i << " " << k;
+    EXPECT_NEAR(rows[i][8], expected[i][3], 1e-13) << i;
+    EXPECT_NEAR(rows[i][9], expected[i][4], 1e-13) << i;
+  }
+  EXPECT_NE(r.err.find("duration: 3"), std::string::npos) << r.err;
+
+  const std::string out = testing::TempDir() + "must_not_exist.csv";
+  std::remove(out.c_str());
+  const CliRun bad = run(data("blend_other_curve.yaml") + " -o " + out);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("blend_radius: only used by curve 'piecewise_geodesic'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(exists(out));
 }
 
 TEST(Cli, SphereSpaceBlendedCircleAndErrors)

@@ -273,6 +273,7 @@ TrajectoryRequest decode(ByteReader& in)
   static const std::uint32_t kCounts[] = { 0, 1, 2, 3, 1999, 2000, 2001, std::numeric_limits<std::uint32_t>::max() };
   const std::uint8_t count = in.byte();
   r.sample_count = count < 200 ? count % 64 : kCounts[count % 8];
+  r.blend_radius = in.optionalNumber();  // read last: earlier fields of the seed corpus keep their bytes
   return r;
 }
 
@@ -318,7 +319,8 @@ std::string describe(const TrajectoryRequest& r)
        " (rotation_scale, duration, max_linear_velocity, max_angular_velocity, max_linear_acceleration, "
        "max_angular_acceleration)\nsample_times: " +
        list(r.sample_times) + "\nsample_period: " + list(std::vector<double>{ r.sample_period }) +
-       "\nsample_count: " + std::to_string(r.sample_count) + "\n";
+       "\nsample_count: " + std::to_string(r.sample_count) + "\nblend_radius: " +
+       list(std::vector<double>{ r.blend_radius }) + "\n";
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <cmath>
 #include <limits>
@@ -71,6 +72,74 @@ TEST(NodeService, EveryCurveAndGeometry)
     }
 }
 
+TEST(NodeService, TimeOptimalTimingWithinTheBounds)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.curve = "interpolating";
+  srv.request.timing = "time_optimal";
+  srv.request.max_linear_velocity = 0.5;
+  srv.request.max_angular_velocity = 0.8;
+  srv.request.max_linear_acceleration = 1.0;
+  srv.request.max_angular_acceleration = 2.0;
+  srv.request.sample_count = 500;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  const auto& points = srv.response.trajectory.points;
+  ASSERT_EQ(points.size(), 500U);
+  EXPECT_NEAR(points.back().time_from_start.toSec() - points.front().time_from_start.toSec(), srv.response.duration,
+              1e-6);
+  EXPECT_LE(srv.response.max_linear_speed, 0.5 * (1 + 1e-9));
+  EXPECT_LE(srv.response.max_angular_speed, 0.8 * (1 + 1e-9));
+  for (const auto& p : points)
+  {
+    const auto& v = p.velocities.at(0);
+    const auto& a = p.accelerations.at(0);
+    EXPECT_LE(std::hypot(v.linear.x, v.linear.y, v.linear.z), 0.5 * (1 + 1e-9));
+    EXPECT_LE(std::hypot(a.linear.x, a.linear.y, a.linear.z), 1.0 * (1 + 1e-9));
+    EXPECT_LE(std::hypot(a.angular.x, a.angular.y, a.angular.z), 2.0 * (1 + 1e-9));
+  }
+  const auto& v0 = points.front().velocities.at(0).linear;
+  EXPECT_EQ(std::hypot(v0.x, v0.y, v0.z), 0.0);
+  // Faster than the uniform stretch of the same path under the same bounds.
+  auto stretched = srv;
+  stretched.request.timing = "stretch";
+  ASSERT_TRUE(call(stretched));
+  ASSERT_TRUE(stretched.response.success) << stretched.response.message;
+  EXPECT_LT(srv.response.duration, stretched.response.duration);
+  // A pure rotation with linear bounds only: an error naming the missing bound.
+  auto bad = goodRequest();
+  bad.request.waypoints.poses = { pose(0, 0, 0, 0), pose(0, 0, 0, 1) };
+  bad.request.timing = "time_optimal";
+  bad.request.max_linear_velocity = 1.0;
+  bad.request.max_linear_acceleration = 1.0;
+  ASSERT_TRUE(call(bad));
+  EXPECT_FALSE(bad.response.success);
+  EXPECT_EQ(bad.response.message.find("max_angular_velocity"), 0U) << bad.response.message;
+}
+
+TEST(NodeServiceDefaults, TimingAndBoundsFromTheNodeParameters)
+{
+  // Run by node_service_defaults.test (node with ~timing: time_optimal, ~max_linear_velocity 0.5,
+  // ~max_linear_acceleration 2); skipped in node_service.test.
+  if (!ros::NodeHandle("~").param("node_defaults", false))
+    GTEST_SKIP() << "needs the node parameters of node_service_defaults.test";
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(3, 0, 0, 0) };
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  // The closed-form trapezoid 3/0.5 + 0.5/2 s, at 0.5 m/s.
+  EXPECT_NEAR(srv.response.duration, 6.25, 0.005 * 6.25);
+  EXPECT_NEAR(srv.response.max_linear_speed, 0.5, 1e-6);
+  // A request's own fields win.
+  srv.request.timing = "stretch";
+  srv.request.max_linear_velocity = 1.5;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_NEAR(srv.response.max_linear_speed, 1.5, 1e-9);
+}
+
 TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
 {
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
@@ -109,6 +178,76 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
     ASSERT_TRUE(call(good)) << "after " << c.name;
     EXPECT_TRUE(good.response.success) << "after " << c.name << ": " << good.response.message;
   }
+}
+
+TEST(NodeService, BlendRadiusFromTheRequestOrTheNodeDefault)
+{
+  // goodRequest's polyline: legs of 1, sqrt(1.25) and 1.5 m. Blends cut every interior corner.
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  const double polyline_length = 1.0 + std::sqrt(1.25) + 1.5;
+  auto srv = goodRequest();
+  srv.request.curve = "piecewise_geodesic";
+  srv.request.blend_radius = 0.3;
+  srv.request.publish = true;
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_LT(srv.response.length, polyline_length - 1e-3);
+  const auto& last = srv.response.path.poses.back().pose.position;
+  EXPECT_NEAR(last.y, 2.0, 1e-12);  // the last waypoint is still reached
+
+  // The markers show a translucent sphere of radius r_i = 0.3 m at each blended corner.
+  ros::NodeHandle nh;
+  visualization_msgs::MarkerArray markers;
+  bool got = false;
+  ros::Subscriber sub = nh.subscribe<visualization_msgs::MarkerArray>(
+      "/se3_interpolation_node/markers", 1, [&](const visualization_msgs::MarkerArray::ConstPtr& msg) {
+        markers = *msg;
+        got = true;
+      });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (!got && ros::WallTime::now() < deadline)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_TRUE(got);
+  int zones = 0;
+  for (const auto& m : markers.markers)
+    if (m.ns == "blend_zones")
+    {
+      ++zones;
+      EXPECT_EQ(m.type, visualization_msgs::Marker::SPHERE);
+      EXPECT_NEAR(m.scale.x, 0.6, 1e-12);
+      EXPECT_LT(m.color.a, 1.0F);
+    }
+  EXPECT_EQ(zones, 2);
+
+  // Without a blend_radius the node's ~blend_radius (0.1 m in node_service.test) applies, to
+  // piecewise_geodesic only: other curves are not refused because of the node's default.
+  auto by_default = goodRequest();
+  ASSERT_TRUE(call(by_default));
+  ASSERT_TRUE(by_default.response.success) << by_default.response.message;
+  EXPECT_LT(by_default.response.length, polyline_length - 1e-4);
+  EXPECT_GT(by_default.response.length, srv.response.length);
+  auto bezier = goodRequest();
+  bezier.request.curve = "bezier";
+  ASSERT_TRUE(call(bezier));
+  EXPECT_TRUE(bezier.response.success) << bezier.response.message;
+
+  for (double bad_radius : { -0.1, std::numeric_limits<double>::quiet_NaN() })
+  {
+    auto bad = goodRequest();
+    bad.request.blend_radius = bad_radius;
+    ASSERT_TRUE(call(bad));
+    EXPECT_FALSE(bad.response.success);
+    EXPECT_EQ(bad.response.message.rfind("blend_radius", 0), 0U) << bad.response.message;
+  }
+  auto other = goodRequest();
+  other.request.curve = "interpolating";
+  other.request.blend_radius = 0.2;
+  ASSERT_TRUE(call(other));
+  EXPECT_FALSE(other.response.success);
+  EXPECT_EQ(other.response.message.rfind("blend_radius", 0), 0U) << other.response.message;
 }
 
 TEST(NodeService, LatchedPathReachesALateSubscriber)

@@ -29,7 +29,8 @@ nav_msgs::Path toPathMsg(const TrajectoryResult& result, const std_msgs::Header&
 trajectory_msgs::MultiDOFJointTrajectory toTrajectoryMsg(const TrajectoryResult& result, const std_msgs::Header& header,
                                                          const std::string& joint_name);
 
-/// rviz markers: waypoints (spheres), the control polygon, the sampled path and
+/// rviz markers: waypoints (spheres), the control polygon, the sampled path, the blend zones
+/// (a translucent sphere of radius r_i at each blended corner, ns `blend_zones`) and
 /// `axes` evenly spaced body axes (x red, y green, z blue) of length `axis_length` m.
 /// The first marker deletes what an earlier trajectory drew.
 visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, const std::vector<Pose<double>>& waypoints,

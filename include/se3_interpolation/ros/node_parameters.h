@@ -27,8 +27,15 @@ struct NodeParameters
   std::string curve = "piecewise_geodesic";
   std::string geometry = "double_geodesic";
   std::string parameterization = "chord";
+  std::string timing = "stretch";
+  /// The max_* bounds of requests that leave them 0 (0 = unbounded); time_optimal needs some.
+  double max_linear_velocity = 0.0;
+  double max_angular_velocity = 0.0;
+  double max_linear_acceleration = 0.0;
+  double max_angular_acceleration = 0.0;
   double duration = 0.0;
   int sample_count = 100;
+  double blend_radius = 0.0;  ///< m, for piecewise_geodesic requests without one (0: sharp corners)
 };
 
 /// Reads every parameter from `nh` (the private handle). An invalid value is refused
