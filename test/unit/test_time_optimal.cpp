@@ -5,6 +5,7 @@
 // accelerations, forward and backward integration) that uses the vector norms |C″ x + C′ u| directly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 #include <string>
@@ -324,6 +325,34 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
       {
         EXPECT_EQ(s.velocity.linear.norm(), 0.0);
       }
+}
+
+TEST(TimeOptimal, RestsAtABSplineKnotOfFullMultiplicityOnly)
+{
+  // Quadratic B-spline: the knot 1 has multiplicity 2 = degree (C⁰: a velocity corner through the
+  // control point), the knot 0.5 multiplicity 1 (C¹: no corner).
+  std::mt19937 rng(17);
+  const std::vector<Pose<double>> control = test::randomPolygon(rng, 6, 0.6);
+  auto curve = std::make_shared<BSplineCurve<ScrewSe3>>(control, 2,
+                                                         std::vector<double>{ 0, 0, 0, 0.5, 1, 1, 2, 2, 2 });
+  ASSERT_GT((kinematicsAt(*curve, 1.0, Side::kLeft).velocity.linear -
+             kinematicsAt(*curve, 1.0, Side::kRight).velocity.linear).norm(), 0.1);
+  timing::RateBounds bounds;
+  bounds.velocity = { 1.0, 1.0 };
+  bounds.acceleration = { 2.0, 2.0 };
+  const auto timed = timing::makeTimeOptimalCurve<ScrewSe3>(curve, bounds);
+  const timing::TimingProfile& p = timed->profile();
+  auto at = [&](double s) {
+    const auto it = std::find(p.s.begin(), p.s.end(), s);
+    EXPECT_NE(it, p.s.end()) << s << " is not a grid point";
+    return static_cast<std::size_t>(it - p.s.begin());
+  };
+  EXPECT_EQ(p.x[at(1.0)], 0.0);
+  EXPECT_GT(p.x[at(0.5)], 0.0);
+  const double t_corner = p.timeAt(1.0);
+  EXPECT_EQ(kinematicsAt(*timed, t_corner, Side::kLeft).velocity.linear.norm(), 0.0);
+  EXPECT_EQ(kinematicsAt(*timed, t_corner, Side::kRight).velocity.linear.norm(), 0.0);
+  EXPECT_LT(test::poseDistance(timed->value(t_corner), control[3]), 1e-12);
 }
 
 TEST(TimeOptimal, GreatCircleArcOnTheSphereIsTheTrapezoid)
