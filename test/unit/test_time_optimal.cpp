@@ -146,19 +146,32 @@ private:
     const double span = 1e4;
     double a = -span, b = span;
     const double r = 0.5 * (std::sqrt(5.0) - 1.0);
-    for (int k = 0; k < 90; ++k)
+    double x1 = b - r * (b - a), x2 = a + r * (b - a);
+    double f1 = violation(i, x, x1), f2 = violation(i, x, x2);
+    for (int k = 0; k < 64; ++k)
     {
-      const double x1 = b - r * (b - a), x2 = a + r * (b - a);
-      if (violation(i, x, x1) < violation(i, x, x2))
+      if (f1 < f2)
+      {
         b = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = b - r * (b - a);
+        f1 = violation(i, x, x1);
+      }
       else
+      {
         a = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = a + r * (b - a);
+        f2 = violation(i, x, x2);
+      }
     }
     const double best = 0.5 * (a + b);
     if (violation(i, x, best) > 0.0)
       return false;
     double lo = -span, hi = best;
-    for (int k = 0; k < 60; ++k)
+    for (int k = 0; k < 48; ++k)
     {
       const double mid = 0.5 * (lo + hi);
       (violation(i, x, mid) <= 0.0 ? hi : lo) = mid;
@@ -166,7 +179,7 @@ private:
     *umin = hi;
     lo = best;
     hi = span;
-    for (int k = 0; k < 60; ++k)
+    for (int k = 0; k < 48; ++k)
     {
       const double mid = 0.5 * (lo + hi);
       (violation(i, x, mid) <= 0.0 ? lo : hi) = mid;
