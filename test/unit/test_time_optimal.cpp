@@ -397,8 +397,8 @@ TEST(TimeOptimal, TheBruteForceReferenceGivesTheTrapezoidOnAStraightLine)
       { pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(0.0, Eigen::Vector3d(0, 1.5, 2)) }, { 0.0, 1.0 });
   EXPECT_NEAR(bruteForceDuration(line, Bounds4{ 0.5, 0, 1.0, 0 }) / trapezoidTime(2.5, 0.5, 1.0), 1.0, 2e-3);
   EXPECT_NEAR(bruteForceDuration(line, Bounds4{ 5.0, 0, 1.0, 0 }) / trapezoidTime(2.5, 5.0, 1.0), 1.0, 2e-3);
-  const PiecewiseGeodesic<DoubleGeodesicSe3> turn({ pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(2.0, Eigen::Vector3d(0, 0, 0)) },
-                                                  { 0.0, 1.0 });
+  const PiecewiseGeodesic<DoubleGeodesicSe3> turn(
+      { pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(2.0, Eigen::Vector3d(0, 0, 0)) }, { 0.0, 1.0 });
   EXPECT_NEAR(bruteForceDuration(turn, Bounds4{ 0, 0.7, 0, 1.3 }) / trapezoidTime(2.0, 0.7, 1.3), 1.0, 2e-3);
 }
 
@@ -566,7 +566,8 @@ TEST(TimeOptimal, MissingBoundsAreErrorsNamingThem)
   e = errorOf(timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1.0, 0, 0, 0 }));
   EXPECT_EQ(e.find("max_linear_acceleration"), 0U) << e;
   // Unknown timing names.
-  TrajectoryRequest r = timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1, 1, 1, 1 });
+  TrajectoryRequest r =
+      timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1, 1, 1, 1 });
   r.timing = "fastest";
   e = errorOf(r);
   EXPECT_EQ(e.find("timing"), 0U) << e;

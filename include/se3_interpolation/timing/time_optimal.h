@@ -263,9 +263,9 @@ private:
 
 /// The time-optimal motion along `path` (a curve whose time axis is the path parameter).
 template <class G>
-std::shared_ptr<const TimeOptimalCurve<G>> makeTimeOptimalCurve(std::shared_ptr<const Curve<G>> path,
-                                                                 const RateBounds& bounds,
-                                                                 const TimeOptimalOptions& options = TimeOptimalOptions())
+std::shared_ptr<const TimeOptimalCurve<G>>
+makeTimeOptimalCurve(std::shared_ptr<const Curve<G>> path, const RateBounds& bounds,
+                     const TimeOptimalOptions& options = TimeOptimalOptions())
 {
   TimingProfile profile = timeOptimalProfile(CurvePath<G>(path), bounds, options);
   return std::make_shared<TimeOptimalCurve<G>>(std::move(path), std::move(profile));
