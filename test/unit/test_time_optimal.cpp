@@ -5,6 +5,7 @@
 // accelerations, forward and backward integration) that uses the vector norms |C″ x + C′ u| directly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 #include <string>
@@ -145,19 +146,32 @@ private:
     const double span = 1e4;
     double a = -span, b = span;
     const double r = 0.5 * (std::sqrt(5.0) - 1.0);
-    for (int k = 0; k < 90; ++k)
+    double x1 = b - r * (b - a), x2 = a + r * (b - a);
+    double f1 = violation(i, x, x1), f2 = violation(i, x, x2);
+    for (int k = 0; k < 64; ++k)
     {
-      const double x1 = b - r * (b - a), x2 = a + r * (b - a);
-      if (violation(i, x, x1) < violation(i, x, x2))
+      if (f1 < f2)
+      {
         b = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = b - r * (b - a);
+        f1 = violation(i, x, x1);
+      }
       else
+      {
         a = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = a + r * (b - a);
+        f2 = violation(i, x, x2);
+      }
     }
     const double best = 0.5 * (a + b);
     if (violation(i, x, best) > 0.0)
       return false;
     double lo = -span, hi = best;
-    for (int k = 0; k < 60; ++k)
+    for (int k = 0; k < 48; ++k)
     {
       const double mid = 0.5 * (lo + hi);
       (violation(i, x, mid) <= 0.0 ? hi : lo) = mid;
@@ -165,7 +179,7 @@ private:
     *umin = hi;
     lo = best;
     hi = span;
-    for (int k = 0; k < 60; ++k)
+    for (int k = 0; k < 48; ++k)
     {
       const double mid = 0.5 * (lo + hi);
       (violation(i, x, mid) <= 0.0 ? lo : hi) = mid;
@@ -326,6 +340,34 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
       }
 }
 
+TEST(TimeOptimal, RestsAtABSplineKnotOfFullMultiplicityOnly)
+{
+  // Quadratic B-spline: the knot 1 has multiplicity 2 = degree (C⁰: a velocity corner through the
+  // control point), the knot 0.5 multiplicity 1 (C¹: no corner).
+  std::mt19937 rng(17);
+  const std::vector<Pose<double>> control = test::randomPolygon(rng, 6, 0.6);
+  auto curve = std::make_shared<BSplineCurve<ScrewSe3>>(control, 2,
+                                                         std::vector<double>{ 0, 0, 0, 0.5, 1, 1, 2, 2, 2 });
+  ASSERT_GT((kinematicsAt(*curve, 1.0, Side::kLeft).velocity.linear -
+             kinematicsAt(*curve, 1.0, Side::kRight).velocity.linear).norm(), 0.1);
+  timing::RateBounds bounds;
+  bounds.velocity = { 1.0, 1.0 };
+  bounds.acceleration = { 2.0, 2.0 };
+  const auto timed = timing::makeTimeOptimalCurve<ScrewSe3>(curve, bounds);
+  const timing::TimingProfile& p = timed->profile();
+  auto at = [&](double s) {
+    const auto it = std::find(p.s.begin(), p.s.end(), s);
+    EXPECT_NE(it, p.s.end()) << s << " is not a grid point";
+    return static_cast<std::size_t>(it - p.s.begin());
+  };
+  EXPECT_EQ(p.x[at(1.0)], 0.0);
+  EXPECT_GT(p.x[at(0.5)], 0.0);
+  const double t_corner = p.timeAt(1.0);
+  EXPECT_EQ(kinematicsAt(*timed, t_corner, Side::kLeft).velocity.linear.norm(), 0.0);
+  EXPECT_EQ(kinematicsAt(*timed, t_corner, Side::kRight).velocity.linear.norm(), 0.0);
+  EXPECT_LT(test::poseDistance(timed->value(t_corner), control[3]), 1e-12);
+}
+
 TEST(TimeOptimal, GreatCircleArcOnTheSphereIsTheTrapezoid)
 {
   SphereRequest r;
@@ -355,8 +397,8 @@ TEST(TimeOptimal, TheBruteForceReferenceGivesTheTrapezoidOnAStraightLine)
       { pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(0.0, Eigen::Vector3d(0, 1.5, 2)) }, { 0.0, 1.0 });
   EXPECT_NEAR(bruteForceDuration(line, Bounds4{ 0.5, 0, 1.0, 0 }) / trapezoidTime(2.5, 0.5, 1.0), 1.0, 2e-3);
   EXPECT_NEAR(bruteForceDuration(line, Bounds4{ 5.0, 0, 1.0, 0 }) / trapezoidTime(2.5, 5.0, 1.0), 1.0, 2e-3);
-  const PiecewiseGeodesic<DoubleGeodesicSe3> turn({ pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(2.0, Eigen::Vector3d(0, 0, 0)) },
-                                                  { 0.0, 1.0 });
+  const PiecewiseGeodesic<DoubleGeodesicSe3> turn(
+      { pose(0.0, Eigen::Vector3d(0, 0, 0)), pose(2.0, Eigen::Vector3d(0, 0, 0)) }, { 0.0, 1.0 });
   EXPECT_NEAR(bruteForceDuration(turn, Bounds4{ 0, 0.7, 0, 1.3 }) / trapezoidTime(2.0, 0.7, 1.3), 1.0, 2e-3);
 }
 
@@ -524,7 +566,8 @@ TEST(TimeOptimal, MissingBoundsAreErrorsNamingThem)
   e = errorOf(timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1.0, 0, 0, 0 }));
   EXPECT_EQ(e.find("max_linear_acceleration"), 0U) << e;
   // Unknown timing names.
-  TrajectoryRequest r = timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1, 1, 1, 1 });
+  TrajectoryRequest r =
+      timeOptimalRequest({ pose(0.0, p), pose(0.0, Eigen::Vector3d(1, 0, 0)) }, Bounds4{ 1, 1, 1, 1 });
   r.timing = "fastest";
   e = errorOf(r);
   EXPECT_EQ(e.find("timing"), 0U) << e;

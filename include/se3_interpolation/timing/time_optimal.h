@@ -48,7 +48,7 @@
 // shrinking roughly with Δ². Measured against the brute-force reference of test_time_optimal.cpp
 // on 5-waypoint paths of every curve family (4 pieces): 64 intervals in all were 0.6–2.4 % above
 // the optimum, 256 were 0.05–0.24 %, 1024 were 0.01–0.05 %. On a 1000-waypoint random-walk spline
-// 8 intervals per piece were 1.6 % above the 32-per-piece result and 16 per piece 0.3 %. Hence
+// 8 intervals per piece were 1.5 % above the 32-per-piece result and 16 per piece 0.3 %. Hence
 // 16 intervals per analytic piece and at least 512 in all: within 1 % of the optimum with margin,
 // at a cost linear in the grid size (two path jets per interval, a bisection of ~40 closed-form
 // steps per grid point and pass).
@@ -263,9 +263,9 @@ private:
 
 /// The time-optimal motion along `path` (a curve whose time axis is the path parameter).
 template <class G>
-std::shared_ptr<const TimeOptimalCurve<G>> makeTimeOptimalCurve(std::shared_ptr<const Curve<G>> path,
-                                                                 const RateBounds& bounds,
-                                                                 const TimeOptimalOptions& options = TimeOptimalOptions())
+std::shared_ptr<const TimeOptimalCurve<G>>
+makeTimeOptimalCurve(std::shared_ptr<const Curve<G>> path, const RateBounds& bounds,
+                     const TimeOptimalOptions& options = TimeOptimalOptions())
 {
   TimingProfile profile = timeOptimalProfile(CurvePath<G>(path), bounds, options);
   return std::make_shared<TimeOptimalCurve<G>>(std::move(path), std::move(profile));
