@@ -14,22 +14,29 @@ namespace se3_interpolation
 namespace
 {
 /// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
-/// speeds scale by 1/k and accelerations by 1/k².
-double stretchFactor(const ValidatedRequest& r, const CurveFigures& f)
+/// speeds scale by 1/k and accelerations by 1/k². `cause` receives the binding bound's field.
+double stretchFactor(const ValidatedRequest& r, const CurveFigures& f, std::string* cause)
 {
   double k = 1.0;
-  auto speed = [&k](double peak, double bound) {
-    if (bound > 0.0)
-      k = std::max(k, peak / bound);
+  auto bind = [&k, cause](double candidate, const char* field) {
+    if (candidate > k)
+    {
+      k = candidate;
+      *cause = field;
+    }
   };
-  auto accel = [&k](double peak, double bound) {
+  auto speed = [&bind](double peak, double bound, const char* field) {
     if (bound > 0.0)
-      k = std::max(k, std::sqrt(peak / bound));
+      bind(peak / bound, field);
   };
-  speed(f.max_linear_speed, r.max_linear_velocity);
-  speed(f.max_angular_speed, r.max_angular_velocity);
-  accel(f.max_linear_acceleration, r.max_linear_acceleration);
-  accel(f.max_angular_acceleration, r.max_angular_acceleration);
+  auto accel = [&bind](double peak, double bound, const char* field) {
+    if (bound > 0.0)
+      bind(std::sqrt(peak / bound), field);
+  };
+  speed(f.max_linear_speed, r.max_linear_velocity, "max_linear_velocity");
+  speed(f.max_angular_speed, r.max_angular_velocity, "max_angular_velocity");
+  accel(f.max_linear_acceleration, r.max_linear_acceleration, "max_linear_acceleration");
+  accel(f.max_angular_acceleration, r.max_angular_acceleration, "max_angular_acceleration");
   return k;
 }
 
@@ -41,7 +48,11 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
 
   TrajectoryResult out;
-  out.time_scale = stretchFactor(r, fig);
+  std::string cause = r.times.empty() ? "duration" : "times";
+  out.time_scale = stretchFactor(r, fig, &cause);
+  // Tiny bounds stretch time without limit: every time must still fit ros::Duration.
+  validateTimeSpan(curve->startTime(),
+                   curve->startTime() + (curve->endTime() - curve->startTime()) * out.time_scale, cause);
   if (out.time_scale > 1.0)
   {
     const double k = out.time_scale;

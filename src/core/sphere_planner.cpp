@@ -172,6 +172,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
 
   requireUnused(r.rotation_scale, "rotation_scale", " (chord spacing uses the great-circle angle)");
   requireFiniteNonNegative(r.duration, "duration");
+  requireRosDuration(r.duration, "duration");
   v.duration = r.duration;
   requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
   requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
@@ -249,10 +250,18 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
 
   SphereResult out;
   double k = 1.0;
-  if (r.max_speed > 0.0)
-    k = std::max(k, fig.max_speed / r.max_speed);
-  if (r.max_acceleration > 0.0)
-    k = std::max(k, std::sqrt(fig.max_acceleration / r.max_acceleration));
+  std::string cause = r.times.empty() ? "duration" : "times";
+  if (r.max_speed > 0.0 && fig.max_speed / r.max_speed > k)
+  {
+    k = fig.max_speed / r.max_speed;
+    cause = "max_angular_velocity";
+  }
+  if (r.max_acceleration > 0.0 && std::sqrt(fig.max_acceleration / r.max_acceleration) > k)
+  {
+    k = std::sqrt(fig.max_acceleration / r.max_acceleration);
+    cause = "max_angular_acceleration";
+  }
+  validateTimeSpan(curve->startTime(), curve->startTime() + (curve->endTime() - curve->startTime()) * k, cause);
   out.time_scale = k;
   if (k > 1.0)
   {
