@@ -368,15 +368,18 @@ void InterpolationNode::watchdogCallback(const ros::TimerEvent& /*event*/)
   {
     if (!ros::master::check())
       return;  // the master is away: wait for it to come back
+    // The service is registered once, at start-up: a master that does not know it has
+    // restarted since (roscpp re-registers nothing).
     XmlRpc::XmlRpcValue args, result, payload;
     args[0] = ros::this_node::getName();
-    args[1] = ros::this_node::getName();
-    if (ros::master::execute("lookupNode", args, result, payload, false))
+    args[1] = generate_service_.getService();
+    if (ros::master::execute("lookupService", args, result, payload, false))
       return;
     ROS_FATAL_STREAM("the ROS master at " << ros::master::getURI() << " no longer knows "
-                                          << ros::this_node::getName()
-                                          << " (it restarted); shutting down with exit status 1 so that the "
-                                             "launch file's respawn registers the node anew");
+                                          << ros::this_node::getName() << " (its service "
+                                          << generate_service_.getService()
+                                          << " is not registered: the master restarted); shutting down with exit "
+                                             "status 1 so that the launch file's respawn registers the node anew");
     exit_status_ = 1;
     ros::requestShutdown();
   }

@@ -16,7 +16,7 @@
 // (tf2_ros::StaticTransformBroadcaster would keep every frame it ever sent).
 //
 // Master watchdog: every ~master_check_period s the node asks the master whether it still
-// knows this node; after a master restart it does not (roscpp never re-registers), so the node
+// knows the ~generate service; after a master restart it does not (roscpp never re-registers), so the node
 // logs why and shuts down with exit status 1, and the launch file's respawn starts it anew.
 #pragma once
 
