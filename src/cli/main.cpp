@@ -16,6 +16,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -37,13 +39,15 @@ constexpr int kUsageError = 2;
 /// per input byte, so this bounds the parse to well under 1 GB.
 constexpr std::size_t kMaxRequestBytes = 8u << 20;
 
-const char* const kUsage = "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere]\n";
+const char* const kUsage =
+    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work UNITS]\n";
 
 struct Arguments
 {
   std::string request;
   std::string output;
   std::string space = "pose";
+  se3_interpolation::PlannerLimits limits;  ///< --max-work raises or lowers limits.max_work
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -56,6 +60,14 @@ Arguments parseArguments(int argc, char** argv)
       a.output = argv[++i];
     else if (arg == "--space" && i + 1 < argc)
       a.space = argv[++i];
+    else if (arg == "--max-work" && i + 1 < argc)
+    {
+      const std::string value = argv[++i];
+      char* end = nullptr;
+      a.limits.max_work = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(a.limits.max_work > 0.0) || !std::isfinite(a.limits.max_work))
+        throw std::invalid_argument("--max-work: '" + value.substr(0, 40) + "' is not a positive number");
+    }
     else if (arg == "-h" || arg == "--help")
     {
       std::cout << kUsage;
@@ -251,7 +263,7 @@ int main(int argc, char** argv)
     else
     {
       const se3_interpolation::TrajectoryResult result =
-          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), {});
+          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), args.limits);
       csv = poseCsv(result);
       printFigures(result);
     }

@@ -8,6 +8,7 @@
 #include "se3_interpolation/curve_factory.h"
 #include "se3_interpolation/kinematics.h"
 #include "se3_interpolation/validation.h"
+#include "se3_interpolation/work_estimate.h"
 
 namespace se3_interpolation
 {
@@ -44,6 +45,8 @@ template <class G>
 TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 {
   const std::vector<double> times = waypointTimes(r);
+  // Bounded work: refused from the fields alone, before the curve is built or measured.
+  requireWorkWithin(estimateWork(r, expectedSamples(r, times.back() - times.front())), r, limits);
   std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
 
@@ -103,6 +106,8 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 
   const std::vector<double> ts =
       sampleTimes(Sampling{ r.sample_times, r.sample_period, r.sample_count }, curve->startTime(), curve->endTime(), limits);
+  // Again with the final sample count (a stretch lengthens a sample_period's sampling).
+  requireWorkWithin(estimateWork(r, static_cast<double>(ts.size())), r, limits);
   out.samples.resize(ts.size());
   Quaternion<double> previous(1.0, 0.0, 0.0, 0.0);
   for (std::size_t i = 0; i < ts.size(); ++i)

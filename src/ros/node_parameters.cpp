@@ -70,6 +70,7 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   int max_waypoints = static_cast<int>(p.limits.max_waypoints);
   read<int>(nh, "max_waypoints", &max_waypoints, [](const int& x) { return x >= 2; }, "must be >= 2");
   p.limits.max_waypoints = static_cast<std::size_t>(max_waypoints);
+  read<double>(nh, "max_work", &p.limits.max_work, positive, "must be > 0 work units");
   read<std::string>(nh, "curve", &p.curve, non_empty, "must not be empty");
   read<std::string>(nh, "geometry", &p.geometry, non_empty, "must not be empty");
   read<std::string>(nh, "parameterization", &p.parameterization, non_empty, "must not be empty");

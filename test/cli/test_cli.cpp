@@ -324,3 +324,15 @@ TEST(CliHostile, HugeDurationAndLongFrameIdNameTheField)
     EXPECT_LT(r.err.size(), 300u);
   }
 }
+
+// Deliverable 2: the CLI's work bound is ~max_work's default, adjustable with --max-work.
+TEST(CliHostile, MaxWorkBoundsTheRequest)
+{
+  const CliRun tight = run(data("bezier_screw.yaml") + " --max-work 10");
+  EXPECT_EQ(tight.status, 2);
+  EXPECT_NE(tight.err.find("the limit (~max_work) is 10"), std::string::npos) << tight.err;
+  EXPECT_EQ(run(data("bezier_screw.yaml") + " --max-work 1e9").status, 0);
+  const CliRun bad = run(data("bezier_screw.yaml") + " --max-work -3");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--max-work: '-3' is not a positive number"), std::string::npos) << bad.err;
+}
