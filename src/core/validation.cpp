@@ -347,6 +347,9 @@ Sampling validateSampling(const std::vector<double>& sample_times, double sample
                               " is before the previous sample time (sample_times must be non-decreasing)");
   }
   requireFiniteNonNegative(sample_period, "sample_period");
+  if (sample_period > 0.0 && sample_period < kRosDurationResolution)
+    throw InvalidInputError("sample_period: " + formatNumber(sample_period) +
+                            " s is below the 1 ns resolution of time_from_start");
   if (sample_count == 1)
     throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
   Sampling s;

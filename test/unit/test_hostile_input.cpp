@@ -219,3 +219,14 @@ TEST(HostileFrameIds, LongAndControlCharacterIdsAreRefusedWithABoundedMessage)
   EXPECT_EQ(quoted(std::string("\x01\xff", 2)), "'\\x01\\xFF'");
   EXPECT_EQ(quoted(std::string(41, 'z')), "'" + std::string(40, 'z') + "'... (41 characters)");
 }
+
+// Found by fuzz_validate: a denormal sample_period gave an infinite work estimate; it is refused
+// by validation, naming the field, before any estimate.
+TEST(HostileSampling, DenormalSamplePeriodIsRefusedByValidation)
+{
+  TrajectoryRequest r = line();
+  r.sample_period = 4.9406564584124654e-324;
+  const std::string e = errorOf([&] { validateRequest(r, PlannerLimits()); });
+  EXPECT_TRUE(startsWith(e, "sample_period: ")) << e;
+  EXPECT_NE(e.find("1 ns resolution"), std::string::npos) << e;
+}
