@@ -19,7 +19,9 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "se3_interpolation/planner.h"
 
@@ -43,19 +45,36 @@ struct WorkEstimate
   double total = 0.0;                 ///< work units
 };
 
+/// What the estimate needs of a request, pose or sphere: the curve, its size, the sampling.
+struct WorkShape
+{
+  CurveType curve = CurveType::kPiecewiseGeodesic;
+  std::size_t waypoints = 0;
+  int degree = 3;  ///< bspline degree
+  std::vector<double> sample_times;
+  double sample_period = 0.0;
+  std::uint32_t sample_count = 100;
+};
+
+WorkShape workShape(const ValidatedRequest& r);
+
 /// Geodesic steps of one evaluation of the curve `r` asks for.
+double evaluationCost(const WorkShape& r);
 double evaluationCost(const ValidatedRequest& r);
 
 /// The estimate for `r` with `samples` samples (the sample count as far as it is known).
+WorkEstimate estimateWork(const WorkShape& r, double samples);
 WorkEstimate estimateWork(const ValidatedRequest& r, double samples);
 
 /// The samples `r` will take before any stretch: sample_times' size, sample_count, or the
-/// periods within the span of `times` (the waypoint times).
+/// periods within `span` (the waypoint times' span).
+double expectedSamples(const WorkShape& r, double span);
 double expectedSamples(const ValidatedRequest& r, double span);
 
 /// Throws LimitExceededError naming the dominant field (waypoints for bezier, degree for
 /// bspline, the sampling field when samples dominate, else waypoints) if `w.total` exceeds
 /// limits.max_work.
+void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits);
 void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits);
 
 }  // namespace se3_interpolation

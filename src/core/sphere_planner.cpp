@@ -11,6 +11,7 @@
 #include "se3_interpolation/polynomial_curves.h"
 #include "se3_interpolation/sphere.h"
 #include "se3_interpolation/validation.h"
+#include "se3_interpolation/work_estimate.h"
 
 namespace se3_interpolation
 {
@@ -245,6 +246,15 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
 {
   const ValidSphereRequest r = validate(request, limits);
   const std::vector<double> times = sphereWaypointTimes(r);
+  // Bounded work, as for poses (work_estimate.h): refused before the curve is built.
+  WorkShape shape;
+  shape.curve = r.curve;
+  shape.waypoints = r.waypoints.size();
+  shape.degree = r.degree;
+  shape.sample_times = r.sampling.sample_times;
+  shape.sample_period = r.sampling.sample_period;
+  shape.sample_count = r.sampling.sample_count;
+  requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
   std::shared_ptr<const Curve<Sphere>> curve = makeSphereCurve(r, times);
   SphereCurveFigures fig = measureSphereCurve(*curve);
 
@@ -283,6 +293,7 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
     t = out.start_time + (t - out.start_time) * out.time_scale;
 
   const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
+  requireWorkWithin(estimateWork(shape, static_cast<double>(ts.size())), shape, limits);
   out.samples.resize(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
   {

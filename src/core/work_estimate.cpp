@@ -17,9 +17,9 @@ constexpr double kSubintervals = 64.0;
 constexpr double kMinSubintervals = 4.0;
 constexpr double kGoldenEvaluations = 4.0 * (2.0 + 60.0);
 
-double analyticPieces(const ValidatedRequest& r)
+double analyticPieces(const WorkShape& r)
 {
-  const double n = static_cast<double>(r.waypoints.size());
+  const double n = static_cast<double>(r.waypoints);
   switch (r.curve)
   {
     case CurveType::kBezier:
@@ -31,7 +31,7 @@ double analyticPieces(const ValidatedRequest& r)
   }
 }
 
-std::string samplingField(const ValidatedRequest& r)
+std::string samplingField(const WorkShape& r)
 {
   if (!r.sample_times.empty())
     return "sample_times";
@@ -39,7 +39,39 @@ std::string samplingField(const ValidatedRequest& r)
 }
 }  // namespace
 
+WorkShape workShape(const ValidatedRequest& r)
+{
+  WorkShape w;
+  w.curve = r.curve;
+  w.waypoints = r.waypoints.size();
+  w.degree = r.degree;
+  w.sample_times = r.sample_times;
+  w.sample_period = r.sample_period;
+  w.sample_count = r.sample_count;
+  return w;
+}
+
 double evaluationCost(const ValidatedRequest& r)
+{
+  return evaluationCost(workShape(r));
+}
+
+double expectedSamples(const ValidatedRequest& r, double span)
+{
+  return expectedSamples(workShape(r), span);
+}
+
+WorkEstimate estimateWork(const ValidatedRequest& r, double samples)
+{
+  return estimateWork(workShape(r), samples);
+}
+
+void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits)
+{
+  requireWorkWithin(w, workShape(r), limits);
+}
+
+double evaluationCost(const WorkShape& r)
 {
   switch (r.curve)
   {
@@ -47,7 +79,7 @@ double evaluationCost(const ValidatedRequest& r)
       return 1.0;
     case CurveType::kBezier:
     {
-      const double d = static_cast<double>(r.waypoints.size()) - 1.0;
+      const double d = static_cast<double>(r.waypoints) - 1.0;
       return std::max(1.0, d * (d + 1.0) / 2.0);
     }
     case CurveType::kBspline:
@@ -64,7 +96,7 @@ double evaluationCost(const ValidatedRequest& r)
   return 1.0;
 }
 
-double expectedSamples(const ValidatedRequest& r, double span)
+double expectedSamples(const WorkShape& r, double span)
 {
   if (!r.sample_times.empty())
     return static_cast<double>(r.sample_times.size());
@@ -73,7 +105,7 @@ double expectedSamples(const ValidatedRequest& r, double span)
   return static_cast<double>(r.sample_count);
 }
 
-WorkEstimate estimateWork(const ValidatedRequest& r, double samples)
+WorkEstimate estimateWork(const WorkShape& r, double samples)
 {
   WorkEstimate w;
   w.pieces = analyticPieces(r);
@@ -82,20 +114,20 @@ WorkEstimate estimateWork(const ValidatedRequest& r, double samples)
   w.figure_evaluations = w.pieces * (2.0 + kGaussNodes * sub) + kGoldenEvaluations;
   w.samples = samples;
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost +
-            kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints.size());
+            kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);
   return w;
 }
 
-void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits)
+void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits)
 {
   if (w.total <= limits.max_work)
     return;
-  const std::string n = std::to_string(r.waypoints.size());
+  const std::string n = std::to_string(r.waypoints);
   std::string what;
   if (w.samples > w.figure_evaluations)
     what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
   else if (r.curve == CurveType::kBezier)
-    what = "waypoints: " + n + " waypoints make a bezier of degree " + std::to_string(r.waypoints.size() - 1);
+    what = "waypoints: " + n + " waypoints make a bezier of degree " + std::to_string(r.waypoints - 1);
   else if (r.curve == CurveType::kBspline)
     what = "degree: " + std::to_string(r.degree) + " for curve 'bspline' with " + n + " waypoints";
   else

@@ -13,6 +13,7 @@
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/kinematics.h"
 #include "se3_interpolation/planner.h"
+#include "se3_interpolation/sphere_planner.h"
 #include "se3_interpolation/work_estimate.h"
 #include "test_utils.h"
 
@@ -149,4 +150,28 @@ TEST(WorkEstimate, ExpensiveRequestsAreRefusedNamingTheField)
   // Within the default: accepted.
   EXPECT_EQ(limitErrorOf(polygonRequest(40, "bezier"), PlannerLimits()), "");
   EXPECT_EQ(limitErrorOf(polygonRequest(20000, "piecewise_geodesic"), PlannerLimits()), "");
+}
+
+// The sphere planner (CLI --space sphere) is bounded the same way.
+TEST(WorkEstimate, SphereRequestsAreBoundedToo)
+{
+  SphereRequest r;
+  for (int i = 0; i < 250; ++i)
+  {
+    const double a = 0.01 * i;
+    r.waypoints.push_back(Eigen::Vector3d(std::cos(a), std::sin(a), 0.0));
+  }
+  r.curve = "bezier";
+  std::string e;
+  try
+  {
+    generateSphereTrajectory(r, PlannerLimits());
+  }
+  catch (const LimitExceededError& x)
+  {
+    e = x.what();
+  }
+  EXPECT_TRUE(startsWith(e, "waypoints: 250 waypoints make a bezier of degree 249")) << e;
+  r.waypoints.resize(20);
+  EXPECT_EQ(generateSphereTrajectory(r, PlannerLimits()).samples.size(), 100u);
 }
