@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Builds the core and every unit test with AddressSanitizer + UndefinedBehaviorSanitizer (plain
 # CMake, no ROS: test/sanitize/CMakeLists.txt) into $SE3_WS/sanitize, runs each test binary
-# (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer target
-# fuzz_generate for ${SE3_FUZZ_SECONDS:-60} s over a copy of test/fuzz/corpus. The last line is
-# `sanitizers: N passed, N failed` (the unit test cases plus the fuzz run as one test); exits
+# (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer targets for
+# ${SE3_FUZZ_SECONDS:-60} s in all, each over a copy of its seed corpus: a quarter for the
+# whole-request target fuzz_generate, the rest split evenly between the per-layer targets
+# fuzz_lie, fuzz_validate, fuzz_curves, fuzz_sphere and fuzz_yaml. The last line is
+# `sanitizers: N passed, N failed` (the unit test cases plus each fuzz run as one test); exits
 # non-zero on any failure, sanitizer report or fuzzer finding.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
@@ -72,26 +74,41 @@ done
 
 echo "unit tests done at ${SECONDS} s"
 
-corpus="$build/fuzz_corpus"
-artifacts="$build/fuzz_artifacts"
-rm -rf "$corpus" "$artifacts"
-mkdir -p "$artifacts"
-cp -r "$SE3_ROOT/test/fuzz/corpus" "$corpus"
-echo "fuzz_generate: ${fuzz_seconds} s over a copy of test/fuzz/corpus ($(find "$corpus" -type f | wc -l) seeds)"
-status=0
-# Inputs up to 512 bytes, reached quickly (-len_control=10): 12 waypoints and every other field
-# take ~170 bytes.
-"$build/fuzz_generate" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=60 -max_len=512 -len_control=10 \
-  -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$build/fuzz.log" 2>&1 || status=$?
-runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$build/fuzz.log" | tail -n 1)
-if [ "$status" -eq 0 ] && [ -n "$runs" ] && [ -z "$(ls -A "$artifacts")" ]; then
-  passed=$((passed + 1))
-  echo "PASS fuzz_generate: $runs inputs, no finding; corpus $(find "$corpus" -type f | wc -l) files"
-else
-  failed=$((failed + 1))
-  echo "FAIL fuzz_generate: exit status $status (log: $build/fuzz.log; inputs: $artifacts)"
-  grep -E '^fuzz_generate:|ERROR: |runtime error:|SUMMARY:|Test unit written' "$build/fuzz.log" | head -n 20 || true
-fi
+# target, seed corpus, largest input: fuzz_generate's 12 waypoints and every other field take
+# ~170 bytes (inputs up to 512, reached quickly with -len_control=10); YAML documents up to 4 KB.
+fuzz_targets=(
+  "fuzz_generate test/fuzz/corpus 512"
+  "fuzz_lie test/fuzz/corpus_lie 128"
+  "fuzz_validate test/fuzz/corpus 512"
+  "fuzz_curves test/fuzz/corpus 512"
+  "fuzz_sphere test/fuzz/corpus_sphere 512"
+  "fuzz_yaml test/cli/data 4096"
+)
+whole_seconds=$((fuzz_seconds / 4))
+layer_seconds=$(((fuzz_seconds - whole_seconds) / (${#fuzz_targets[@]} - 1)))
+for entry in "${fuzz_targets[@]}"; do
+  read -r target seeds max_len <<<"$entry"
+  seconds=$layer_seconds
+  [ "$target" = fuzz_generate ] && seconds=$whole_seconds
+  corpus="$build/corpus_$target"
+  artifacts="$build/artifacts_$target"
+  log="$build/$target.log"
+  rm -rf "$corpus" "$artifacts"
+  mkdir -p "$artifacts"
+  cp -r "$SE3_ROOT/$seeds" "$corpus"
+  status=0
+  "$build/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
+  runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
+  if [ "$status" -eq 0 ] && [ -n "$runs" ] && [ -z "$(ls -A "$artifacts")" ]; then
+    passed=$((passed + 1))
+    echo "PASS $target: $runs inputs in $seconds s, no finding; corpus $(find "$corpus" -type f | wc -l) files"
+  else
+    failed=$((failed + 1))
+    echo "FAIL $target: exit status $status (log: $log; inputs: $artifacts)"
+    grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
+  fi
+done
 
 echo "done in ${SECONDS} s"
 echo "sanitizers: $passed passed, $failed failed"

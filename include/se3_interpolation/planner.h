@@ -95,11 +95,13 @@ struct TrajectoryRequest
   double blend_radius = 0.0;
 };
 
-/// Resource bounds per request (node parameters ~max_samples, ~max_waypoints).
+/// Resource bounds per request (node parameters ~max_samples, ~max_waypoints, ~max_work).
 struct PlannerLimits
 {
   std::size_t max_samples = 200000;
   std::size_t max_waypoints = 20000;
+  /// Estimated work units per request (work_estimate.h): about 1 s on one core.
+  double max_work = 1.25e6;
 };
 
 /// A request after validation, with defaults resolved and orientations normalised.

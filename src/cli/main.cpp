@@ -2,10 +2,24 @@
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
 // (or OUT.csv, written atomically: on any error no file is left), the response figures
-// on stderr as `name: value`. Exit status 0 on success, 2 on any error (message on stderr).
+// on stderr as `name: value`. Exit status 0 on success, 2 on any error (message on stderr),
+// including any error writing the output (a full disk, a closed pipe).
+//
+// OUT.csv is written to a temporary file created exclusively (mkstemp: O_CREAT | O_EXCL, mode
+// 0600) in OUT.csv's folder, flushed with fsync and renamed over OUT.csv, so no pre-existing
+// file or symbolic link is ever written through. An existing OUT.csv that is not a regular file
+// (a FIFO, a device such as /dev/null) is written directly instead of being replaced.
+// The request file is read up to kMaxRequestBytes before parsing: larger files are refused.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -21,13 +35,20 @@ namespace
 {
 constexpr int kUsageError = 2;
 
-const char* const kUsage = "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere]\n";
+/// Largest request file read (8 MiB): ~max_waypoints = 20000 waypoints take about 2 MB of YAML
+/// and ~max_samples = 200000 sample_times about 4 MB; yaml-cpp needs about 60 bytes of memory
+/// per input byte, so this bounds the parse to well under 1 GB.
+constexpr std::size_t kMaxRequestBytes = 8u << 20;
+
+const char* const kUsage =
+    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work UNITS]\n";
 
 struct Arguments
 {
   std::string request;
   std::string output;
   std::string space = "pose";
+  se3_interpolation::PlannerLimits limits;  ///< --max-work raises or lowers limits.max_work
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -40,6 +61,14 @@ Arguments parseArguments(int argc, char** argv)
       a.output = argv[++i];
     else if (arg == "--space" && i + 1 < argc)
       a.space = argv[++i];
+    else if (arg == "--max-work" && i + 1 < argc)
+    {
+      const std::string value = argv[++i];
+      char* end = nullptr;
+      a.limits.max_work = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(a.limits.max_work > 0.0) || !std::isfinite(a.limits.max_work))
+        throw std::invalid_argument("--max-work: '" + value.substr(0, 40) + "' is not a positive number");
+    }
     else if (arg == "-h" || arg == "--help")
     {
       std::cout << kUsage;
@@ -122,25 +151,102 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   printWaypointTimes(r.waypoint_times);
 }
 
-/// Writes `text` to `path` through a temporary file renamed into place.
+std::string systemError(const std::string& what)
+{
+  return what + ": " + std::strerror(errno);
+}
+
+/// Writes all of `text` to `fd`; throws naming `what` on any error.
+void writeAll(int fd, const std::string& text, const std::string& what)
+{
+  std::size_t done = 0;
+  while (done < text.size())
+  {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      throw std::runtime_error(systemError("cannot write " + what));
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+/// Writes `text` to `path` through an exclusively created temporary file renamed into place
+/// (see the file comment); an existing non-regular `path` is written directly.
 void writeAtomically(const std::string& path, const std::string& text)
 {
-  const std::string tmp = path + ".tmp";
+  const std::string what = "'" + path + "'";
+  struct stat existing;
+  if (::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode))
   {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.flush();
-    if (!f)
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0)
+      throw std::runtime_error(systemError("cannot open " + what));
+    try
     {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write '" + path + "'");
+      writeAll(fd, text, what);
     }
+    catch (...)
+    {
+      ::close(fd);
+      throw;
+    }
+    if (::close(fd) != 0)
+      throw std::runtime_error(systemError("cannot write " + what));
+    return;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  const std::size_t slash = path.rfind('/');
+  const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  std::string tmp = folder + "." + name + ".XXXXXX";
+  const int fd = ::mkstemp(&tmp[0]);
+  if (fd < 0)
+    throw std::runtime_error(systemError("cannot create a temporary file beside " + what));
+  try
   {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write '" + path + "'");
+    // mkstemp's 0600, widened to what a plain creation would give (0666 less the umask).
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    if (::fchmod(fd, 0666 & ~mask) != 0)
+      throw std::runtime_error(systemError("cannot set the mode of " + what));
+    writeAll(fd, text, what);
+    if (::fsync(fd) != 0)
+      throw std::runtime_error(systemError("cannot write " + what));
   }
+  catch (...)
+  {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw;
+  }
+  if (::close(fd) != 0)
+  {
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(systemError("cannot write " + what));
+  }
+  if (::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    const std::string error = systemError("cannot write " + what);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(error);
+  }
+}
+
+/// The request file's text, refused above kMaxRequestBytes before anything is parsed.
+std::string readRequestFile(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw std::invalid_argument("cannot read request file '" + path + "'");
+  std::string text(kMaxRequestBytes + 1, '\0');
+  f.read(&text[0], static_cast<std::streamsize>(text.size()));
+  if (f.bad())
+    throw std::invalid_argument("cannot read request file '" + path + "'");
+  text.resize(static_cast<std::size_t>(f.gcount()));
+  if (text.size() > kMaxRequestBytes)
+    throw std::invalid_argument("request file '" + path + "' is larger than " + std::to_string(kMaxRequestBytes) +
+                                " bytes (the limit of se3_interpolate's input)");
+  return text;
 }
 }  // namespace
 
@@ -150,13 +256,10 @@ int main(int argc, char** argv)
   {
     const Arguments args = parseArguments(argc, argv);
     YAML::Node root;
+    const std::string text = readRequestFile(args.request);
     try
     {
-      root = YAML::LoadFile(args.request);
-    }
-    catch (const YAML::BadFile&)
-    {
-      throw std::invalid_argument("cannot read request file '" + args.request + "'");
+      root = YAML::Load(text);
     }
     catch (const YAML::Exception& e)
     {
@@ -173,12 +276,12 @@ int main(int argc, char** argv)
     else
     {
       const se3_interpolation::TrajectoryResult result =
-          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), {});
+          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), args.limits);
       csv = poseCsv(result);
       printFigures(result);
     }
     if (args.output.empty())
-      std::cout << csv << std::flush;
+      writeAll(STDOUT_FILENO, csv, "the standard output");
     else
       writeAtomically(args.output, csv);
     return 0;

@@ -2,6 +2,8 @@
 
 #include <set>
 
+#include "se3_interpolation/validation.h"
+
 namespace se3_interpolation
 {
 namespace cli
@@ -200,7 +202,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
   if (root["publish"])
     toBool(root["publish"], "publish");
   if (root["child_frame_id"])
-    toString(root["child_frame_id"], "child_frame_id");
+    validateFrameId(toString(root["child_frame_id"], "child_frame_id"), "child_frame_id");
 }
 }  // namespace
 

@@ -9,28 +9,36 @@
 #include "se3_interpolation/kinematics.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/validation.h"
+#include "se3_interpolation/work_estimate.h"
 
 namespace se3_interpolation
 {
 namespace
 {
 /// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
-/// speeds scale by 1/k and accelerations by 1/k².
-double stretchFactor(const ValidatedRequest& r, const CurveFigures& f)
+/// speeds scale by 1/k and accelerations by 1/k². `cause` receives the binding bound's field.
+double stretchFactor(const ValidatedRequest& r, const CurveFigures& f, std::string* cause)
 {
   double k = 1.0;
-  auto speed = [&k](double peak, double bound) {
-    if (bound > 0.0)
-      k = std::max(k, peak / bound);
+  auto bind = [&k, cause](double candidate, const char* field) {
+    if (candidate > k)
+    {
+      k = candidate;
+      *cause = field;
+    }
   };
-  auto accel = [&k](double peak, double bound) {
+  auto speed = [&bind](double peak, double bound, const char* field) {
     if (bound > 0.0)
-      k = std::max(k, std::sqrt(peak / bound));
+      bind(peak / bound, field);
   };
-  speed(f.max_linear_speed, r.max_linear_velocity);
-  speed(f.max_angular_speed, r.max_angular_velocity);
-  accel(f.max_linear_acceleration, r.max_linear_acceleration);
-  accel(f.max_angular_acceleration, r.max_angular_acceleration);
+  auto accel = [&bind](double peak, double bound, const char* field) {
+    if (bound > 0.0)
+      bind(std::sqrt(peak / bound), field);
+  };
+  speed(f.max_linear_speed, r.max_linear_velocity, "max_linear_velocity");
+  speed(f.max_angular_speed, r.max_angular_velocity, "max_angular_velocity");
+  accel(f.max_linear_acceleration, r.max_linear_acceleration, "max_linear_acceleration");
+  accel(f.max_angular_acceleration, r.max_angular_acceleration, "max_angular_acceleration");
   return k;
 }
 
@@ -38,6 +46,8 @@ template <class G>
 TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 {
   const std::vector<double> times = waypointTimes(r);
+  // Bounded work: refused from the fields alone, before the curve is built or measured.
+  requireWorkWithin(estimateWork(r, expectedSamples(r, times.back() - times.front())), r, limits);
   std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
   TrajectoryResult out;
   if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
@@ -52,6 +62,9 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
     bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
     auto timed = timing::makeTimeOptimalCurve<G>(curve, bounds);
     out.time_scale = timed->profile().stretch;
+    // Tiny bounds give a long motion: every time must still fit ros::Duration.
+    validateTimeSpan(timed->startTime(), timed->endTime(),
+                     "max_linear_velocity, max_angular_velocity or their accelerations");
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
@@ -68,7 +81,11 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   }
   else
   {
-    out.time_scale = stretchFactor(r, fig);
+    std::string cause = r.times.empty() ? "duration" : "times";
+    out.time_scale = stretchFactor(r, fig, &cause);
+    // Tiny bounds stretch time without limit: every time must still fit ros::Duration.
+    validateTimeSpan(curve->startTime(),
+                     curve->startTime() + (curve->endTime() - curve->startTime()) * out.time_scale, cause);
     for (double& t : out.waypoint_times)
       t = curve->startTime() + (t - curve->startTime()) * out.time_scale;
   }
@@ -119,6 +136,8 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
 
   const std::vector<double> ts =
       sampleTimes(Sampling{ r.sample_times, r.sample_period, r.sample_count }, curve->startTime(), curve->endTime(), limits);
+  // Again with the final sample count (a stretch lengthens a sample_period's sampling).
+  requireWorkWithin(estimateWork(r, static_cast<double>(ts.size())), r, limits);
   out.samples.resize(ts.size());
   Quaternion<double> previous(1.0, 0.0, 0.0, 0.0);
   for (std::size_t i = 0; i < ts.size(); ++i)

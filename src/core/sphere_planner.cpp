@@ -12,6 +12,7 @@
 #include "se3_interpolation/sphere.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/validation.h"
+#include "se3_interpolation/work_estimate.h"
 
 namespace se3_interpolation
 {
@@ -174,6 +175,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
 
   requireUnused(r.rotation_scale, "rotation_scale", " (chord spacing uses the great-circle angle)");
   requireFiniteNonNegative(r.duration, "duration");
+  requireRosDuration(r.duration, "duration");
   v.duration = r.duration;
   requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
   requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
@@ -247,6 +249,15 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
 {
   const ValidSphereRequest r = validate(request, limits);
   const std::vector<double> times = sphereWaypointTimes(r);
+  // Bounded work, as for poses (work_estimate.h): refused before the curve is built.
+  WorkShape shape;
+  shape.curve = r.curve;
+  shape.waypoints = r.waypoints.size();
+  shape.degree = r.degree;
+  shape.sample_times = r.sampling.sample_times;
+  shape.sample_period = r.sampling.sample_period;
+  shape.sample_count = r.sampling.sample_count;
+  requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
   std::shared_ptr<const Curve<Sphere>> curve = makeSphereCurve(r, times);
   SphereCurveFigures fig = measureSphereCurve(*curve);
 
@@ -260,6 +271,7 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
     bounds.acceleration[timing::kAngular] = r.max_acceleration;
     auto timed = timing::makeTimeOptimalCurve<Sphere>(curve, bounds);
     out.time_scale = timed->profile().stretch;
+    validateTimeSpan(timed->startTime(), timed->endTime(), "max_angular_velocity or max_angular_acceleration");
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
@@ -270,10 +282,18 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
   }
   else
   {
-    if (r.max_speed > 0.0)
-      k = std::max(k, fig.max_speed / r.max_speed);
-    if (r.max_acceleration > 0.0)
-      k = std::max(k, std::sqrt(fig.max_acceleration / r.max_acceleration));
+    std::string cause = r.times.empty() ? "duration" : "times";
+    if (r.max_speed > 0.0 && fig.max_speed / r.max_speed > k)
+    {
+      k = fig.max_speed / r.max_speed;
+      cause = "max_angular_velocity";
+    }
+    if (r.max_acceleration > 0.0 && std::sqrt(fig.max_acceleration / r.max_acceleration) > k)
+    {
+      k = std::sqrt(fig.max_acceleration / r.max_acceleration);
+      cause = "max_angular_acceleration";
+    }
+    validateTimeSpan(curve->startTime(), curve->startTime() + (curve->endTime() - curve->startTime()) * k, cause);
     out.time_scale = k;
     for (double& t : out.waypoint_times)
       t = curve->startTime() + (t - curve->startTime()) * k;
@@ -295,6 +315,7 @@ SphereResult generateSphereTrajectory(const SphereRequest& request, const Planne
   out.point_at = [curve](double t) { return curve->value(t); };
 
   const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
+  requireWorkWithin(estimateWork(shape, static_cast<double>(ts.size())), shape, limits);
   out.samples.resize(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
   {

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -19,6 +21,20 @@ std::string indexed(const std::string& field, std::size_t i)
 std::string number(double x)
 {
   return formatNumber(x);
+}
+
+/// A step of at least 1 ns keeps rounded nanoseconds distinct; the margin absorbs the
+/// rounding of t0 + (t1 - t0) i / (n - 1) near 1 ns spacing.
+constexpr double kResolvableStep = kRosDurationResolution * (1.0 - 1e-6);
+
+/// Generated sample times: each after the previous by at least 1 ns.
+void requireResolvable(const std::vector<double>& ts, const std::string& field)
+{
+  for (std::size_t i = 1; i < ts.size(); ++i)
+    if (!(ts[i] - ts[i - 1] >= kResolvableStep))
+      throw InvalidInputError(field + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) + " are " +
+                              number(ts[i] - ts[i - 1]) + " s apart, below the 1 ns resolution of time_from_start" +
+                              " (fewer samples or a longer duration)");
 }
 
 void requireFinite(const Eigen::Vector3d& v, const std::string& field)
@@ -176,6 +192,8 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
       throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" +
                               std::string(toString(v.curve)) + "')");
     validateKnots(r.knots, n, v.degree);
+    for (std::size_t i = 0; i < r.knots.size(); ++i)
+      requireRosDuration(r.knots[i], indexed("knots", i));
     v.knots = r.knots;
   }
   if (r.continuity < 0 || r.continuity > 8)
@@ -198,6 +216,7 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   requireFiniteNonNegative(r.rotation_scale, "rotation_scale");
   v.rotation_scale = r.rotation_scale == 0.0 ? 1.0 : r.rotation_scale;
   requireFiniteNonNegative(r.duration, "duration");
+  requireRosDuration(r.duration, "duration");
   v.duration = r.duration;
   requireFiniteNonNegative(r.max_linear_velocity, "max_linear_velocity");
   requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
@@ -248,6 +267,77 @@ void requireFiniteNonNegative(double x, const std::string& field)
     throw InvalidInputError(field + ": " + formatNumber(x) + " must be >= 0");
 }
 
+void requireRosDuration(double t, const std::string& field)
+{
+  if (!(std::abs(t) <= kRosDurationMaxSeconds))
+    throw InvalidInputError(field + ": " + formatNumber(t) + " s is outside ROS's duration range (|t| <= " +
+                            formatNumber(kRosDurationMaxSeconds) + " s, signed 32-bit seconds)");
+}
+
+void validateTimeSpan(double start_time, double end_time, const std::string& cause)
+{
+  for (double t : { start_time, end_time })
+    if (!(std::abs(t) <= kRosDurationMaxSeconds))
+      throw InvalidInputError(cause + ": the trajectory would span [" + formatNumber(start_time) + ", " +
+                              formatNumber(end_time) + "] s, beyond ROS's duration range (|t| <= " +
+                              formatNumber(kRosDurationMaxSeconds) + " s)");
+}
+
+void validateStampedSpan(double stamp, double start_time, double end_time, const std::string& stamp_field)
+{
+  if (!(stamp >= 0.0 && stamp <= kRosTimeMaxSeconds))
+    throw InvalidInputError(stamp_field + ": " + formatNumber(stamp) + " s is not a ROS time");
+  if (!(stamp + start_time >= 0.0))
+    throw InvalidInputError(stamp_field + ": the trajectory would start at " + formatNumber(stamp + start_time) +
+                            " s, before time 0 (stamp + the first time < 0)");
+  if (!(stamp + end_time <= kRosTimeMaxSeconds))
+    throw InvalidInputError(stamp_field + ": the trajectory would end at " + formatNumber(stamp + end_time) +
+                            " s, after the last ROS time " + formatNumber(kRosTimeMaxSeconds) +
+                            " s (unsigned 32-bit seconds)");
+}
+
+std::string quoted(const std::string& text)
+{
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out = "'";
+  const std::size_t n = std::min(text.size(), kMaxQuotedLength);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c >= 0x7F)
+    {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 0xF];
+    }
+    else
+      out += static_cast<char>(c);
+  }
+  out += "'";
+  if (text.size() > n)
+    out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
+
+void validateFrameId(const std::string& id, const std::string& field)
+{
+  if (id.empty())
+    throw InvalidInputError(field + ": is empty");
+  if (id.size() > kMaxFrameIdLength)
+    throw InvalidInputError(field + ": " + quoted(id) + " is longer than " + std::to_string(kMaxFrameIdLength) +
+                            " characters");
+  if (id.front() == '/')
+    throw InvalidInputError(field + ": " + quoted(id) + " starts with '/' (tf2 frame ids have no leading slash)");
+  for (std::size_t i = 0; i < id.size(); ++i)
+  {
+    const unsigned char c = static_cast<unsigned char>(id[i]);
+    if (c < 0x20 || c == 0x7F)
+      throw InvalidInputError(field + ": " + quoted(id) + " contains a control character at " + std::to_string(i));
+    if (std::isspace(c))
+      throw InvalidInputError(field + ": " + quoted(id) + " contains white space at " + std::to_string(i));
+  }
+}
+
 void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
 {
   if (times.empty())
@@ -258,6 +348,7 @@ void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
   for (std::size_t i = 0; i < times.size(); ++i)
   {
     requireFinite(times[i], indexedField("times", i));
+    requireRosDuration(times[i], indexedField("times", i));
     if (i > 0 && !(times[i] > times[i - 1]))
       throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is not after times[" +
                               std::to_string(i - 1) + "] = " + formatNumber(times[i - 1]) +
@@ -274,11 +365,15 @@ Sampling validateSampling(const std::vector<double>& sample_times, double sample
   for (std::size_t i = 0; i < sample_times.size(); ++i)
   {
     requireFinite(sample_times[i], indexedField("sample_times", i));
+    requireRosDuration(sample_times[i], indexedField("sample_times", i));
     if (i > 0 && sample_times[i] < sample_times[i - 1])
       throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(sample_times[i]) +
                               " is before the previous sample time (sample_times must be non-decreasing)");
   }
   requireFiniteNonNegative(sample_period, "sample_period");
+  if (sample_period > 0.0 && sample_period < kRosDurationResolution)
+    throw InvalidInputError("sample_period: " + formatNumber(sample_period) +
+                            " s is below the 1 ns resolution of time_from_start");
   if (sample_count == 1)
     throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
   Sampling s;
@@ -304,29 +399,41 @@ std::vector<double> sampleTimes(const Sampling& r, double t0, double t1, const P
         throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(t) +
                                 " s is outside the trajectory [" + formatNumber(t0) + ", " + formatNumber(t1) + "] s");
       ts.push_back(std::min(std::max(t, t0), t1));
+      const double step = i > 0 ? ts[i] - ts[i - 1] : 0.0;
+      if (step > 0.0 && step < kResolvableStep)
+        throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(t) + " s is only " +
+                                formatNumber(step) + " s after the previous sample (time_from_start resolves 1 ns)");
     }
     return ts;
   }
   if (r.sample_period > 0.0)
   {
+    if (r.sample_period < kRosDurationResolution)
+      throw InvalidInputError("sample_period: " + formatNumber(r.sample_period) +
+                              " s is below the 1 ns resolution of time_from_start");
     const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
     if (!(count <= static_cast<double>(limits.max_samples)))
       throw LimitExceededError("sample_period: " + formatNumber(r.sample_period) + " s gives " + formatNumber(count) +
                                " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
-    for (std::size_t i = 0;; ++i)
+    // Both ends always; a regular sample closer to t1 than the tolerance merges into t1.
+    const double tol = std::max(1e-9 * r.sample_period, kRosDurationResolution);
+    ts.push_back(t0);
+    for (std::size_t i = 1;; ++i)
     {
       const double t = t0 + static_cast<double>(i) * r.sample_period;
-      if (t >= t1 - 1e-9 * r.sample_period)
+      if (!(t < t1 - tol))
         break;
       ts.push_back(t);
     }
     ts.push_back(t1);
+    requireResolvable(ts, "sample_period");
     return ts;
   }
   ts.resize(r.sample_count);
   for (std::size_t i = 0; i < ts.size(); ++i)
     ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
   ts.back() = t1;
+  requireResolvable(ts, "sample_count");
   return ts;
 }
 

@@ -1,27 +1,30 @@
 #include "se3_interpolation/ros/interpolation_node.h"
 
+#include <ros/master.h>
+#include <ros/this_node.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
+#include <cstdint>
 #include <new>
 #include <sstream>
 
 #include "se3_interpolation/ros/conversions.h"
+#include "se3_interpolation/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-/// tf2 frame ids: non-empty, no leading '/', no white space.
-void requireFrameId(const std::string& id, const std::string& field)
+/// Longest error text the node logs or returns: exceptions from tf2 or roscpp may quote
+/// strings of any length.
+constexpr std::size_t kMaxMessageLength = 1024;
+
+std::string bounded(const char* what)
 {
-  if (id.empty())
-    throw InvalidInputError(field + ": is empty");
-  if (id.front() == '/')
-    throw InvalidInputError(field + ": '" + id + "' starts with '/' (tf2 frame ids have no leading slash)");
-  for (char c : id)
-    if (std::isspace(static_cast<unsigned char>(c)))
-      throw InvalidInputError(field + ": '" + id + "' contains white space");
+  const std::string m(what);
+  return m.size() <= kMaxMessageLength ? m : m.substr(0, kMaxMessageLength) + "... (truncated)";
 }
 }  // namespace
 
@@ -35,16 +38,38 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   trajectory_pub_ = private_nh_.advertise<trajectory_msgs::MultiDOFJointTrajectory>("trajectory", 1, true);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
-  generate_service_ = private_nh_.advertiseService("generate", &InterpolationNode::generate, this);
+  tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
   clear_service_ = private_nh_.advertiseService("clear_waypoints", &InterpolationNode::clearWaypoints, this);
-  waypoint_sub_ = private_nh_.subscribe("waypoint", 100, &InterpolationNode::waypointCallback, this);
   waypoints_sub_ = private_nh_.subscribe("waypoints", 10, &InterpolationNode::waypointsCallback, this);
+
+  ros::NodeHandle service_nh(private_nh_);
+  service_nh.setCallbackQueue(&service_queue_);
+  generate_service_ = service_nh.advertiseService("generate", &InterpolationNode::generate, this);
+  service_spinner_ = std::make_unique<ros::AsyncSpinner>(params_.service_threads, &service_queue_);
+  service_spinner_->start();
+
+  ros::NodeHandle waypoint_nh(private_nh_);
+  waypoint_nh.setCallbackQueue(&waypoint_queue_);
+  waypoint_sub_ = waypoint_nh.subscribe("waypoint", static_cast<std::uint32_t>(params_.waypoint_queue_size),
+                                        &InterpolationNode::waypointCallback, this);
+  waypoint_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &waypoint_queue_);
+  waypoint_spinner_->start();
 
   ros::NodeHandle tf_nh(private_nh_);
   tf_nh.setCallbackQueue(&tf_queue_);
   tf_timer_ = tf_nh.createTimer(ros::Duration(1.0 / params_.tf_rate), &InterpolationNode::tfTimerCallback, this);
   tf_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &tf_queue_);
   tf_spinner_->start();
+
+  if (params_.master_check_period > 0.0)
+  {
+    ros::NodeHandle watchdog_nh(private_nh_);
+    watchdog_nh.setCallbackQueue(&watchdog_queue_);
+    watchdog_timer_ = watchdog_nh.createTimer(ros::Duration(params_.master_check_period),
+                                              &InterpolationNode::watchdogCallback, this);
+    watchdog_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &watchdog_queue_);
+    watchdog_spinner_->start();
+  }
   ROS_INFO_STREAM("se3_interpolation_node ready: services " << generate_service_.getService() << ", "
                   << clear_service_.getService() << "; waypoints on " << waypoint_sub_.getTopic() << ", "
                   << waypoints_sub_.getTopic() << "; frames " << params_.frame_id << " -> " << params_.child_frame_id
@@ -58,7 +83,11 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
 
 InterpolationNode::~InterpolationNode()
 {
+  if (watchdog_spinner_)
+    watchdog_spinner_->stop();
   tf_spinner_->stop();
+  waypoint_spinner_->stop();
+  service_spinner_->stop();
 }
 
 bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res)
@@ -88,11 +117,11 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       poses = req.waypoints.poses;
       frame = req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id;
     }
-    requireFrameId(frame, "waypoints.header.frame_id");
+    validateFrameId(frame, "waypoints.header.frame_id");
     const std::string child = req.child_frame_id.empty() ? params_.child_frame_id : req.child_frame_id;
-    requireFrameId(child, "child_frame_id");
+    validateFrameId(child, "child_frame_id");
     if (child == frame)
-      throw InvalidInputError("child_frame_id: '" + child + "' is also the waypoints' frame");
+      throw InvalidInputError("child_frame_id: " + quoted(child) + " is also the waypoints' frame");
 
     TrajectoryRequest r = fromRequestMsg(req, poses);
     if (r.curve.empty())
@@ -121,8 +150,8 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     std_msgs::Header header;
     header.frame_id = frame;
     header.stamp = req.waypoints.header.stamp.isZero() ? ros::Time::now() : req.waypoints.header.stamp;
-    if (header.stamp.toSec() + result.start_time < 0.0)
-      throw InvalidInputError("times: the trajectory would start before time 0 (stamp + times[0] < 0)");
+    validateStampedSpan(header.stamp.toSec(), result.start_time, result.start_time + result.duration,
+                        "waypoints.header.stamp");
 
     res.path = toPathMsg(result, header);
     res.trajectory = toTrajectoryMsg(result, header, child);
@@ -151,7 +180,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   {
     res = GenerateTrajectory::Response();
     res.success = false;
-    res.message = e.what();
+    res.message = bounded(e.what());
   }
   catch (...)
   {
@@ -164,6 +193,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
 void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res,
                                 const std_msgs::Header& header, const std::string& child_frame_id)
 {
+  std::lock_guard<std::mutex> publishing(publish_mutex_);
   path_pub_.publish(res.path);
   trajectory_pub_.publish(res.trajectory);
   markers_pub_.publish(toMarkerArray(result, result.waypoints, header, params_.marker_axes, params_.axis_length));
@@ -181,7 +211,8 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   }
   if (!params_.publish_tf || params_.max_tf_samples <= 0)
     return;
-  std::vector<geometry_msgs::TransformStamped> frames;
+  // The whole set, replacing the latched one: /tf_static holds this trajectory's frames only.
+  tf2_msgs::TFMessage frames;
   const int n = params_.max_tf_samples;
   for (int k = 0; k < n; ++k)
   {
@@ -190,9 +221,9 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
     ts.header = header;
     ts.child_frame_id = child_frame_id + "_" + std::to_string(k);
     ts.transform = toTransformMsg(result.pose_at(t));
-    frames.push_back(ts);
+    frames.transforms.push_back(ts);
   }
-  static_broadcaster_.sendTransform(frames);
+  tf_static_pub_.publish(frames);
 }
 
 bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_srvs::Trigger::Response& res)
@@ -208,16 +239,37 @@ bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_
   return true;
 }
 
-void InterpolationNode::waypointCallback(const geometry_msgs::PoseStamped::ConstPtr& msg)
+void InterpolationNode::noticeDrops(const std::string& publisher, std::uint32_t seq)
+{
+  auto it = last_seq_.find(publisher);
+  if (it != last_seq_.end() && seq > it->second + 1)
+  {
+    dropped_waypoints_ += seq - it->second - 1;
+    // Throttled: a flood of drops must not become a flood of log lines.
+    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quoted(publisher)
+                                                << " were dropped (header.seq jumped from " << it->second << " to "
+                                                << seq << "; " << dropped_waypoints_
+                                                << " dropped in all); raise ~waypoint_queue_size ("
+                                                << params_.waypoint_queue_size << ") or publish more slowly");
+  }
+  // A publisher that does not number its messages (seq constant) or restarted: no jump.
+  last_seq_[publisher] = seq;
+}
+
+void InterpolationNode::waypointCallback(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
 {
   try
   {
+    const geometry_msgs::PoseStamped::ConstPtr& msg = event.getMessage();
+    noticeDrops(event.getPublisherName(), msg->header.seq);
     geometry_msgs::PoseStamped pose = *msg;
     std::string frame;
     {
       std::lock_guard<std::mutex> lock(buffer_mutex_);
       frame = buffer_frame_;
     }
+    if (!pose.header.frame_id.empty())
+      validateFrameId(pose.header.frame_id, "waypoint.header.frame_id");
     if (!pose.header.frame_id.empty() && pose.header.frame_id != frame)
       pose = tf_buffer_.transform(pose, frame, ros::Duration(params_.tf_timeout));
     validatePose(fromPoseMsg(pose.pose), "waypoint.pose");
@@ -236,7 +288,7 @@ void InterpolationNode::waypointCallback(const geometry_msgs::PoseStamped::Const
   }
   catch (const std::exception& e)
   {
-    ROS_WARN_STREAM("~waypoint rejected: " << e.what());
+    ROS_WARN_STREAM("~waypoint rejected: " << bounded(e.what()));
   }
 }
 
@@ -250,7 +302,7 @@ void InterpolationNode::waypointsCallback(const geometry_msgs::PoseArray::ConstP
       throw LimitExceededError("more than ~max_waypoints = " + std::to_string(params_.limits.max_waypoints) +
                                " waypoints");
     const std::string frame = msg->header.frame_id.empty() ? params_.frame_id : msg->header.frame_id;
-    requireFrameId(frame, "waypoints.header.frame_id");
+    validateFrameId(frame, "waypoints.header.frame_id");
     {
       std::lock_guard<std::mutex> lock(buffer_mutex_);
       buffer_ = msg->poses;
@@ -261,7 +313,7 @@ void InterpolationNode::waypointsCallback(const geometry_msgs::PoseArray::ConstP
   }
   catch (const std::exception& e)
   {
-    ROS_WARN_STREAM("~waypoints rejected: " << e.what());
+    ROS_WARN_STREAM("~waypoints rejected: " << bounded(e.what()));
   }
 }
 
@@ -281,6 +333,23 @@ void InterpolationNode::autoGenerate()
 
 void InterpolationNode::tfTimerCallback(const ros::TimerEvent& /*event*/)
 {
+  // Nothing may leave a timer callback: roscpp would terminate the process.
+  try
+  {
+    broadcastMovingFrame();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR_STREAM_THROTTLE(10.0, "moving frame not broadcast: " << bounded(e.what()));
+  }
+  catch (...)
+  {
+    ROS_ERROR_THROTTLE(10.0, "moving frame not broadcast: unexpected error");
+  }
+}
+
+void InterpolationNode::broadcastMovingFrame()
+{
   std::shared_ptr<const Playback> playback;
   {
     std::lock_guard<std::mutex> lock(playback_mutex_);
@@ -291,7 +360,10 @@ void InterpolationNode::tfTimerCallback(const ros::TimerEvent& /*event*/)
   const ros::Time now = ros::Time::now();
   if (now <= last_tf_stamp_)
     return;  // TF stamps never repeat or go backwards
-  double t = (now - playback->stamp).toSec();
+  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
+  double t = static_cast<double>(static_cast<std::int64_t>(now.toNSec()) -
+                                 static_cast<std::int64_t>(playback->stamp.toNSec())) *
+             1e-9;
   const double t0 = playback->start_time;
   const double d = playback->duration;
   if (params_.loop && d > 0.0)
@@ -312,6 +384,33 @@ void InterpolationNode::tfTimerCallback(const ros::TimerEvent& /*event*/)
   ts.transform = toTransformMsg(playback->pose_at(t));
   tf_broadcaster_.sendTransform(ts);
   last_tf_stamp_ = now;
+}
+
+void InterpolationNode::watchdogCallback(const ros::TimerEvent& /*event*/)
+{
+  try
+  {
+    if (!ros::master::check())
+      return;  // the master is away: wait for it to come back
+    // The service is registered once, at start-up: a master that does not know it has
+    // restarted since (roscpp re-registers nothing).
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    args[1] = generate_service_.getService();
+    if (ros::master::execute("lookupService", args, result, payload, false))
+      return;
+    ROS_FATAL_STREAM("the ROS master at " << ros::master::getURI() << " no longer knows "
+                                          << ros::this_node::getName() << " (its service "
+                                          << generate_service_.getService()
+                                          << " is not registered: the master restarted); shutting down with exit "
+                                             "status 1 so that the launch file's respawn registers the node anew");
+    exit_status_ = 1;
+    ros::requestShutdown();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR_STREAM_THROTTLE(10.0, "master watchdog: " << bounded(e.what()));
+  }
 }
 
 }  // namespace se3_interpolation

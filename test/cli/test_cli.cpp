@@ -373,3 +373,137 @@ TEST(Cli, ServiceSpellingRefusals)
     EXPECT_EQ(rows[1][j], last[j]) << j;
   }
 }
+
+namespace
+{
+std::string writeFile(const std::string& name, const std::string& text)
+{
+  const std::string path = testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+int shell(const std::string& cmd)
+{
+  const int raw = std::system(cmd.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+/// Entries of `folder` whose names start with `prefix`.
+int countEntries(const std::string& folder, const std::string& prefix)
+{
+  return shell("exit $(ls -a '" + folder + "' | grep -c '^" + prefix + "')");
+}
+}  // namespace
+
+// Issue 15, row 6: the output goes through a temporary file created exclusively, never through
+// a planted file or symbolic link, and nothing is left beside the target.
+TEST(CliHostile, OutputNeverWritesThroughAPlantedLink)
+{
+  const std::string folder = testing::TempDir() + "cli_planted/";
+  ASSERT_EQ(shell("rm -rf '" + folder + "' && mkdir -p '" + folder + "'"), 0);
+  const std::string victim = folder + "victim.txt";
+  std::ofstream(victim) << "precious\n";
+  for (const char* planted : { "out.csv.tmp", ".out.csv.tmp" })
+    ASSERT_EQ(shell("ln -s '" + victim + "' '" + folder + planted + "'"), 0);
+  const CliRun r = run(data("translation.yaml") + " -o " + folder + "out.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(victim), "precious\n");
+  std::string header;
+  EXPECT_EQ(parseCsv(slurp(folder + "out.csv"), &header).size(), 5u);
+  // Only the planted links and the output: no temporary file left.
+  EXPECT_EQ(countEntries(folder, "\\.out\\.csv\\."), 1);
+  EXPECT_EQ(countEntries(folder, "out\\.csv"), 2);
+  // The output has a plain file's mode (mkstemp's 0600 widened by the umask), here 0644.
+  EXPECT_EQ(shell("umask 022 && " + std::string(SE3_INTERPOLATE_BIN) + " " + data("translation.yaml") + " -o " +
+                  folder + "mode.csv 2>/dev/null && test \"$(stat -c %a '" + folder + "mode.csv')\" = 644"),
+            0);
+}
+
+// Row 6: an existing FIFO is written into, not replaced.
+TEST(CliHostile, FifoOutputIsWrittenNotReplaced)
+{
+  const std::string fifo = testing::TempDir() + "cli_fifo";
+  const std::string captured = testing::TempDir() + "cli_fifo_captured.csv";
+  ASSERT_EQ(shell("rm -f '" + fifo + "' && mkfifo '" + fifo + "'"), 0);
+  ASSERT_EQ(shell("cat '" + fifo + "' > '" + captured + "' & " + SE3_INTERPOLATE_BIN + " " + data("translation.yaml") +
+                  " -o '" + fifo + "' 2>/dev/null; status=$?; wait; exit $status"),
+            0);
+  EXPECT_EQ(shell("test -p '" + fifo + "'"), 0) << "the FIFO was replaced";
+  std::string header;
+  EXPECT_EQ(parseCsv(slurp(captured), &header).size(), 5u);
+}
+
+// Row 7: any write error is exit status 2, on the standard output as for -o.
+TEST(CliHostile, WriteErrorsExitTwo)
+{
+  const std::string err = testing::TempDir() + "cli_full_err.txt";
+  EXPECT_EQ(shell(std::string(SE3_INTERPOLATE_BIN) + " " + data("translation.yaml") + " >/dev/full 2>" + err), 2);
+  EXPECT_NE(slurp(err).find("cannot write the standard output"), std::string::npos) << slurp(err);
+  const CliRun full = run(data("translation.yaml") + " -o /dev/full");
+  EXPECT_EQ(full.status, 2);
+  EXPECT_NE(full.err.find("cannot write '/dev/full'"), std::string::npos) << full.err;
+  const CliRun missing = run(data("translation.yaml") + " -o " + testing::TempDir() + "no_such_folder/out.csv");
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("cannot create a temporary file"), std::string::npos) << missing.err;
+}
+
+// Row 12: a request file above 8 MiB is refused before it is parsed.
+TEST(CliHostile, OversizedRequestFileIsRefusedBeforeParsing)
+{
+  const std::string path = testing::TempDir() + "cli_huge.yaml";
+  {
+    std::ofstream f(path);
+    f << "waypoints:\n";
+    const std::string line = "  - {position: [0, 0, 0]}\n";
+    for (std::size_t written = 11; written <= (8u << 20); written += line.size())
+      f << line;
+  }
+  const CliRun r = run(path);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("is larger than 8388608 bytes"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+// Row 14: durations ROS cannot carry and unbounded frame ids are refused by the CLI too.
+TEST(CliHostile, HugeDurationAndLongFrameIdNameTheField)
+{
+  const std::string waypoints = "waypoints:\n  - {position: [0, 0, 0]}\n  - {position: [1, 0, 0]}\n";
+  const std::pair<std::string, const char*> cases[] = {
+    { waypoints + "duration: 3e9\n", "error: duration: " },
+    { waypoints + "duration: 1e300\n", "error: duration: " },
+    { waypoints + "max_linear_velocity: 1e-300\n", "error: max_linear_velocity: " },
+    { waypoints + "child_frame_id: " + std::string(300, 'c') + "\n", "error: child_frame_id: " },
+    { waypoints + "sample_period: 1e300\n", "" },
+  };
+  for (const auto& c : cases)
+  {
+    const CliRun r = run(writeFile("cli_hostile.yaml", c.first));
+    if (*c.second == '\0')
+    {
+      // Row 13: both ends, whatever the period.
+      ASSERT_EQ(r.status, 0) << r.err;
+      std::string header;
+      const auto rows = parseCsv(r.out, &header);
+      ASSERT_EQ(rows.size(), 2u);
+      EXPECT_EQ(rows[0][0], 0.0);
+      EXPECT_EQ(rows[1][0], 1.0);
+      continue;
+    }
+    EXPECT_EQ(r.status, 2) << c.first.substr(0, 100);
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << r.err;
+    EXPECT_LT(r.err.size(), 300u);
+  }
+}
+
+// Deliverable 2: the CLI's work bound is ~max_work's default, adjustable with --max-work.
+TEST(CliHostile, MaxWorkBoundsTheRequest)
+{
+  const CliRun tight = run(data("bezier_screw.yaml") + " --max-work 10");
+  EXPECT_EQ(tight.status, 2);
+  EXPECT_NE(tight.err.find("the limit (~max_work) is 10"), std::string::npos) << tight.err;
+  EXPECT_EQ(run(data("bezier_screw.yaml") + " --max-work 1e9").status, 0);
+  const CliRun bad = run(data("bezier_screw.yaml") + " --max-work -3");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--max-work: '-3' is not a positive number"), std::string::npos) << bad.err;
+}

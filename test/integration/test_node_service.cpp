@@ -163,6 +163,15 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
     { "unknown curve", [](auto& s) { s.request.curve = "catmull_rom"; }, "curve" },
     { "unknown geometry", [](auto& s) { s.request.geometry = "euler"; }, "geometry" },
     { "bad knots", [](auto& s) { s.request.curve = "bspline"; s.request.knots = { 0, 1 }; }, "knots" },
+    // Issue 15, row 2: refused up front by ~max_work instead of computing for seconds.
+    { "heavy bezier",
+      [](auto& s) {
+        s.request.curve = "bezier";
+        s.request.waypoints.poses.clear();
+        for (int i = 0; i < 250; ++i)
+          s.request.waypoints.poses.push_back(pose(std::cos(0.1 * i), std::sin(0.1 * i), 0.01 * i, 0.02 * i));
+      },
+      "waypoints: 250 waypoints make a bezier of degree 249" },
   };
   for (const auto& c : cases)
   {

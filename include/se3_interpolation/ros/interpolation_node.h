@@ -4,22 +4,34 @@
 // ~clear_waypoints), latched ~path / ~trajectory / ~markers, and TF: the moving frame
 // ~child_frame_id at ~tf_rate Hz plus static frames <child_frame_id>_<k>.
 //
-// Threading: service and topic callbacks run on the global queue (main spins it); the
-// TF timer has its own callback queue and spinner thread, so a long generation never
-// starves the moving frame. The latest trajectory is shared under a mutex.
+// Threading: ~generate runs on its own callback queue served by ~service_threads threads,
+// so a heavy request never delays a light one, the topics or TF. ~waypoint has its own queue
+// and thread (its tf2 lookups wait up to ~tf_timeout each without blocking anything else);
+// ~waypoints, ~clear_waypoints run on the global queue (main spins it); the TF timer and the
+// master watchdog each have their own queue and thread. The waypoint buffer and the latest
+// trajectory are shared under mutexes; publishing a trajectory is serialised.
+//
+// /tf_static carries exactly the static frames of the latest published trajectory: the node
+// latches its own tf2_msgs/TFMessage with the whole set, replacing the previous one
+// (tf2_ros::StaticTransformBroadcaster would keep every frame it ever sent).
+//
+// Master watchdog: every ~master_check_period s the node asks the master whether it still
+// knows the ~generate service; after a master restart it does not (roscpp never re-registers), so the node
+// logs why and shuts down with exit status 1, and the launch file's respawn starts it anew.
 #pragma once
 
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseStamped.h>
 
+#include <atomic>
+#include <map>
 #include <memory>
 #include <mutex>
 
@@ -36,6 +48,9 @@ public:
   InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private_nh);
   ~InterpolationNode();
 
+  /// The process exit status main() should return: 0, or 1 after the watchdog shut down.
+  int exitStatus() const { return exit_status_; }
+
 private:
   /// What the TF timer replays: the latest published trajectory.
   struct Playback
@@ -50,9 +65,13 @@ private:
 
   bool generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
   bool clearWaypoints(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
-  void waypointCallback(const geometry_msgs::PoseStamped::ConstPtr& msg);
+  void waypointCallback(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
   void waypointsCallback(const geometry_msgs::PoseArray::ConstPtr& msg);
   void tfTimerCallback(const ros::TimerEvent& event);
+  void broadcastMovingFrame();
+  void watchdogCallback(const ros::TimerEvent& event);
+  /// Warns when a publisher's header.seq jumps (messages dropped by the queue).
+  void noticeDrops(const std::string& publisher, std::uint32_t seq);
 
   /// Validates, generates and (if asked) publishes; fills `res` and never throws.
   void generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
@@ -75,11 +94,23 @@ private:
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
-  tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  ros::Publisher tf_static_pub_;
 
   ros::CallbackQueue tf_queue_;
   std::unique_ptr<ros::AsyncSpinner> tf_spinner_;
   ros::Timer tf_timer_;
+  ros::CallbackQueue service_queue_;
+  std::unique_ptr<ros::AsyncSpinner> service_spinner_;
+  ros::CallbackQueue waypoint_queue_;
+  std::unique_ptr<ros::AsyncSpinner> waypoint_spinner_;
+  ros::CallbackQueue watchdog_queue_;
+  std::unique_ptr<ros::AsyncSpinner> watchdog_spinner_;
+  ros::Timer watchdog_timer_;
+  std::atomic<int> exit_status_{ 0 };
+
+  std::mutex publish_mutex_;  ///< one trajectory published at a time (topics, /tf_static, playback)
+  std::map<std::string, std::uint32_t> last_seq_;  ///< per ~waypoint publisher (waypoint thread only)
+  std::uint64_t dropped_waypoints_ = 0;            ///< ~waypoint messages lost so far (waypoint thread only)
 
   std::mutex buffer_mutex_;
   std::vector<geometry_msgs::Pose> buffer_;

@@ -22,7 +22,10 @@ struct NodeParameters
   int marker_axes = 20;                      ///< sampled axes drawn in ~markers
   double axis_length = 0.1;                  ///< m, length of the drawn axes
   double tf_timeout = 0.1;                   ///< s, wait for a transform of a ~waypoint pose
-  PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints
+  int waypoint_queue_size = 100;             ///< ~waypoint subscriber queue (drops are warned)
+  int service_threads = 4;                   ///< threads serving ~generate concurrently
+  double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
+  PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work
   /// Defaults for empty request fields (and the auto-generated trajectory).
   std::string curve = "piecewise_geodesic";
   std::string geometry = "double_geodesic";

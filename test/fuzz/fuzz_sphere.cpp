@@ -1,0 +1,98 @@
+// libFuzzer target, the sphere space S^m (m = 2 ... 4) end to end: bytes -> SphereRequest ->
+// generateSphereTrajectory. Expected: an InterpolationError, or samples on the unit sphere with
+// finite velocities and accelerations tangent to it. Input format: fuzz_common.h's reader.
+#include "fuzz_common.h"
+#include "se3_interpolation/sphere_planner.h"
+
+using namespace se3_interpolation;
+using namespace se3_interpolation::fuzz;
+
+namespace
+{
+Eigen::VectorXd vectorX(ByteReader& in, Eigen::Index dim, bool normalise)
+{
+  Eigen::VectorXd v(dim);
+  for (Eigen::Index j = 0; j < dim; ++j)
+    v[j] = normalise ? in.small() : in.number();
+  const double n = v.norm();
+  if (normalise && n > 0.0)
+    v /= n;
+  return v;
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+  g_target = "fuzz_sphere";
+  static const std::vector<const char*> kCurves = { "piecewise_geodesic", "bezier", "bspline",
+                                                    "interpolating",      "hermite", "blended" };
+  static const std::vector<const char*> kEndConditions = { "natural", "clamped", "start" };
+  static const std::vector<const char*> kParameterizations = { "chord", "uniform", "centripetal" };
+  ByteReader in(data, size);
+  SphereRequest r;
+  const Eigen::Index dim = 3 + in.byte() % 3;
+  const std::size_t n = in.byte() % 10;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::uint8_t mode = in.byte() % 8;
+    if (mode == 0 && !r.waypoints.empty())
+      r.waypoints.push_back(-r.waypoints.back());  // antipodal
+    else if (mode == 1 && !r.waypoints.empty())
+      r.waypoints.push_back(r.waypoints.back());  // repeated
+    else if (mode == 2 && in.byte() % 4 == 0)
+      r.waypoints.push_back(vectorX(in, dim + 1, true));  // mixed dimensions
+    else
+      r.waypoints.push_back(vectorX(in, dim, mode != 3));
+  }
+  r.curve = in.name(kCurves);
+  r.end_condition = in.name(kEndConditions);
+  r.parameterization = in.name(kParameterizations);
+  if (in.byte() % 3 == 1)
+    r.times = sequence(in, n);
+  const std::uint8_t degree = in.byte();
+  r.degree = degree % 10;
+  if (in.byte() % 4 == 1)
+    r.knots = sequence(in, n + static_cast<std::size_t>(r.degree) + 1);
+  r.continuity = in.byte() % 10;
+  if (in.byte() % 2 == 1)
+    r.start_velocity = vectorX(in, dim, false);
+  if (in.byte() % 2 == 1)
+    r.end_velocity = vectorX(in, dim, false);
+  if (in.byte() % 4 == 1)
+    for (std::size_t i = 0; i < n; ++i)
+      r.velocities.push_back(vectorX(in, dim, false));
+  r.duration = in.optionalNumber();
+  r.max_angular_velocity = in.optionalNumber();
+  r.max_angular_acceleration = in.optionalNumber();
+  r.sample_period = in.optionalNumber();
+  r.sample_count = in.byte() % 64;
+  PlannerLimits limits;
+  limits.max_samples = 500;
+  limits.max_waypoints = 10;
+  try
+  {
+    const SphereResult out = generateSphereTrajectory(r, limits);
+    if (out.samples.empty() || out.samples.size() > limits.max_samples)
+      fail("a successful sphere result has " + std::to_string(out.samples.size()) + " samples");
+    for (const SphereSample& s : out.samples)
+    {
+      if (!s.point.allFinite() || std::abs(s.point.norm() - 1.0) > 1e-9)
+        fail("a sample off the unit sphere");
+      if (!s.velocity.allFinite() || !s.acceleration.allFinite())
+        fail("a non-finite sample velocity or acceleration");
+      if (std::abs(s.point.dot(s.velocity)) > 1e-6 * (1.0 + s.velocity.norm()))
+        fail("a sample velocity not tangent to the sphere");
+    }
+    for (double f : { out.duration, out.length, out.max_speed, out.max_acceleration, out.energy })
+      checkFinite(f, "sphere figures");
+  }
+  catch (const InterpolationError&)
+  {
+    // The expected rejection of a bad request.
+  }
+  catch (const std::exception& e)
+  {
+    fail(std::string("an exception other than InterpolationError escaped: ") + e.what());
+  }
+  return 0;
+}
