@@ -24,7 +24,7 @@ struct NodeParameters
   double tf_timeout = 0.1;                   ///< s, wait for a transform of a ~waypoint pose
   PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints
   /// Defaults for empty request fields (and the auto-generated trajectory).
-  std::string curve = "piecewise_geodesic";
+  std::string curve = "interpolating";
   std::string geometry = "double_geodesic";
   std::string parameterization = "chord";
   double duration = 0.0;
