@@ -6,6 +6,7 @@
 #include <new>
 #include <sstream>
 
+#include "se3_interpolation/GenerationStatus.h"
 #include "se3_interpolation/ros/conversions.h"
 
 namespace se3_interpolation
@@ -35,6 +36,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   trajectory_pub_ = private_nh_.advertise<trajectory_msgs::MultiDOFJointTrajectory>("trajectory", 1, true);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
+  status_pub_ = private_nh_.advertise<GenerationStatus>("status", 1, true);
   generate_service_ = private_nh_.advertiseService("generate", &InterpolationNode::generate, this);
   clear_service_ = private_nh_.advertiseService("clear_waypoints", &InterpolationNode::clearWaypoints, this);
   waypoint_sub_ = private_nh_.subscribe("waypoint", 100, &InterpolationNode::waypointCallback, this);
@@ -55,6 +57,7 @@ InterpolationNode::~InterpolationNode()
 bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res)
 {
   generateInto(req, res);
+  publishStatus(req, res, "service");
   return true;  // errors travel in res.success / res.message (a false return loses them)
 }
 
@@ -171,6 +174,36 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   static_broadcaster_.sendTransform(frames);
 }
 
+void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
+                                      const std::string& source)
+{
+  GenerationStatus status;
+  status.header.stamp = ros::Time::now();
+  status.success = res.success;
+  status.message = res.message;
+  status.source = source;
+  status.curve = req.curve.empty() ? params_.curve : req.curve;
+  status.geometry = req.geometry.empty() ? params_.geometry : req.geometry;
+  if (req.waypoints.poses.empty())
+  {
+    std::lock_guard<std::mutex> lock(buffer_mutex_);
+    status.header.frame_id = buffer_frame_;
+    status.waypoint_count = static_cast<std::uint32_t>(buffer_.size());
+  }
+  else
+  {
+    status.header.frame_id = req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id;
+    status.waypoint_count = static_cast<std::uint32_t>(req.waypoints.poses.size());
+  }
+  status.duration = res.duration;
+  status.length = res.length;
+  status.rotation_length = res.rotation_length;
+  status.max_linear_speed = res.max_linear_speed;
+  status.max_angular_speed = res.max_angular_speed;
+  status.energy = res.energy;
+  status_pub_.publish(status);
+}
+
 bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_srvs::Trigger::Response& res)
 {
   std::size_t n = 0;
@@ -249,6 +282,7 @@ void InterpolationNode::autoGenerate()
   req.publish = true;
   GenerateTrajectory::Response res;
   generateInto(req, res);
+  publishStatus(req, res, "auto_generation");
   if (res.success)
     ROS_INFO_STREAM("auto-generated: " << res.message);
   else
