@@ -23,8 +23,8 @@
 //                inverse-right-Jacobian relation ω = J_r(φ) φ̇ between rotation-vector rates
 //                and angular velocity) and Q_i(w) = d²F_i(0)[w, w], a quadratic form.
 // D_i and Q_i are computed once per segment from jets (jet.h) of F_i: D_i column by column in
-// Jet<1>, Q_i by polarisation, Q(a, b) = (Q(a + b) − Q(a − b))/4, of Q(w) = 2 · the second
-// Taylor coefficient of s ↦ F_i(s w) in Jet<2>. D_i is invertible while |L_i| < π on SO(3)
+// Jet<2> with Q_i's diagonal, the rest by polarisation, Q(a, b) = (Q(a + b) − Q(a) − Q(b))/2, of
+// Q(w) = 2 · the second Taylor coefficient of s ↦ F_i(s w). D_i is invertible while |L_i| < π on SO(3)
 // (J_r is singular only at 2π) and on S^m (the first conjugate point is at π).
 // In R^n (and when all steps and rates share one rotation axis, or for pure translations) F_i is
 // the identity up to a translation, D_i = I, Q_i = 0, and (C1) is the classical cubic Hermite
@@ -115,29 +115,43 @@ TransitionDerivatives transitionDerivatives(const typename G::template Point<dou
                                             const typename G::template Tangent<double>& log,
                                             const Eigen::MatrixXd& b0, const Eigen::MatrixXd& b1)
 {
-  using Tangent = typename G::template Tangent<double>;
+  using J2 = Jet<2>;
+  using TangentJ = typename G::template Tangent<J2>;
   const Eigen::Index dof = b0.cols();
+  const typename G::template Point<J2> x0j = G::template cast<J2>(x0);
+  const typename G::template Point<J2> x1j = G::template cast<J2>(x1);
+  // s ↦ F(s w): its velocity D w and acceleration Q(w) (C3), in the output frame.
+  auto motion = [&](const Eigen::VectorXd& w, Eigen::VectorXd* velocity, Eigen::VectorXd* acceleration) {
+    TangentJ delta(w.size());
+    for (Eigen::Index k = 0; k < w.size(); ++k)
+    {
+      delta[k] = J2(log[k]);
+      delta[k].coefficient(1) = w[k];
+    }
+    const TangentJ y = G::log(x1j, G::exp(x0j, delta));
+    *velocity = b1.transpose() * Eigen::VectorXd(jetCoefficients(y, 1));
+    *acceleration = b1.transpose() * Eigen::VectorXd(2.0 * jetCoefficients(y, 2));
+  };
   TransitionDerivatives d;
   d.jacobian.resize(b1.cols(), dof);
-  const Tangent zero = Tangent(log * 0.0);
-  for (Eigen::Index k = 0; k < dof; ++k)
-    d.jacobian.col(k) =
-        b1.transpose() * Eigen::VectorXd(transitionMotion<G>(x0, x1, log, Tangent(b0.col(k)), zero).velocity);
-  // Q(w) = the acceleration of s ↦ exp(x0, L + s w), polarised.
-  auto q = [&](const Eigen::VectorXd& w) -> Eigen::VectorXd {
-    return b1.transpose() * Eigen::VectorXd(transitionMotion<G>(x0, x1, log, Tangent(w), zero).acceleration);
-  };
   d.quadratic.resize(b1.cols(), dof * dof);
+  Eigen::VectorXd velocity, acceleration;
   for (Eigen::Index j = 0; j < dof; ++j)
   {
-    d.quadratic.col(j * dof + j) = q(b0.col(j));
+    motion(b0.col(j), &velocity, &acceleration);
+    d.jacobian.col(j) = velocity;
+    d.quadratic.col(j * dof + j) = acceleration;
+  }
+  // Polarisation: Q(a, b) = (Q(a + b) − Q(a) − Q(b))/2.
+  for (Eigen::Index j = 0; j < dof; ++j)
     for (Eigen::Index k = j + 1; k < dof; ++k)
     {
-      const Eigen::VectorXd mixed = (q(b0.col(j) + b0.col(k)) - q(b0.col(j) - b0.col(k))) / 4.0;
+      motion(b0.col(j) + b0.col(k), &velocity, &acceleration);
+      const Eigen::VectorXd mixed =
+          (acceleration - d.quadratic.col(j * dof + j) - d.quadratic.col(k * dof + k)) / 2.0;
       d.quadratic.col(j * dof + k) = mixed;
       d.quadratic.col(k * dof + j) = mixed;
     }
-  }
   return d;
 }
 

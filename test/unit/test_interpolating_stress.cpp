@@ -208,7 +208,8 @@ void checkGuarantees(const Case& k, const Curve<G>& c, const std::string& label)
   }
   // Analytic derivatives against central differences (fourth order) at three times inside
   // segments, with a step short against the segment and against a turn (1e-3 of either), and
-  // tolerances with the differences' own rounding error, ~ε |x| / step and ε |x| / step².
+  // tolerances with the differences' own rounding error, ~ε |x| / step and ε |x| / step², and
+  // that of the sample times themselves, ε |t| |v| / step and ε |t| |v| / step².
   for (std::size_t s : { std::size_t(0), (n - 1) / 2, n - 2 })
   {
     const double h = k.t[s + 1] - k.t[s];
@@ -217,7 +218,7 @@ void checkGuarantees(const Case& k, const Curve<G>& c, const std::string& label)
     const double v = norm(exact.velocity);
     const double e = 1e-3 * std::min(h, 1.0 / (1.0 + exact.velocity.angular.norm()));
     const Kinematics fd = test::centralDifferences([&](double u) { return c.value(u); }, time, e);
-    const double scale = 1.0 + exact.pose.p.norm();
+    const double scale = 1.0 + exact.pose.p.norm() + 4.0 * std::abs(time) * v;
     ASSERT_LT(difference(fd.velocity, exact.velocity), 1e-6 * (v + scale / h) + 1e-13 * scale / e)
         << label << " segment " << s;
     ASSERT_LT(difference(fd.acceleration, exact.acceleration),
@@ -250,14 +251,16 @@ TYPED_TEST_SUITE(InterpolatingStress, Se3Geometries);
 TYPED_TEST(InterpolatingStress, EveryCellOfTheTableSucceedsWithEveryGuarantee)
 {
   // Per cell (time-step ratio × rotation step) and end condition: N = 3, 12 and 200 for natural
-  // and clamped; N = 3 and 5 for start, whose forward recursion amplifies its data from segment
-  // to segment (interpolating_spline.h), so that longer random sequences leave double range.
+  // and clamped; N = 3 and 4 for start, whose forward recursion amplifies its data from segment
+  // to segment (interpolating_spline.h): longer random sequences spin so fast (10⁶ rad/s and
+  // more at ratio 100) that central differences can no longer resolve them, and beyond about a
+  // dozen waypoints they leave double range.
   std::mt19937 rng(1200);
   int requests = 0;
   for (double ratio : kRatios)
     for (double angle : kRotationSteps)
       for (EndCondition condition : { EndCondition::kNatural, EndCondition::kClamped, EndCondition::kStart })
-        for (std::size_t n : condition == EndCondition::kStart ? std::vector<std::size_t>{ 3, 5 } :
+        for (std::size_t n : condition == EndCondition::kStart ? std::vector<std::size_t>{ 3, 4 } :
                                                                  std::vector<std::size_t>{ 3, 12, 200 })
         {
           Case k{ bigSteps(rng, n, angle), unevenTimes(rng, n, ratio), condition, randomTwist(rng, 1.0),
