@@ -109,7 +109,7 @@ struct ValidatedRequest
 {
   std::vector<Pose<double>> waypoints;
   std::vector<double> times;  ///< explicit times, or empty
-  CurveType curve = CurveType::kPiecewiseGeodesic;
+  CurveType curve = CurveType::kInterpolating;
   GeometryType geometry = GeometryType::kDoubleGeodesic;
   int degree = 3;
   std::vector<double> knots;  ///< explicit knots, or empty

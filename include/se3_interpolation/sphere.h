@@ -13,10 +13,10 @@
 //    x_1 = exp(x_0, h V̂_0/3), x_2 = exp(x_3, −h V̂_1/3) are Crouch's exp(V_0^1) x_0 and
 //    exp(−V_2^1) x_3 with V_0^1 = θ_0 S_{x_0, V̂_0} (eqs. 24–26): rotations in the planes
 //    span(x_0, V̂_0) and span(x_3, V̂_1);
-//  - start data, Case 2 (initial velocity V̂_0 and covariant acceleration Ŵ_0 = D²p/dt²(0)):
-//    solveForwardSpline<Sphere> / makeInterpolatingSpline<Sphere>(…, EndCondition::kStart, …)
-//    (interpolating_spline.h), which solves for the second control point so that the covariant
-//    acceleration of the cubic at its start is Ŵ_0 (the condition of eqs. 27–31);
+//  - C² interpolating splines, end conditions natural / clamped / start data (Case 2: initial
+//    velocity V̂_0 and covariant acceleration Ŵ_0 = D²p/dt²(0)): makeInterpolatingSpline<Sphere>
+//    (interpolating_spline.h), piecewise cubics exp(x_i, P_i(t)) in T_{x_i} S^m (chart_cubic.h),
+//    whose chart acceleration at x_i is the covariant one (tangent_space.h);
 //  - blended C^n splines of circles: BlendedSpline<Sphere> (blending.h, Pobegailo).
 // This header adds the kinematics and figures of sphere curves: the covariant acceleration
 // D²x/dt² = ẍ − ⟨x, ẍ⟩ x (the projection of ẍ onto T_x S^m, §5) and the energy ("average

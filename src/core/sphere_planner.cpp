@@ -23,7 +23,7 @@ struct ValidSphereRequest
 {
   std::vector<Eigen::VectorXd> waypoints;
   std::vector<double> times;
-  CurveType curve = CurveType::kPiecewiseGeodesic;
+  CurveType curve = CurveType::kInterpolating;
   int degree = 3;
   std::vector<double> knots;
   int continuity = 2;
@@ -115,7 +115,7 @@ ValidSphereRequest validate(const SphereRequest& r, const PlannerLimits& limits)
   for (CurveType c : { CurveType::kPiecewiseGeodesic, CurveType::kBezier, CurveType::kBspline,
                        CurveType::kInterpolating, CurveType::kHermite, CurveType::kBlended })
     curves.emplace_back(toString(c), c);
-  v.curve = parseName(r.curve, "curve", curves, CurveType::kPiecewiseGeodesic);
+  v.curve = parseName(r.curve, "curve", curves, CurveType::kInterpolating);
   v.end_condition = parseName<EndCondition>(
       r.end_condition, "end_condition",
       { { "natural", EndCondition::kNatural }, { "clamped", EndCondition::kClamped }, { "start", EndCondition::kStart } },

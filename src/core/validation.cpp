@@ -147,7 +147,7 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
     v.waypoints.push_back(validatePose(r.waypoints[i], indexed("waypoints", i)));
   }
 
-  v.curve = parseName(r.curve, "curve", kCurves, CurveType::kPiecewiseGeodesic);
+  v.curve = parseName(r.curve, "curve", kCurves, CurveType::kInterpolating);
   v.geometry = parseName(r.geometry, "geometry", kGeometries, GeometryType::kDoubleGeodesic);
   v.end_condition = parseName(r.end_condition, "end_condition",
                               { { "natural", EndCondition::kNatural },

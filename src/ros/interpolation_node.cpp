@@ -10,6 +10,7 @@
 #include <new>
 #include <sstream>
 
+#include "se3_interpolation/GenerationStatus.h"
 #include "se3_interpolation/ros/conversions.h"
 #include "se3_interpolation/validation.h"
 
@@ -39,6 +40,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   trajectory_pub_ = private_nh_.advertise<trajectory_msgs::MultiDOFJointTrajectory>("trajectory", 1, true);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
+  status_pub_ = private_nh_.advertise<GenerationStatus>("status", 1, true);
   clear_service_ = private_nh_.advertiseService("clear_waypoints", &InterpolationNode::clearWaypoints, this);
   waypoints_sub_ = private_nh_.subscribe("waypoints", 10, &InterpolationNode::waypointsCallback, this);
 
@@ -93,6 +95,7 @@ InterpolationNode::~InterpolationNode()
 bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res)
 {
   generateInto(req, res);
+  publishStatus(req, res, "service");
   return true;  // errors travel in res.success / res.message (a false return loses them)
 }
 
@@ -226,6 +229,41 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   tf_static_pub_.publish(frames);
 }
 
+void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
+                                      const std::string& source)
+{
+  GenerationStatus status;
+  status.header.stamp = ros::Time::now();
+  status.success = res.success;
+  status.message = res.message;
+  status.source = source;
+  // The request's strings may be anything (a refused 10 MB name): the latched status carries
+  // them only when they are short names, else their quoted prefix (issue 15, rows 3, 5).
+  auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quoted(text); };
+  status.curve = bounded(req.curve.empty() ? params_.curve : req.curve);
+  status.geometry = bounded(req.geometry.empty() ? params_.geometry : req.geometry);
+  status.timing = bounded(req.timing.empty() ? params_.timing : req.timing);
+  if (req.waypoints.poses.empty())
+  {
+    std::lock_guard<std::mutex> lock(buffer_mutex_);
+    status.header.frame_id = buffer_frame_;
+    status.waypoint_count = static_cast<std::uint32_t>(buffer_.size());
+  }
+  else
+  {
+    status.header.frame_id =
+        bounded(req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id);
+    status.waypoint_count = static_cast<std::uint32_t>(req.waypoints.poses.size());
+  }
+  status.duration = res.duration;
+  status.length = res.length;
+  status.rotation_length = res.rotation_length;
+  status.max_linear_speed = res.max_linear_speed;
+  status.max_angular_speed = res.max_angular_speed;
+  status.energy = res.energy;
+  status_pub_.publish(status);
+}
+
 bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_srvs::Trigger::Response& res)
 {
   std::size_t n = 0;
@@ -325,6 +363,7 @@ void InterpolationNode::autoGenerate()
   req.publish = true;
   GenerateTrajectory::Response res;
   generateInto(req, res);
+  publishStatus(req, res, "auto_generation");
   if (res.success)
     ROS_INFO_STREAM("auto-generated: " << res.message);
   else

@@ -257,34 +257,36 @@ TEST(TangentMotion, ScrewAccelerationIsTheRateOfTheBodyTwist)
   }
 }
 
-TEST(CubicEnds, GroupFormulaOfTheorem29MatchesJetDifferentiation)
+TEST(ChartCubic, TransitionDerivativesAreTheRightJacobianAndTheSecondDerivativeOfTheChart)
 {
-  // detail::groupStartAcceleration (Crouch Thm 2.9, left-trivialised) against the de Casteljau
-  // algorithm differentiated twice in Jet<2> arithmetic, at both ends of random cubics.
+  // (C3) of chart_cubic.h: on SO(3), D = dF(0) for F(δ) = Log(Exp(-L) Exp(L + δ)) is the right
+  // Jacobian J_r(L) = I - (1 - cos θ)/θ² [L]x + (θ - sin θ)/θ³ [L]x² (closed form), and Q(w) =
+  // d²/ds² F(s w) at 0, here by central differences of F itself; random L up to 3 rad.
   std::mt19937 rng(103);
   for (int i = 0; i < 20; ++i)
   {
-    const std::vector<Pose<double>> b = randomPolygon(rng, 4);
-    const double h = std::uniform_real_distribution<double>(0.3, 2.0)(rng);
-    auto check = [&](auto geometry, const auto& points) {
-      using G = decltype(geometry);
-      const auto jets = detail::cubicEndAccelerationsByJets<G>(points, h);
-      const auto start = detail::groupStartAcceleration<G>(points[0], points[1], points[2], h);
-      const auto end = detail::groupStartAcceleration<G>(points[3], points[2], points[1], h);
-      EXPECT_LT((start - jets.first).norm(), 1e-12 * (1.0 + jets.first.norm()));
-      EXPECT_LT((end - jets.second).norm(), 1e-12 * (1.0 + jets.second.norm()));
+    const Quaternion<double> q0 = so3Exp<double>(Eigen::Vector3d(test::randomUnitVector<3>(rng)));
+    const Eigen::Vector3d l = std::uniform_real_distribution<double>(0.1, 3.0)(rng) * test::randomUnitVector<3>(rng);
+    const Quaternion<double> q1 = q0 * so3Exp<double>(l);
+    const Eigen::Vector3d log = So3::log(q0, q1);
+    const TransitionDerivatives d =
+        transitionDerivatives<So3>(q0, q1, log, Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity());
+    const double theta = l.norm();
+    const Eigen::Matrix3d k = hat<double>(l);
+    const Eigen::Matrix3d jr = Eigen::Matrix3d::Identity() - (1.0 - std::cos(theta)) / (theta * theta) * k +
+                               (theta - std::sin(theta)) / (theta * theta * theta) * k * k;
+    EXPECT_LT((d.jacobian - jr).norm(), 1e-13);
+    const Eigen::Vector3d w = 2.0 * test::randomUnitVector<3>(rng);
+    auto f = [&](double s) {
+      return Eigen::Vector3d(So3::log(q1, Quaternion<double>(q0 * so3Exp<double>(Eigen::Vector3d(log + s * w)))));
     };
-    check(ScrewSe3(), b);
-    check(DoubleGeodesicSe3(), b);
-    std::vector<Quaternion<double>> q;
-    std::vector<Eigen::VectorXd> p;
-    for (const auto& x : b)
-    {
-      q.push_back(x.q);
-      p.push_back(x.p);
-    }
-    check(So3(), q);
-    check(Euclidean(), p);
+    const double e = 1e-3;
+    const Eigen::Vector3d second = (-f(2 * e) + 16.0 * f(e) - 30.0 * f(0.0) + 16.0 * f(-e) - f(-2 * e)) / (12 * e * e);
+    EXPECT_LT((d.quadraticForm(w) - second).norm(), 1e-6 * (1.0 + second.norm()));
+    // Its derivative 2 Q(w, .) against differences of the quadratic form.
+    const Eigen::Vector3d u = test::randomUnitVector<3>(rng);
+    const Eigen::Vector3d dq = (d.quadraticForm(w + 1e-4 * u) - d.quadraticForm(w - 1e-4 * u)) / 2e-4;
+    EXPECT_LT((d.quadraticJacobian(w) * u - dq).norm(), 1e-8 * (1.0 + dq.norm()));
   }
 }
 
@@ -701,13 +703,31 @@ TYPED_TEST(Se3Interpolation, StartSplineForTranslationsIsTheClassicalForwardSpli
   }
 }
 
-TYPED_TEST(Se3Interpolation, StartSplineRefusesToWrapWhenItsDataGrow)
+TYPED_TEST(Se3Interpolation, StartSplineIsC2UntilItsGrowingDataLeaveDoubleRange)
 {
-  // The forward recursion amplifies by up to 2 + √3 per segment: on random waypoints the carried
-  // velocity soon needs a control point half a turn away. The error names the cause.
+  // The forward recursion amplifies its data from segment to segment (quadratically in the
+  // velocity on a curved group): on random waypoints it stays an exact C² spline while its
+  // velocities grow by orders of magnitude, and once they leave double range the error names
+  // the waypoint and the cause. (The Crouch Case 1 construction refused at the first control
+  // point half a turn away, after a few segments.)
   std::mt19937 rng(142);
   const std::vector<Pose<double>> x = randomPolygon(rng, 40);
   const std::vector<double> t = randomTimes(rng, 40);
+  const std::vector<Pose<double>> head(x.begin(), x.begin() + 9);
+  const std::vector<double> head_t(t.begin(), t.begin() + 9);
+  const auto c = spline<TypeParam>(head, head_t, EndCondition::kStart);
+  for (std::size_t i = 0; i < head.size(); ++i)
+    EXPECT_LT(poseDistance(c->value(head_t[i]), head[i]), 1e-12);
+  for (std::size_t i = 1; i + 1 < head.size(); ++i)
+  {
+    const Kinematics l = kinematicsAt(*c, head_t[i], Side::kLeft);
+    const Kinematics r = kinematicsAt(*c, head_t[i], Side::kRight);
+    const double v = std::max(r.velocity.linear.norm(), r.velocity.angular.norm());
+    EXPECT_LT(twistError(l.velocity, r.velocity), 1e-9 * (1.0 + v)) << "knot " << i;
+    EXPECT_LT((l.acceleration.angular - r.acceleration.angular).norm(), 1e-9 * (1.0 + v * v)) << "knot " << i;
+    EXPECT_LT((l.acceleration.linear - r.acceleration.linear).norm(), 1e-9 * (1.0 + v * v)) << "knot " << i;
+  }
+  EXPECT_GT(kinematicsAt(*c, head_t.back(), Side::kLeft).velocity.angular.norm(), 1e3);
   try
   {
     spline<TypeParam>(x, t, EndCondition::kStart);
@@ -716,6 +736,7 @@ TYPED_TEST(Se3Interpolation, StartSplineRefusesToWrapWhenItsDataGrow)
   catch (const ConvergenceError& e)
   {
     EXPECT_NE(std::string(e.what()).find("end_condition 'start'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("leave double range"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("amplifies"), std::string::npos) << e.what();
   }
 }

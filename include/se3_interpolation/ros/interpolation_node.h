@@ -1,7 +1,8 @@
 // se3_interpolation_node: the ROS face of the planner.
 //
 // Service ~generate (GenerateTrajectory), waypoint buffer (~waypoint, ~waypoints,
-// ~clear_waypoints), latched ~path / ~trajectory / ~markers, and TF: the moving frame
+// ~clear_waypoints), latched ~path / ~trajectory / ~markers, latched ~status
+// (GenerationStatus after every generation, service call or auto-generation), and TF: the moving frame
 // ~child_frame_id at ~tf_rate Hz plus static frames <child_frame_id>_<k>.
 //
 // Threading: ~generate runs on its own callback queue served by ~service_threads threads,
@@ -78,6 +79,9 @@ private:
   void publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res, const std_msgs::Header& header,
                const std::string& child_frame_id);
   void autoGenerate();
+  /// ~status for one generation; `source` is "service" or "auto_generation".
+  void publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
+                     const std::string& source);
 
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
@@ -90,6 +94,7 @@ private:
   ros::Publisher path_pub_;
   ros::Publisher trajectory_pub_;
   ros::Publisher markers_pub_;
+  ros::Publisher status_pub_;
 
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;

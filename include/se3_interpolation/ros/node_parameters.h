@@ -27,7 +27,7 @@ struct NodeParameters
   double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
   PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work
   /// Defaults for empty request fields (and the auto-generated trajectory).
-  std::string curve = "piecewise_geodesic";
+  std::string curve = "interpolating";
   std::string geometry = "double_geodesic";
   std::string parameterization = "chord";
   std::string timing = "stretch";
