@@ -184,4 +184,22 @@ typename G::template Point<S> geodesic(const typename G::template Point<S>& a, c
   return G::exp(a, typename G::template Tangent<S>(G::log(a, b) * lambda));
 }
 
+/// The double-geodesic step between two poses in double precision: the rotation in slerp form
+/// (so3Slerp, no Log → Exp round trip), the translation on its line. Equal to the generic
+/// exp(a, λ log(a, b)) to rounding; tested against it and a long double reference.
+template <>
+inline Pose<double> geodesic<DoubleGeodesicSe3, double>(const Pose<double>& a, const Pose<double>& b,
+                                                        const double& lambda)
+{
+  return Pose<double>(so3Slerp(a.q, b.q, lambda), a.p + lambda * (b.p - a.p));
+}
+
+/// The SO(3) step between two rotations in double precision, in slerp form (so3Slerp).
+template <>
+inline Quaternion<double> geodesic<So3, double>(const Quaternion<double>& a, const Quaternion<double>& b,
+                                                const double& lambda)
+{
+  return so3Slerp(a, b, lambda);
+}
+
 }  // namespace se3_interpolation
