@@ -71,6 +71,67 @@ TEST(Geodesic, DoubleGeodesicSlerpKernelMatchesLogExpPath)
     }
 }
 
+namespace
+{
+/// Largest difference between the jet coefficients (value, first, second) of two jet poses.
+double jetPoseDifference(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b)
+{
+  double d = 0.0;
+  for (int k = 0; k <= 2; ++k)
+  {
+    for (int i = 0; i < 4; ++i)
+      d = std::max(d, std::abs(a.q.coeffs()[i].coefficient(k) - b.q.coeffs()[i].coefficient(k)));
+    for (int i = 0; i < 3; ++i)
+      d = std::max(d, std::abs(a.p[i].coefficient(k) - b.p[i].coefficient(k)));
+  }
+  return d;
+}
+}  // namespace
+
+TYPED_TEST(GeometryTest, ClosedFormFirstLevelJetMatchesJetArithmetic)
+{
+  // G::expLine (one-parameter subgroup derivatives) against exp evaluated in Jet<2>
+  // (geodesicFromLogGeneric), for linear parameter jets (a curve's first level) and jets with a
+  // second-order term (a curve composed with a non-linear clock), at hard relative angles.
+  using G = TypeParam;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1e-6, 0.2, 1.0, 2.5, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Pose<double> a = randomPose(rng);
+      const Pose<double> b = a * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                              Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      const Vector6<double> log = G::log(a, b);
+      Jet<2> alpha = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      if (i % 2 == 1)
+        alpha.coefficient(2) = u(rng);
+      const Pose<Jet<2>> closed = geodesicFromLog<G>(a, log, alpha);
+      const Pose<Jet<2>> generic = geodesicFromLogGeneric<G>(a, log, alpha);
+      EXPECT_LE(jetPoseDifference(closed, generic), 1e-12) << "angle " << angle << " i " << i;
+    }
+}
+
+TEST(Geodesic, So3ClosedFormFirstLevelJetMatchesJetArithmetic)
+{
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1.0, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Quaternion<double> a = randomPose(rng).q;
+      const Eigen::Vector3d log = angle * test::randomUnitVector<3>(rng);
+      Jet<2> alpha = Jet<2>::variable(u(rng)) * u(rng);
+      alpha.coefficient(2) = i % 2 == 1 ? u(rng) : 0.0;
+      const Quaternion<Jet<2>> closed = geodesicFromLog<So3>(a, log, alpha);
+      const Quaternion<Jet<2>> generic = geodesicFromLogGeneric<So3>(a, log, alpha);
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k <= 2; ++k)
+          EXPECT_NEAR(closed.coeffs()[c].coefficient(k), generic.coeffs()[c].coefficient(k), 1e-12)
+              << "angle " << angle << " i " << i;
+    }
+}
+
 TEST(Geodesic, ScrewIsOneParameterSubgroupAndExtrapolates)
 {
   std::mt19937 rng(11);
