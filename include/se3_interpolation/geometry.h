@@ -264,4 +264,28 @@ inline Quaternion<double> geodesic<So3, double>(const Quaternion<double>& a, con
   return so3Slerp(a, b, lambda);
 }
 
+/// The double-geodesic step between jet poses (levels ≥ 2 of the recursions when derivatives
+/// are sampled): the rotation by so3SlerpJet where its weights are accurate, else by the
+/// Log → Exp jet path; the translation on its line.
+template <>
+inline Pose<Jet<2>> geodesic<DoubleGeodesicSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b,
+                                                        const Jet<2>& lambda)
+{
+  Quaternion<Jet<2>> q;
+  if (!so3SlerpJet(a.q, b.q, lambda, &q))
+    q = a.q * so3Exp(Vector3<Jet<2>>(so3Log(Quaternion<Jet<2>>(a.q.conjugate() * b.q)) * lambda));
+  return Pose<Jet<2>>(q, a.p + lambda * (b.p - a.p));
+}
+
+/// The SO(3) step between jet rotations (as geodesic<DoubleGeodesicSe3, Jet<2>>).
+template <>
+inline Quaternion<Jet<2>> geodesic<So3, Jet<2>>(const Quaternion<Jet<2>>& a, const Quaternion<Jet<2>>& b,
+                                                const Jet<2>& lambda)
+{
+  Quaternion<Jet<2>> q;
+  if (!so3SlerpJet(a, b, lambda, &q))
+    q = a * so3Exp(Vector3<Jet<2>>(so3Log(Quaternion<Jet<2>>(a.conjugate() * b)) * lambda));
+  return q;
+}
+
 }  // namespace se3_interpolation

@@ -132,6 +132,35 @@ TEST(Geodesic, So3ClosedFormFirstLevelJetMatchesJetArithmetic)
     }
 }
 
+TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
+{
+  // geodesic<G, Jet<2>> for DoubleGeodesicSe3 and So3 (so3SlerpJet above θ = 0.05, the Log/Exp
+  // jet path below) against exp(A, λ log(A, B)) written out in jets, between two jet poses moving
+  // along unrelated geodesics with a curved clock, at relative angles across the switch-over.
+  using DG = DoubleGeodesicSe3;
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.2, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Pose<double> a0 = randomPose(rng);
+      const Pose<double> b0 = a0 * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                                Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      Vector6<double> la, lb;
+      la << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+      lb << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+      Jet<2> alpha = Jet<2>::variable(0.0) * u(rng);
+      alpha.coefficient(2) = u(rng);
+      const Pose<Jet<2>> a = geodesicFromLogGeneric<DG>(a0, la, alpha);
+      const Pose<Jet<2>> b = geodesicFromLogGeneric<DG>(b0, lb, Jet<2>(Jet<2>::variable(0.0) * u(rng)));
+      const Jet<2> lambda = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      const Pose<Jet<2>> ref = DG::exp(a, Vector6<Jet<2>>(DG::log(a, b) * lambda));
+      EXPECT_LE(jetPoseDifference(geodesic<DG>(a, b, lambda), ref), 1e-12) << "angle " << angle << " i " << i;
+      const Quaternion<Jet<2>> q = geodesic<So3>(a.q, b.q, lambda);
+      EXPECT_LE(jetPoseDifference(Pose<Jet<2>>(q, ref.p), ref), 1e-12) << "angle " << angle << " i " << i;
+    }
+}
+
 TEST(Geodesic, ScrewIsOneParameterSubgroupAndExtrapolates)
 {
   std::mt19937 rng(11);
