@@ -38,7 +38,8 @@ driver="$OUT/count_ops"
 if [ ! -x "$driver" ] || [ -n "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" \( -name '*.h' -o -name count_ops.cpp \) -newer "$driver" | head -n 1)" ]; then
   echo "building $driver ($CXX $CXXFLAGS)" >&2
   # shellcheck disable=SC2086
-  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver"
+  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver" \
+    -lorocos-kdl
 fi
 
 compiler="$("$CXX" --version | head -n 1)"
