@@ -9,7 +9,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <kdl/frames.hpp>
+#include <kdl/path_line.hpp>
+#include <kdl/rotational_interpolation_sa.hpp>
+#include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -38,10 +43,28 @@ double checksum(const Eigen::Matrix<double, R, 1>& v)
 {
   return v.sum();
 }
+double checksum(const KDL::Frame& f)
+{
+  return f.p.x() + f.p.z() + f.M(0, 0) + f.M(1, 2);
+}
+double checksum(const KDL::Twist& t)
+{
+  return t.vel.x() + t.rot.y();
+}
+double checksum(const std::tuple<KDL::Frame, KDL::Twist, KDL::Twist>& r)
+{
+  return checksum(std::get<0>(r)) + checksum(std::get<1>(r)) + checksum(std::get<2>(r));
+}
 double checksum(const si::Kinematics& k)
 {
   return checksum(k.pose) + k.velocity.angular.x() + k.velocity.linear.y() + k.acceleration.angular.z() +
          k.acceleration.linear.x();
+}
+
+KDL::Frame toKdl(const Pose3& x)
+{
+  return KDL::Frame(KDL::Rotation::Quaternion(x.q.x(), x.q.y(), x.q.z(), x.q.w()),
+                    KDL::Vector(x.p.x(), x.p.y(), x.p.z()));
 }
 
 /// The loop: op(i) for i = 0 … n − 1, inputs cycled through the tables.
@@ -68,6 +91,18 @@ std::vector<std::pair<std::string, Runner>> stepOperations()
   }();
   static const std::vector<se3_bench::EigenPose> ea = se3_bench::toEigen(in.a);
   static const std::vector<se3_bench::EigenPose> eb = se3_bench::toEigen(in.b);
+  static const std::vector<se3_bench::Twist6> screw_logs = [] {
+    std::vector<se3_bench::Twist6> l;
+    for (std::size_t i = 0; i < se3_bench::kTableSize; ++i)
+      l.push_back(si::ScrewSe3::log(in.a[i], in.b[i]));
+    return l;
+  }();
+  static const std::vector<se3_bench::Twist6> dg_logs = [] {
+    std::vector<se3_bench::Twist6> l;
+    for (std::size_t i = 0; i < se3_bench::kTableSize; ++i)
+      l.push_back(si::DoubleGeodesicSe3::log(in.a[i], in.b[i]));
+    return l;
+  }();
   return {
     { "so3_exp",
       [](std::size_t n) { return repeat(n, [](std::size_t i) { return si::so3Exp<double>(in.twist[i].head<3>()); }); } },
@@ -86,6 +121,34 @@ std::vector<std::pair<std::string, Runner>> stepOperations()
     { "eigen_slerp_lerp_step",
       [](std::size_t n) {
         return repeat(n, [](std::size_t i) { return se3_bench::slerpLerp(ea[i], eb[i], in.lambda[i]); });
+      } },
+    { "screw_step_jet",
+      [](std::size_t n) {
+        return repeat(n, [](std::size_t i) {
+          return si::kinematicsFromJet(
+              si::geodesicFromLog<si::ScrewSe3>(in.a[i], screw_logs[i], si::Jet<2>::variable(in.lambda[i])));
+        });
+      } },
+    { "double_geodesic_step_jet",
+      [](std::size_t n) {
+        return repeat(n, [](std::size_t i) {
+          return si::kinematicsFromJet(
+              si::geodesicFromLog<si::DoubleGeodesicSe3>(in.a[i], dg_logs[i], si::Jet<2>::variable(in.lambda[i])));
+        });
+      } },
+    // KDL's peer of the step with velocity and acceleration: Path_Line (single-axis rotation)
+    // built once per pair, Pos + Vel + Acc at path parameter λ·length, unit path speed.
+    { "kdl_path_pos_vel_acc",
+      [](std::size_t n) {
+        std::vector<std::unique_ptr<KDL::Path_Line>> lines;
+        for (std::size_t i = 0; i < se3_bench::kTableSize; ++i)
+          lines.push_back(std::make_unique<KDL::Path_Line>(toKdl(in.a[i]), toKdl(in.b[i]),
+                                                           new KDL::RotationalInterpolation_SingleAxis(), 1.0, true));
+        return repeat(n, [&lines](std::size_t i) {
+          const double length = lines[i]->PathLength();
+          const double s = in.lambda[i] * length;
+          return std::make_tuple(lines[i]->Pos(s), lines[i]->Vel(s, length), lines[i]->Acc(s, length, 0.0));
+        });
       } },
   };
 }

@@ -9,6 +9,7 @@
 #        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt
 # The driver is built with g++ -O2 -DNDEBUG (default x86-64 flags, no catkin) into
 # $SE3_WS/bench; counts depend on the compiler, whose version the results file records.
+# A run takes about 2 minutes on an idle core (38 callgrind runs), so run_tests.sh does not call it.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -38,14 +39,18 @@ driver="$OUT/count_ops"
 if [ ! -x "$driver" ] || [ -n "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" \( -name '*.h' -o -name count_ops.cpp \) -newer "$driver" | head -n 1)" ]; then
   echo "building $driver ($CXX $CXXFLAGS)" >&2
   # shellcheck disable=SC2086
-  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver"
+  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver.$$" \
+    -lorocos-kdl && mv "$driver.$$" "$driver"
 fi
 
 compiler="$("$CXX" --version | head -n 1)"
+# Per-run scratch (two runs at once, e.g. run_benchmarks.sh and a --check, must not share files).
+scratch=$(mktemp -d "$OUT/instruction_counts.XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
 callgrind_total() {
-  local file="$OUT/callgrind.$1.$2.out"
-  valgrind --tool=callgrind --callgrind-out-file="$file" "$driver" "$1" "$2" >/dev/null 2>"$OUT/callgrind.log" || {
-    cat "$OUT/callgrind.log" >&2
+  local file="$scratch/callgrind.$1.$2.out"
+  valgrind --tool=callgrind --callgrind-out-file="$file" "$driver" "$1" "$2" >/dev/null 2>"$scratch/callgrind.log" || {
+    cat "$scratch/callgrind.log" >&2
     echo "callgrind run of '$1 $2' failed" >&2
     exit 2
   }
@@ -53,7 +58,7 @@ callgrind_total() {
   rm -f "$file"
 }
 
-measured="$OUT/instruction_counts.measured"
+measured="$scratch/measured"
 : >"$measured"
 for op in $("$driver" --list); do
   base=$(callgrind_total "$op" 0)

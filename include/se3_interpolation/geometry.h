@@ -30,6 +30,41 @@ namespace se3_interpolation
 template <class S>
 using VectorX = Eigen::Matrix<S, Eigen::Dynamic, 1>;
 
+namespace detail
+{
+/// The second-order jet of f(α(t)) from f, f' and f'' at α_0 = α(t_0) (Faà di Bruno at order 2:
+/// c_1 = α_1 f', c_2 = α_2 f' + α_1² f''/2, with α = (α_0, α_1, α_2) the jet's coefficients).
+inline Jet<2> composeJet(double f, double d1, double d2, const Jet<2>& alpha)
+{
+  Jet<2> r{ Jet<2>::NoInit{} };
+  const double a1 = alpha.coefficient(1);
+  r.coefficient(0) = f;
+  r.coefficient(1) = a1 * d1;
+  r.coefficient(2) = alpha.coefficient(2) * d1 + 0.5 * a1 * a1 * d2;
+  return r;
+}
+
+/// The jet of a rotation q(α(t)) = q_a Exp(α ω) with constant q_a and ω: along a one-parameter
+/// subgroup dq/dα = q (0, ω/2) and d²q/dα² = q (0, ω/2)² = −(|ω|²/4) q, so the jet needs one
+/// double evaluation of q and one quaternion product of doubles (no jet × jet products).
+inline Quaternion<Jet<2>> rotationLineJet(const Quaternion<double>& q, const Vector3<double>& omega,
+                                          const Jet<2>& alpha)
+{
+  const Quaternion<double> d1 = q * Quaternion<double>(0.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z());
+  const double k2 = -0.25 * omega.squaredNorm();
+  return Quaternion<Jet<2>>(composeJet(q.w(), d1.w(), k2 * q.w(), alpha), composeJet(q.x(), d1.x(), k2 * q.x(), alpha),
+                            composeJet(q.y(), d1.y(), k2 * q.y(), alpha), composeJet(q.z(), d1.z(), k2 * q.z(), alpha));
+}
+
+/// The jet of a vector p(α(t)) from p, dp/dα and d²p/dα² at α_0.
+inline Vector3<Jet<2>> vectorJet(const Vector3<double>& p, const Vector3<double>& d1, const Vector3<double>& d2,
+                                 const Jet<2>& alpha)
+{
+  return Vector3<Jet<2>>(composeJet(p.x(), d1.x(), d2.x(), alpha), composeJet(p.y(), d1.y(), d2.y(), alpha),
+                         composeJet(p.z(), d1.z(), d2.z(), alpha));
+}
+}  // namespace detail
+
 /// SE(3) with its Ad-invariant (screw) metric: a · Exp(λ Log(a⁻¹ b)). Bi-invariant.
 struct ScrewSe3
 {
@@ -47,6 +82,17 @@ struct ScrewSe3
   static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
   {
     return a * se3Exp(v);
+  }
+  /// exp(a, α v) at a second-order jet α of time, constant a and v, in closed form: g(α) =
+  /// a Exp(α ξ) is a one-parameter subgroup through a, dg/dα = g ξ^ and d²g/dα² = g ξ^ ξ^, i.e.
+  /// (quaternion, translation) derivatives (q (0, ω/2), R v) and (−|ω|²/4 q, R (ω × v)).
+  static Point<Jet<2>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  {
+    const Point<double> g = a * se3Exp(Tangent<double>(v * alpha.value()));
+    const Vector3<double> omega = v.template head<3>();
+    const Vector3<double> lin = v.template tail<3>();
+    return Point<Jet<2>>(detail::rotationLineJet(g.q, omega, alpha),
+                         detail::vectorJet(g.p, g.q * lin, g.q * Vector3<double>(omega.cross(lin)), alpha));
   }
   template <class T>
   static Point<T> cast(const Point<double>& a)
@@ -77,6 +123,17 @@ struct DoubleGeodesicSe3
   {
     return Point<S>(a.q * so3Exp(Vector3<S>(v.template head<3>())), a.p + v.template tail<3>());
   }
+  /// exp(a, α v) at a second-order jet α of time, constant a and v, in closed form: the rotation
+  /// is a one-parameter subgroup through q_a (detail::rotationLineJet), the translation
+  /// p_a + α Δp has derivatives Δp and 0.
+  static Point<Jet<2>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  {
+    const Vector3<double> omega = v.template head<3>();
+    const Vector3<double> dp = v.template tail<3>();
+    const Quaternion<double> q = a.q * so3Exp(Vector3<double>(omega * alpha.value()));
+    return Point<Jet<2>>(detail::rotationLineJet(q, omega, alpha),
+                         detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(), alpha));
+  }
   template <class T>
   static Point<T> cast(const Point<double>& a)
   {
@@ -101,6 +158,11 @@ struct So3
   static Point<S> exp(const Point<S>& a, const Tangent<S>& v)
   {
     return a * so3Exp(v);
+  }
+  /// exp(a, α v) at a second-order jet α, constant a and v (detail::rotationLineJet).
+  static Point<Jet<2>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  {
+    return detail::rotationLineJet(Quaternion<double>(a * so3Exp(Vector3<double>(v * alpha.value()))), v, alpha);
   }
   template <class T>
   static Point<T> cast(const Point<double>& a)
@@ -182,6 +244,48 @@ typename G::template Point<S> geodesic(const typename G::template Point<S>& a, c
                                        const S& lambda)
 {
   return G::exp(a, typename G::template Tangent<S>(G::log(a, b) * lambda));
+}
+
+/// The double-geodesic step between two poses in double precision: the rotation in slerp form
+/// (so3Slerp, no Log → Exp round trip), the translation on its line. Equal to the generic
+/// exp(a, λ log(a, b)) to rounding; tested against it and a long double reference.
+template <>
+inline Pose<double> geodesic<DoubleGeodesicSe3, double>(const Pose<double>& a, const Pose<double>& b,
+                                                        const double& lambda)
+{
+  return Pose<double>(so3Slerp(a.q, b.q, lambda), a.p + lambda * (b.p - a.p));
+}
+
+/// The SO(3) step between two rotations in double precision, in slerp form (so3Slerp).
+template <>
+inline Quaternion<double> geodesic<So3, double>(const Quaternion<double>& a, const Quaternion<double>& b,
+                                                const double& lambda)
+{
+  return so3Slerp(a, b, lambda);
+}
+
+/// The double-geodesic step between jet poses (levels ≥ 2 of the recursions when derivatives
+/// are sampled): the rotation by so3SlerpJet where its weights are accurate, else by the
+/// Log → Exp jet path; the translation on its line.
+template <>
+inline Pose<Jet<2>> geodesic<DoubleGeodesicSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b,
+                                                        const Jet<2>& lambda)
+{
+  Quaternion<Jet<2>> q;
+  if (!so3SlerpJet(a.q, b.q, lambda, &q))
+    q = a.q * so3Exp(Vector3<Jet<2>>(so3Log(Quaternion<Jet<2>>(a.q.conjugate() * b.q)) * lambda));
+  return Pose<Jet<2>>(q, a.p + lambda * (b.p - a.p));
+}
+
+/// The SO(3) step between jet rotations (as geodesic<DoubleGeodesicSe3, Jet<2>>).
+template <>
+inline Quaternion<Jet<2>> geodesic<So3, Jet<2>>(const Quaternion<Jet<2>>& a, const Quaternion<Jet<2>>& b,
+                                                const Jet<2>& lambda)
+{
+  Quaternion<Jet<2>> q;
+  if (!so3SlerpJet(a, b, lambda, &q))
+    q = a * so3Exp(Vector3<Jet<2>>(so3Log(Quaternion<Jet<2>>(a.conjugate() * b)) * lambda));
+  return q;
 }
 
 }  // namespace se3_interpolation

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 
@@ -302,6 +303,46 @@ struct NumTraits<se3_interpolation::Jet<K>> : GenericNumTraits<se3_interpolation
   static inline Real lowest() { return Real(std::numeric_limits<double>::lowest()); }
   static inline int digits10() { return std::numeric_limits<double>::digits10; }
 };
+
+namespace internal
+{
+/// The Hamilton product of quaternions of jets, coefficient by coefficient:
+/// (a b)_k = Σ_{i+j=k} a_i b_j with a_i, b_j the quaternions of doubles formed by the i-th and
+/// j-th Taylor coefficients. The same sums as Eigen's generic product, regrouped so that no jet
+/// temporaries are formed (the product of two curves' quaternions is the hot spot of sampling
+/// derivatives).
+template <int Arch, class Derived1, class Derived2, int K>
+struct quat_product<Arch, Derived1, Derived2, se3_interpolation::Jet<K>>
+{
+  using J = se3_interpolation::Jet<K>;
+  static SE3_JET_INLINE Quaternion<J> run(const QuaternionBase<Derived1>& a, const QuaternionBase<Derived2>& b)
+  {
+    J rw{ typename J::NoInit{} }, rx{ typename J::NoInit{} }, ry{ typename J::NoInit{} }, rz{ typename J::NoInit{} };
+    SE3_JET_UNROLL
+    for (int k = 0; k <= K; ++k)
+    {
+      double w = 0.0, x = 0.0, y = 0.0, z = 0.0;
+      SE3_JET_UNROLL
+      for (int i = 0; i <= k; ++i)
+      {
+        const double aw = a.w().coefficient(i), ax = a.x().coefficient(i), ay = a.y().coefficient(i),
+                     az = a.z().coefficient(i);
+        const double bw = b.w().coefficient(k - i), bx = b.x().coefficient(k - i), by = b.y().coefficient(k - i),
+                     bz = b.z().coefficient(k - i);
+        w += aw * bw - ax * bx - ay * by - az * bz;
+        x += aw * bx + ax * bw + ay * bz - az * by;
+        y += aw * by + ay * bw + az * bx - ax * bz;
+        z += aw * bz + az * bw + ax * by - ay * bx;
+      }
+      rw.coefficient(k) = w;
+      rx.coefficient(k) = x;
+      ry.coefficient(k) = y;
+      rz.coefficient(k) = z;
+    }
+    return Quaternion<J>(rw, rx, ry, rz);
+  }
+};
+}  // namespace internal
 
 template <int K, typename BinaryOp>
 struct ScalarBinaryOpTraits<se3_interpolation::Jet<K>, double, BinaryOp>

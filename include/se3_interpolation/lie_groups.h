@@ -158,6 +158,86 @@ Vector3<S> so3Log(const Quaternion<S>& q)
   return v * detail::logFactor(S(v.squaredNorm()), w);
 }
 
+/// Below this |sin φ| (φ half the relative angle) the slerp weights are λ and 1 − λ: the
+/// neglected terms are O(φ²) < 1e-300, and sin(λφ) is kept away from subnormals.
+constexpr double kSlerpTinySine = 1e-150;
+
+/// The SO(3) geodesic step q_a Exp(λ Log(q_a* q_b)) in slerp form, without the Log → Exp round
+/// trip: with cos φ = ⟨q_a, q_b⟩ (q_b's sign chosen so that it is ≥ 0) and sin φ = |q_b − cos φ q_a|
+/// (φ = θ/2, θ the relative rotation angle),
+///   q(λ) = (cos λφ − cos φ · s) q_a + s q_b,   s = sin(λφ)/sin φ
+/// (Shoemake's slerp, rewritten so that only sin(λφ) and cos(λφ) are needed: one atan and one
+/// sincos, neither of which has an errno wrapper in glibc). φ = atan(sin φ / cos φ) is accurate
+/// at both ends: near 0 both terms are exact to rounding (so s → λ with relative error of
+/// order ε), near θ = π the quotient is large and atan flat. sin φ carries the same cancellation
+/// as the quaternion product q_a* q_b of the Log path (absolute error of order ε; none when q_a
+/// is the identity). Defined for every real λ (extrapolation). Throws NonUniqueGeodesicError at
+/// θ = π (as so3Log).
+inline Quaternion<double> so3Slerp(const Quaternion<double>& qa, const Quaternion<double>& qb, double lambda)
+{
+  double w = qa.coeffs().dot(qb.coeffs());
+  Eigen::Vector4d b = qb.coeffs();
+  if (w < 0.0)
+  {
+    w = -w;
+    b = -b;
+  }
+  if (w <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  const Eigen::Vector4d a = qa.coeffs();
+  const double n = (b - w * a).norm();  // sin φ
+  double s = lambda;
+  double c = 1.0;
+  if (n >= kSlerpTinySine)
+  {
+    const double phi = std::atan(n / w);
+    double sl;
+    sincos(lambda * phi, &sl, &c);
+    s = sl / n;
+  }
+  Quaternion<double> r;
+  r.coeffs() = (c - w * s) * a + s * b;
+  return r;
+}
+
+/// At or above this sin²φ (sin φ ≥ 0.025, θ ≥ 0.05 rad) so3SlerpJet runs the slerp weights in
+/// jets. The derivatives of sin φ = |q_b − cos φ q_a| and of s = sin(λφ)/sin φ amplify rounding
+/// by about 1/sin φ (measured: disagreement with the Log → Exp jet path 1e-15/θ, 7e-14 at
+/// θ = 0.05), so below it the caller takes the Log → Exp path with its series.
+constexpr double kSlerpJetMinSine2 = 6.25e-4;
+
+/// so3Slerp at quaternions and parameter given as jets (the levels ≥ 2 of de Casteljau / de Boor
+/// when derivatives are sampled): the same weights in jet arithmetic, without the two
+/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, when
+/// sin²φ < kSlerpJetMinSine2. Throws NonUniqueGeodesicError at θ = π.
+template <int K>
+bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
+                 Quaternion<Jet<K>>* out)
+{
+  using J = Jet<K>;
+  J w = qa.w() * qb.w() + qa.x() * qb.x() + qa.y() * qb.y() + qa.z() * qb.z();
+  const double sign = w.value() < 0.0 ? -1.0 : 1.0;
+  w = w * sign;
+  if (w.value() <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  const J dw = qb.w() * sign - w * qa.w();
+  const J dx = qb.x() * sign - w * qa.x();
+  const J dy = qb.y() * sign - w * qa.y();
+  const J dz = qb.z() * sign - w * qa.z();
+  const J n2 = dw * dw + dx * dx + dy * dy + dz * dz;  // sin² φ
+  if (n2.value() < kSlerpJetMinSine2)
+    return false;
+  const J n = sqrt(n2);
+  J sl, c;
+  sincos(J(lambda * atan2(n, w)), &sl, &c);
+  const J s = sl / n;
+  const J ka = c - w * s;
+  const J kb = s * sign;
+  *out = Quaternion<J>(ka * qa.w() + kb * qb.w(), ka * qa.x() + kb * qb.x(), ka * qa.y() + kb * qb.y(),
+                       ka * qa.z() + kb * qb.z());
+  return true;
+}
+
 /// Rotation angle θ ∈ [0, π] of a unit quaternion (sign-independent).
 inline double rotationAngle(const Quaternion<double>& q)
 {

@@ -52,6 +52,115 @@ TEST(Geodesic, DoubleGeodesicIsSlerpPlusLerp)
   }
 }
 
+TEST(Geodesic, DoubleGeodesicSlerpKernelMatchesLogExpPath)
+{
+  // geodesic<DoubleGeodesicSe3, double> is the slerp-form kernel; exp(a, λ log(a, b)) written
+  // out is the generic path it replaces. Hard relative angles and extrapolation included.
+  std::mt19937 rng(11);
+  for (const double angle : { 0.0, 1e-12, 1e-8, 0.2, 1.0, 3.0, M_PI - 1e-9 })
+    for (int i = 0; i < 50; ++i)
+    {
+      const Pose<double> a = randomPose(rng);
+      const Pose<double> b = a * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                              Eigen::Vector3d::Random());
+      const double lambda = std::uniform_real_distribution<double>(-0.5, 1.5)(rng);
+      const Pose<double> g = geodesic<DoubleGeodesicSe3>(a, b, lambda);
+      const Pose<double> ref =
+          DoubleGeodesicSe3::exp(a, Vector6<double>(DoubleGeodesicSe3::log(a, b) * lambda));
+      EXPECT_LT(poseDistance(g, ref), 1e-14) << "angle " << angle << " lambda " << lambda;
+    }
+}
+
+namespace
+{
+/// Largest difference between the jet coefficients (value, first, second) of two jet poses.
+double jetPoseDifference(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b)
+{
+  double d = 0.0;
+  for (int k = 0; k <= 2; ++k)
+  {
+    for (int i = 0; i < 4; ++i)
+      d = std::max(d, std::abs(a.q.coeffs()[i].coefficient(k) - b.q.coeffs()[i].coefficient(k)));
+    for (int i = 0; i < 3; ++i)
+      d = std::max(d, std::abs(a.p[i].coefficient(k) - b.p[i].coefficient(k)));
+  }
+  return d;
+}
+}  // namespace
+
+TYPED_TEST(GeometryTest, ClosedFormFirstLevelJetMatchesJetArithmetic)
+{
+  // G::expLine (one-parameter subgroup derivatives) against exp evaluated in Jet<2>
+  // (geodesicFromLogGeneric), for linear parameter jets (a curve's first level) and jets with a
+  // second-order term (a curve composed with a non-linear clock), at hard relative angles.
+  using G = TypeParam;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1e-6, 0.2, 1.0, 2.5, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Pose<double> a = randomPose(rng);
+      const Pose<double> b = a * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                              Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      const Vector6<double> log = G::log(a, b);
+      Jet<2> alpha = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      if (i % 2 == 1)
+        alpha.coefficient(2) = u(rng);
+      const Pose<Jet<2>> closed = geodesicFromLog<G>(a, log, alpha);
+      const Pose<Jet<2>> generic = geodesicFromLogGeneric<G>(a, log, alpha);
+      EXPECT_LE(jetPoseDifference(closed, generic), 1e-12) << "angle " << angle << " i " << i;
+    }
+}
+
+TEST(Geodesic, So3ClosedFormFirstLevelJetMatchesJetArithmetic)
+{
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1.0, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Quaternion<double> a = randomPose(rng).q;
+      const Eigen::Vector3d log = angle * test::randomUnitVector<3>(rng);
+      Jet<2> alpha = Jet<2>::variable(u(rng)) * u(rng);
+      alpha.coefficient(2) = i % 2 == 1 ? u(rng) : 0.0;
+      const Quaternion<Jet<2>> closed = geodesicFromLog<So3>(a, log, alpha);
+      const Quaternion<Jet<2>> generic = geodesicFromLogGeneric<So3>(a, log, alpha);
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k <= 2; ++k)
+          EXPECT_NEAR(closed.coeffs()[c].coefficient(k), generic.coeffs()[c].coefficient(k), 1e-12)
+              << "angle " << angle << " i " << i;
+    }
+}
+
+TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
+{
+  // geodesic<G, Jet<2>> for DoubleGeodesicSe3 and So3 (so3SlerpJet above θ = 0.05, the Log/Exp
+  // jet path below) against exp(A, λ log(A, B)) written out in jets, between two jet poses moving
+  // along unrelated geodesics with a curved clock, at relative angles across the switch-over.
+  using DG = DoubleGeodesicSe3;
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const double angle : { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.2, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const Pose<double> a0 = randomPose(rng);
+      const Pose<double> b0 = a0 * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                                Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      Vector6<double> la, lb;
+      la << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+      lb << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+      Jet<2> alpha = Jet<2>::variable(0.0) * u(rng);
+      alpha.coefficient(2) = u(rng);
+      const Pose<Jet<2>> a = geodesicFromLogGeneric<DG>(a0, la, alpha);
+      const Pose<Jet<2>> b = geodesicFromLogGeneric<DG>(b0, lb, Jet<2>(Jet<2>::variable(0.0) * u(rng)));
+      const Jet<2> lambda = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      const Pose<Jet<2>> ref = DG::exp(a, Vector6<Jet<2>>(DG::log(a, b) * lambda));
+      EXPECT_LE(jetPoseDifference(geodesic<DG>(a, b, lambda), ref), 1e-12) << "angle " << angle << " i " << i;
+      const Quaternion<Jet<2>> q = geodesic<So3>(a.q, b.q, lambda);
+      EXPECT_LE(jetPoseDifference(Pose<Jet<2>>(q, ref.p), ref), 1e-12) << "angle " << angle << " i " << i;
+    }
+}
+
 TEST(Geodesic, ScrewIsOneParameterSubgroupAndExtrapolates)
 {
   std::mt19937 rng(11);

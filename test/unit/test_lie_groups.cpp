@@ -152,3 +152,83 @@ TEST(Se3, PoseCompositionAndInverse)
     EXPECT_LT((poseMatrix(a.inverse()) - poseMatrix(a).inverse()).norm(), 1e-13);
   }
 }
+
+namespace
+{
+/// Interpolation parameters for the slerp tests: the ends, inside, and extrapolation.
+const double kLambdas[] = { 0.0, 1e-3, 0.25, 0.5, 0.9, 1.0, -0.4, 1.6 };
+
+/// q_a (q_a* q_b)^λ in long double through the relative quaternion and atan2 (the Log/Exp form,
+/// not the slerp weights of so3Slerp).
+Eigen::Vector4d slerpLongDouble(const Quaternion<double>& qa, const Quaternion<double>& qb, double lambda)
+{
+  using L = long double;
+  const Eigen::Quaternion<L> a(L(qa.w()), L(qa.x()), L(qa.y()), L(qa.z()));
+  Eigen::Quaternion<L> rel = a.conjugate() * Eigen::Quaternion<L>(L(qb.w()), L(qb.x()), L(qb.y()), L(qb.z()));
+  if (rel.w() < 0)
+    rel.coeffs() = -rel.coeffs();
+  const L n = rel.vec().norm();
+  const L phi = std::atan2(n, rel.w());
+  Eigen::Quaternion<L> power(std::cos(L(lambda) * phi), 0, 0, 0);
+  power.vec() = n > 0 ? Eigen::Matrix<L, 3, 1>(rel.vec() * (std::sin(L(lambda) * phi) / n))
+                      : Eigen::Matrix<L, 3, 1>(rel.vec() * L(lambda));
+  return (a * power).coeffs().cast<double>();
+}
+}  // namespace
+
+TEST(So3Slerp, FromIdentityRelativeAccuracyAtHardAngles)
+{
+  std::mt19937 rng(21);
+  for (double angle : kHardAngles)
+    for (int k = 0; k < 10; ++k)
+    {
+      const Eigen::Vector3d axis = randomUnitVector<3>(rng);
+      const Quaternion<double> b(std::cos(angle / 2), std::sin(angle / 2) * axis.x(), std::sin(angle / 2) * axis.y(),
+                                 std::sin(angle / 2) * axis.z());
+      for (double lambda : kLambdas)
+      {
+        // (cos(λθ/2), sin(λθ/2) axis): the closed form of the power of a rotation about one axis.
+        const double half = lambda * angle / 2;
+        const Eigen::Vector3d vec = std::sin(half) * axis;
+        for (const double sign : { 1.0, -1.0 })
+        {
+          Quaternion<double> bs;
+          bs.coeffs() = sign * b.coeffs();
+          const Quaternion<double> r = so3Slerp(Quaternion<double>::Identity(), bs, lambda);
+          EXPECT_LE((r.vec() - vec).norm(), 1e-12 * vec.norm() + 1e-300) << "angle " << angle << " lambda " << lambda;
+          EXPECT_LE(std::abs(r.w() - std::cos(half)), 2e-16) << "angle " << angle << " lambda " << lambda;
+        }
+      }
+    }
+}
+
+TEST(So3Slerp, MatchesLongDoubleAndLogExpPath)
+{
+  std::mt19937 rng(22);
+  for (double angle : kHardAngles)
+    for (int k = 0; k < 10; ++k)
+    {
+      const Quaternion<double> a = so3Exp<double>(std::uniform_real_distribution<double>(0.0, 3.1)(rng) *
+                                                  randomUnitVector<3>(rng));
+      const Quaternion<double> b = a * so3Exp<double>(angle * randomUnitVector<3>(rng));
+      for (double lambda : kLambdas)
+      {
+        const Quaternion<double> r = so3Slerp(a, b, lambda);
+        // The quaternion's components are of order 1: a few ulps absolute (the cancellation in
+        // q_a* q_b is the inputs' condition, shared by every method).
+        EXPECT_LE((r.coeffs() - slerpLongDouble(a, b, lambda)).norm(), 2e-15)
+            << "angle " << angle << " lambda " << lambda;
+        const Quaternion<double> generic =
+            a * so3Exp<double>(Eigen::Vector3d(so3Log(Quaternion<double>(a.conjugate() * b)) * lambda));
+        EXPECT_LE(rotationAngle(Quaternion<double>(generic.conjugate() * r)), 1e-14)
+            << "angle " << angle << " lambda " << lambda;
+      }
+    }
+}
+
+TEST(So3Slerp, ExactlyPiIsNotUnique)
+{
+  const Quaternion<double> a = so3Exp<double>(Eigen::Vector3d(0.3, -0.2, 0.5));
+  const Quaternion<double> b = a * Quaternion<double>(0.0, 0.0, 1.0, 0.0);
+  EXPECT_THROW(so3Slerp(a, b, 0.5), NonUniqueGeodesicError);
+}
