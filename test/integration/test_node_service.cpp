@@ -234,6 +234,7 @@ TEST(NodeService, BlendRadiusFromTheRequestOrTheNodeDefault)
   // Without a blend_radius the node's ~blend_radius (0.1 m in node_service.test) applies, to
   // piecewise_geodesic only: other curves are not refused because of the node's default.
   auto by_default = goodRequest();
+  by_default.request.curve = "piecewise_geodesic";
   ASSERT_TRUE(call(by_default));
   ASSERT_TRUE(by_default.response.success) << by_default.response.message;
   EXPECT_LT(by_default.response.length, polyline_length - 1e-4);

@@ -309,6 +309,7 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
                                      pose(1.2, Eigen::Vector3d(1, 2, 0)), pose(-0.5, Eigen::Vector3d(1, 2, 0.3)) };
   const Bounds4 b{ 0.6, 0.9, 1.5, 2.0 };
   TrajectoryRequest r = timeOptimalRequest(w, b);
+  r.curve = "piecewise_geodesic";
   r.times = { 0.0, 1.0, 1.5, 4.0 };  // very uneven path times: the timing must not depend on them
   r.sample_count = 10000;
   const TrajectoryResult out = generateTrajectory(r, PlannerLimits());

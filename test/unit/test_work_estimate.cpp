@@ -140,6 +140,7 @@ TEST(WorkEstimate, ExpensiveRequestsAreRefusedNamingTheField)
                        Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(1, 0, 0)),
                        Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(2, 0, 0)) };
   period.times = { 0.0, 1.0, 2.0 };
+  period.curve = "piecewise_geodesic";
   period.sample_period = 1e-3;
   PlannerLimits medium;
   medium.max_work = 1e4;
