@@ -38,14 +38,20 @@
 // rotation's 3 + 3 (its translation part of F_i is δ ↦ δ + const: D = I, Q = 0 there, and the
 // rotation part does not depend on the translation), none in R^n (D = I, Q = 0). Vectors and
 // matrices have the geometry's size at compile time when its frame is the identity (SE(3), SO(3));
-// every buffer of the iteration (residuals, trial point, step, banded matrix) is allocated
-// once in the constructor, so Newton's iterations do not allocate (the arclength continuation,
-// rarely needed, does).
+// for the double geodesic Q_i and G_i are kept on the rotation's 3 coordinates only (a segment's
+// data, which every iteration streams through, is then ≈ 1.3 kB); every buffer of the iteration
+// (residuals, trial point, step, banded matrix) is allocated once in the constructor, so
+// Newton's iterations do not allocate (the arclength continuation, rarely needed, does).
+// Instructions per waypoint (bench/instruction_counts.txt, *_solve_per_waypoint): double
+// geodesic 276 k before this form → 41 k, screw 365 k → 146 k (its 21 SE(3) jet evaluations
+// per segment are most of it). A typical solve is 3 factorisations (λ = 0, two Newton steps at
+// λ = 1) and 2 chord polishing steps.
 #pragma once
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -190,7 +196,13 @@ public:
   static constexpr int kDof = kIdentityFrame ? Tangent::RowsAtCompileTime : Eigen::Dynamic;
   using Vec = Eigen::Matrix<double, kDof, 1>;
   using Mat = Eigen::Matrix<double, kDof, kDof>;
-  using Quad = Eigen::Matrix<double, kDof, kDof == Eigen::Dynamic ? Eigen::Dynamic : kDof * kDof>;
+  /// The leading coordinates that Q_i depends on and acts in: the rotation's 3 for the double
+  /// geodesic (file comment, Cost), all of them otherwise.
+  static constexpr int kCurved = std::is_same<G, DoubleGeodesicSe3>::value ? 3 : kDof;
+  using CurvedVec = Eigen::Matrix<double, kCurved, 1>;
+  using CurvedMat = Eigen::Matrix<double, kCurved, kCurved>;
+  using Quad = Eigen::Matrix<double, kCurved, kCurved == Eigen::Dynamic ? Eigen::Dynamic : kCurved * kCurved>;
+  using CurvedRows = Eigen::Matrix<double, kCurved, kDof>;
 
   /// `points`, `times` validated by the caller; end velocities used only when clamped.
   C2SplineSolver(const std::vector<Point>& points, const std::vector<double>& times, EndCondition condition,
@@ -202,6 +214,7 @@ public:
       for (const auto& x : x_)
         frames_.push_back(TangentFrame<G>::basis(x));
     dof_ = kIdentityFrame ? tangentDimension<G>(x_[0]) : frames_[0].cols();
+    curved_ = kCurved == Eigen::Dynamic ? dof_ : kCurved;
     start_ = toFrame(0, start_velocity);
     end_ = toFrame(n_ - 1, end_velocity);
     segments_.resize(n_ - 1);
@@ -219,13 +232,10 @@ public:
         throw ConvergenceError(prefix() + "the transition map of segment " + std::to_string(i) +
                                " is singular (its step is at a conjugate point of the geometry)");
       const double h = s.h;
-      s.log6 = (6.0 / (h * h)) * s.log;
-      s.dlog6 = s.d * s.log6;
-      s.d2 = (2.0 / h) * s.d;
-      s.e2 = (2.0 / h) * s.e;
-      s.de4 = (4.0 / h) * (s.d * s.e);
+      s.dlog6 = (6.0 / (h * h)) * (s.d * s.log);
+      s.de = s.d * s.e;
       s.log_size = 6.0 * s.log.norm() / (h * h);
-      s.g = Mat::Zero(dof_, dof_);
+      s.g = CurvedMat::Zero(curved_, curved_);
       s.w = Vec::Zero(dof_);
     }
     const Eigen::Index size = static_cast<Eigen::Index>(n_) * dof_;
@@ -240,8 +250,8 @@ public:
     step_.resize(size);
     row_start_ = Vec::Zero(dof_);
     row_end_ = Vec::Zero(dof_);
-    quadratic_ = Vec::Zero(dof_);
-    quadratic_block_ = Mat::Zero(dof_, dof_);
+    quadratic_ = CurvedVec::Zero(curved_);
+    quadratic_block_ = CurvedRows::Zero(curved_, dof_);
   }
 
   /// The velocities z_i (frame coordinates). Throws ConvergenceError.
@@ -327,21 +337,20 @@ private:
 
   /// One segment of the C² system: the data of (C2), (C3) in the frames at its ends, with the
   /// products the rows and blocks of the file comment use; w and G of the last evaluation.
+  /// Kept small (every iteration streams through all segments): Q_i and G_i only on the
+  /// coordinates Q_i acts in, the h factors applied on the fly.
   struct Segment
   {
     double h = 1.0;
     Vec log;    ///< L_i in the frame at x_i
     Mat d;      ///< D_i (frame i → frame i + 1)
-    Quad q;     ///< the blocks Q_i(e_j, ·)
+    Quad q;     ///< the blocks Q_i(e_j, ·), j < kCurved
     Mat e;      ///< E_i = D_i⁻¹
-    Vec log6;   ///< 6 L_i/h²
+    Mat de;     ///< D_i E_i (the identity up to rounding)
     Vec dlog6;  ///< D_i 6 L_i/h²
-    Mat d2;     ///< (2/h) D_i
-    Mat e2;     ///< (2/h) E_i
-    Mat de4;    ///< (4/h) D_i E_i
     double log_size = 0.0;
-    Vec w;  ///< E_i z_{i+1}
-    Mat g;  ///< G_i (file comment)
+    Vec w;        ///< E_i z_{i+1}
+    CurvedMat g;  ///< G_i (file comment)
   };
 
   /// R(z) and, per row, the size of the terms it is made of (for the tolerance).
@@ -377,9 +386,7 @@ private:
       unitFrameTransition<So3, 3>(x_[i].q, x_[i + 1].q, Eigen::Vector3d(logs_[i].template head<3>()), &rd, &rq);
       d->setIdentity();
       d->template topLeftCorner<3, 3>() = rd;
-      q->setZero();
-      for (int j = 0; j < 3; ++j)
-        q->template block<3, 3>(0, 6 * j) = rq.template middleCols<3>(3 * j);
+      *q = rq;
     }
     else if constexpr (std::is_same<G, Euclidean>::value)
     {
@@ -400,17 +407,24 @@ private:
     }
   }
 
-  /// E = D⁻¹ if D is invertible (rank-revealing LU); for the double geodesic only the rotation
-  /// block is not the identity.
+  /// E = D⁻¹ if D is invertible (rank-revealing LU). For the double geodesic only the rotation
+  /// block R (the right Jacobian J_r(L), det = 2 (1 − cos θ)/θ² ≥ 4/π² below half a turn) is
+  /// not the identity; it is inverted by cofactors, refused when |det R| ≤ ε · (max |R_ab|)³.
   static bool invert(const Mat& d, Mat* e)
   {
     if constexpr (std::is_same<G, DoubleGeodesicSe3>::value)
     {
-      const Eigen::FullPivLU<Eigen::Matrix3d> lu(d.template topLeftCorner<3, 3>());
-      if (!lu.isInvertible())
+      const Eigen::Matrix3d r = d.template topLeftCorner<3, 3>();
+      Eigen::Matrix3d inverse;
+      double det = 0.0;
+      bool invertible = false;
+      const double size = r.cwiseAbs().maxCoeff();
+      r.computeInverseAndDetWithCheck(inverse, det, invertible,
+                                      std::numeric_limits<double>::epsilon() * size * size * size);
+      if (!invertible || !(size > 0.0))
         return false;
       e->setIdentity();
-      e->template topLeftCorner<3, 3>() = lu.inverse();
+      e->template topLeftCorner<3, 3>() = inverse;
       return true;
     }
     else
@@ -456,12 +470,12 @@ private:
     s.w.noalias() = s.e * block(z, i + 1);
     if (lambda == 0.0)
       return;  // G_i enters R and its Jacobian only with the factor λ
-    for (Eigen::Index j = 0; j < dof_; ++j)
+    for (Eigen::Index j = 0; j < curved_; ++j)
     {
-      if constexpr (kDof == Eigen::Dynamic)
-        s.g.col(j).noalias() = s.q.middleCols(j * dof_, dof_) * s.w;
+      if constexpr (kCurved == Eigen::Dynamic)
+        s.g.col(j).noalias() = s.q.middleCols(j * curved_, curved_) * s.w.head(curved_);
       else
-        s.g.col(j).noalias() = s.q.template middleCols<kDof>(j * kDof) * s.w;
+        s.g.col(j).noalias() = s.q.template middleCols<kCurved>(j * kCurved) * s.w.template head<kCurved>();
     }
   }
 
@@ -480,14 +494,22 @@ private:
       updateSegment(z, i, lambda);
       const double h = s.h;
       // A⁺_i and A⁻_{i+1} (file comment) with the sizes of their terms.
-      row_start_ = s.log6 - (4.0 / h) * block(z, i) - (2.0 / h) * s.w;
+      row_start_ = (6.0 / (h * h)) * s.log - (4.0 / h) * block(z, i) - (2.0 / h) * s.w;
+      row_end_ = -s.dlog6;
+      row_end_.noalias() += (2.0 / h) * (s.d * block(z, i));
+      row_end_.noalias() += (4.0 / h) * (s.de * block(z, i + 1));
       if (lambda == 0.0)
+      {
         quadratic_.setZero();
+      }
       else
-        quadratic_.noalias() = lambda * (s.g * s.w);
-      row_end_ = quadratic_ - s.dlog6;
-      row_end_.noalias() += s.d2 * block(z, i);
-      row_end_.noalias() += s.de4 * block(z, i + 1);
+      {
+        if constexpr (kCurved == Eigen::Dynamic)
+          quadratic_.noalias() = lambda * (s.g * s.w.head(curved_));
+        else
+          quadratic_.noalias() = lambda * (s.g * s.w.template head<kCurved>());
+        row_end_.head(curved_) += quadratic_;
+      }
       const double start_size = s.log_size + (4.0 * z_norms_[i] + 2.0 * s.w.norm()) / h;
       const double end_size = s.log_size + (2.0 * z_norms_[i] + 4.0 * z_norms_[i + 1]) / h + quadratic_.norm();
       if (i > 0 || natural)
@@ -527,10 +549,10 @@ private:
   void addBlock(std::size_t row, std::size_t column, const M& m, double factor) const
   {
     BandedLu& j = *jacobian_;
-    for (Eigen::Index a = 0; a < dof_; ++a)
+    for (Eigen::Index a = 0; a < m.rows(); ++a)
     {
       double* entry = &j(static_cast<Eigen::Index>(row) * dof_ + a, static_cast<Eigen::Index>(column) * dof_);
-      for (Eigen::Index b = 0; b < dof_; ++b)
+      for (Eigen::Index b = 0; b < m.cols(); ++b)
         entry[b] += factor * m(a, b);
     }
   }
@@ -559,17 +581,20 @@ private:
         // −d A⁺_i/dz_i, /dz_{i+1} in row i.
         const double rho = weight(i);
         addIdentity(i, rho * (4.0 / s.h));
-        addBlock(i, i + 1, s.e2, rho);
+        addBlock(i, i + 1, s.e, rho * (2.0 / s.h));
       }
       if (i + 2 < n_ || natural)
       {
         // d A⁻_{i+1}/dz_i, /dz_{i+1} in row i + 1.
         const double rho = weight(i + 1);
-        addBlock(i + 1, i, s.d2, rho);
-        addBlock(i + 1, i + 1, s.de4, rho);
+        addBlock(i + 1, i, s.d, rho * (2.0 / s.h));
+        addBlock(i + 1, i + 1, s.de, rho * (4.0 / s.h));
         if (lambda != 0.0)
         {
-          quadratic_block_.noalias() = s.g * s.e;
+          if constexpr (kCurved == Eigen::Dynamic)
+            quadratic_block_.noalias() = s.g * s.e.topRows(curved_);
+          else
+            quadratic_block_.noalias() = s.g * s.e.template topRows<kCurved>();
           addBlock(i + 1, i + 1, quadratic_block_, 2.0 * lambda * rho);
         }
       }
@@ -775,6 +800,7 @@ private:
   EndCondition condition_;
   SplineSolverOptions options_;
   Eigen::Index dof_ = 0;
+  Eigen::Index curved_ = 0;
   std::vector<Tangent> logs_;
   std::vector<Eigen::MatrixXd> frames_;  ///< only when the frames are not the identity
   Vec start_;
@@ -789,8 +815,8 @@ private:
   mutable Eigen::VectorXd step_;
   mutable Vec row_start_;
   mutable Vec row_end_;
-  mutable Vec quadratic_;
-  mutable Mat quadratic_block_;
+  mutable CurvedVec quadratic_;
+  mutable CurvedRows quadratic_block_;
 };
 
 }  // namespace detail
