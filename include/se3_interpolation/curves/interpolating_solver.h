@@ -1,5 +1,5 @@
 // The solve of `interpolating` with end_condition natural / clamped: the velocities of the C²
-// chart-cubic spline (equations (S0)–(S3) of interpolating_spline.h, (C1)–(C3) of chart_cubic.h).
+// chart-cubic spline (equations (S0)–(S3) of curves/interpolating_spline.h, (C1)–(C3) of curves/chart_cubic.h).
 //
 // System. Unknowns v_i = B_i z_i in the orthonormal frame B_i of T_{x_i} (TangentFrame; the
 // identity except on S^m, and then not stored). Row i is (S1) scaled by
@@ -30,10 +30,10 @@
 //     followed by pseudo-arclength continuation (Keller; predictor along the branch's tangent,
 //     Newton corrector on R_λ = 0 plus the arclength condition, by block elimination) past it to λ = 1;
 //   - every linear system is banded (block tridiagonal, bandwidth 2·dof − 1) and factorised by
-//     banded_lu.h: O(N) work and memory per iteration.
+//     math/banded_lu.h: O(N) work and memory per iteration.
 // Converged when every row is below tolerance · (the size of the terms that make it up).
 //
-// Cost. D_i and Q_i come from second-order jets of the transition map (chart_cubic.h), once per
+// Cost. D_i and Q_i come from second-order jets of the transition map (curves/chart_cubic.h), once per
 // segment: dof + dof(dof − 1)/2 jet evaluations in general; for the double geodesic only the
 // rotation's 3 + 3 (its translation part of F_i is δ ↦ δ + const: D = I, Q = 0 there, and the
 // rotation part does not depend on the translation), none in R^n (D = I, Q = 0). Vectors and
@@ -59,13 +59,13 @@
 #include <utility>
 #include <vector>
 
-#include "se3_interpolation/banded_lu.h"
-#include "se3_interpolation/chart_cubic.h"
-#include "se3_interpolation/geometry.h"
-#include "se3_interpolation/hermite.h"
-#include "se3_interpolation/planner.h"
-#include "se3_interpolation/polynomial_curves.h"
-#include "se3_interpolation/tangent_space.h"
+#include "se3_interpolation/curves/bezier.h"
+#include "se3_interpolation/curves/chart_cubic.h"
+#include "se3_interpolation/curves/hermite.h"
+#include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/geometry/tangent_space.h"
+#include "se3_interpolation/math/banded_lu.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {
