@@ -1,16 +1,17 @@
 // The solve of `interpolating` with end_condition natural / clamped: the velocities of the C²
-// chart-cubic spline (equations (S0)–(S3) of curves/interpolating_spline.h, (C1)–(C3) of curves/chart_cubic.h).
+// chart-cubic spline (equations (S0)–(S3) of curves/interpolating_spline.h, (C1)–(C3) of
+// curves/chart_cubic.h).
 //
 // System. Unknowns v_i = B_i z_i in the orthonormal frame B_i of T_{x_i} (TangentFrame; the
 // identity except on S^m, and then not stored). Row i is (S1) scaled by
 // ρ_i = h_{i−1} h_i/(4 (h_{i−1} + h_i)), (S2) by h/4, (S3) by 1: velocities, with unit diagonal in
 // the classical system, so the scaling does not depend on the time steps' ratios. With
-// w_i = E_i z_{i+1} (S0), segment i contributes
-//   A⁺_i = 6 L_i/h_i² − (4/h_i) z_i − (2/h_i) w_i                          to row i     (C2)
-//   A⁻_{i+1} = −D_i 6 L_i/h_i² + (2/h_i) D_i z_i + (4/h_i) D_i E_i z_{i+1} + λ Q_i(w_i)   to row i + 1 (C3)
+// w_i = E_i z_{i+1} (S0), segment i contributes −ρ_i A⁺_i to row i and ρ_{i+1} A⁻_{i+1} to row i + 1:
+//   A⁺_i = 6 L_i/h_i² − (4/h_i) z_i − (2/h_i) w_i                                          (C2)
+//   A⁻_{i+1} = −D_i 6 L_i/h_i² + (2/h_i) D_i z_i + (4/h_i) D_i E_i z_{i+1} + λ Q_i(w_i)    (C3)
 // and the exact Jacobian blocks (Q_i symmetric, so dQ_i(w)/dw = 2 Q_i(w, ·)):
-//   row i:      −(4/h_i) I at column i,  −(2/h_i) E_i at column i + 1;
-//   row i + 1:  (2/h_i) D_i at column i,  (4/h_i) D_i E_i + 2 λ Q_i(w_i, ·) E_i at column i + 1.
+//   −dA⁺_i:      (4/h_i) I at column i,  (2/h_i) E_i at column i + 1;
+//   dA⁻_{i+1}:   (2/h_i) D_i at column i,  (4/h_i) D_i E_i + 2 λ Q_i(w_i, ·) E_i at column i + 1.
 // Q_i is stored as the dof × dof blocks Q_i^(j) = Q_i(e_j, ·) side by side, so that the one
 // matrix G_i = [Q_i^(0) w_i … Q_i^(dof−1) w_i] gives both Q_i(w_i) = G_i w_i and 2 Q_i(w_i, ·) = 2 G_i.
 //
@@ -33,8 +34,8 @@
 //     math/banded_lu.h: O(N) work and memory per iteration.
 // Converged when every row is below tolerance · (the size of the terms that make it up).
 //
-// Cost. D_i and Q_i come from second-order jets of the transition map (curves/chart_cubic.h), once per
-// segment: dof + dof(dof − 1)/2 jet evaluations in general; for the double geodesic only the
+// Cost. D_i and Q_i come from second-order jets of the transition map (curves/chart_cubic.h),
+// once per segment: dof + dof(dof − 1)/2 jet evaluations in general; for the double geodesic only the
 // rotation's 3 + 3 (its translation part of F_i is δ ↦ δ + const: D = I, Q = 0 there, and the
 // rotation part does not depend on the translation), none in R^n (D = I, Q = 0). Vectors and
 // matrices have the geometry's size at compile time when its frame is the identity (SE(3), SO(3));

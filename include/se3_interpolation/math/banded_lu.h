@@ -22,7 +22,13 @@ class BandedLu
 public:
   /// A zero matrix of size × size whose nonzeros lie in −lower ≤ column − row ≤ upper.
   BandedLu(Eigen::Index size, Eigen::Index lower, Eigen::Index upper)
-    : n_(size), kl_(lower), ku_(upper), width_(2 * lower + upper + 1), a_(size * width_, 0.0), pivot_(size, 0), last_(size, 0)
+    : n_(size)
+    , kl_(lower)
+    , ku_(upper)
+    , width_(2 * lower + upper + 1)
+    , a_(size * width_, 0.0)
+    , pivot_(size, 0)
+    , last_(size, 0)
   {
   }
 
