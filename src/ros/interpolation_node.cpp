@@ -124,7 +124,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     const std::string child = req.child_frame_id.empty() ? params_.child_frame_id : req.child_frame_id;
     validateFrameId(child, "child_frame_id");
     if (child == frame)
-      throw InvalidInputError("child_frame_id: " + quoted(child) + " is also the waypoints' frame");
+      throw InvalidInputError("child_frame_id: " + quotedText(child) + " is also the waypoints' frame");
 
     TrajectoryRequest r = fromRequestMsg(req, poses);
     if (r.curve.empty())
@@ -148,7 +148,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       r.duration = params_.duration;
     if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)
       r.sample_count = static_cast<std::uint32_t>(params_.sample_count);
-    const TrajectoryResult result = generateTrajectory(r, params_.limits);
+    const TrajectoryResult result = generate(r, params_.limits);
 
     std_msgs::Header header;
     header.frame_id = frame;
@@ -159,11 +159,11 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     res.path = toPathMsg(result, header);
     res.trajectory = toTrajectoryMsg(result, header, child);
     res.duration = result.duration;
-    res.length = result.length;
-    res.rotation_length = result.rotation_length;
-    res.max_linear_speed = result.max_linear_speed;
-    res.max_angular_speed = result.max_angular_speed;
-    res.energy = result.energy;
+    res.length = result.figures.length;
+    res.rotation_length = result.figures.rotation_length;
+    res.max_linear_speed = result.figures.max_linear_speed;
+    res.max_angular_speed = result.figures.max_angular_speed;
+    res.energy = result.figures.energy;
     res.success = true;
     std::ostringstream msg;
     msg << result.samples.size() << " samples over " << result.duration << " s";
@@ -202,7 +202,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   markers_pub_.publish(toMarkerArray(result, result.waypoints, header, params_.marker_axes, params_.axis_length));
 
   auto playback = std::make_shared<Playback>();
-  playback->pose_at = result.pose_at;
+  playback->point_at = result.point_at;
   playback->stamp = header.stamp;
   playback->start_time = result.start_time;
   playback->duration = result.duration;
@@ -223,7 +223,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
     geometry_msgs::TransformStamped ts;
     ts.header = header;
     ts.child_frame_id = child_frame_id + "_" + std::to_string(k);
-    ts.transform = toTransformMsg(result.pose_at(t));
+    ts.transform = toTransformMsg(result.point_at(t));
     frames.transforms.push_back(ts);
   }
   tf_static_pub_.publish(frames);
@@ -239,7 +239,7 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
   status.source = source;
   // The request's strings may be anything (a refused 10 MB name): the latched status carries
   // them only when they are short names, else their quoted prefix (issue 15, rows 3, 5).
-  auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quoted(text); };
+  auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quotedText(text); };
   status.curve = bounded(req.curve.empty() ? params_.curve : req.curve);
   status.geometry = bounded(req.geometry.empty() ? params_.geometry : req.geometry);
   status.timing = bounded(req.timing.empty() ? params_.timing : req.timing);
@@ -284,7 +284,7 @@ void InterpolationNode::noticeDrops(const std::string& publisher, std::uint32_t 
   {
     dropped_waypoints_ += seq - it->second - 1;
     // Throttled: a flood of drops must not become a flood of log lines.
-    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quoted(publisher)
+    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quotedText(publisher)
                                                 << " were dropped (header.seq jumped from " << it->second << " to "
                                                 << seq << "; " << dropped_waypoints_
                                                 << " dropped in all); raise ~waypoint_queue_size ("
@@ -420,7 +420,7 @@ void InterpolationNode::broadcastMovingFrame()
   ts.header.stamp = now;
   ts.header.frame_id = playback->frame_id;
   ts.child_frame_id = playback->child_frame_id;
-  ts.transform = toTransformMsg(playback->pose_at(t));
+  ts.transform = toTransformMsg(playback->point_at(t));
   tf_broadcaster_.sendTransform(ts);
   last_tf_stamp_ = now;
 }

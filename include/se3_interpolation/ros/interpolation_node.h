@@ -56,7 +56,7 @@ private:
   /// What the TF timer replays: the latest published trajectory.
   struct Playback
   {
-    std::function<Pose<double>(double)> pose_at;
+    std::function<Pose<double>(double)> point_at;
     ros::Time stamp;  ///< trajectory time 0
     double start_time = 0.0;
     double duration = 0.0;
