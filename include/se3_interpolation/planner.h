@@ -187,4 +187,11 @@ const char* toString(Timing t);
 /// The `timing` field: "" → stretch; unknown names throw InvalidInputError naming `timing`.
 Timing parseTiming(const std::string& name);
 
+/// The `curve`, `geometry` and `parameterization` names as validateRequest reads them ("" → the
+/// default); an unknown name throws InvalidInputError naming `field` (a request field or a node
+/// parameter such as "~curve") and listing the known names.
+CurveType parseCurveType(const std::string& name, const std::string& field);
+GeometryType parseGeometryType(const std::string& name, const std::string& field);
+Parameterization parseParameterization(const std::string& name, const std::string& field);
+
 }  // namespace se3_interpolation

@@ -91,6 +91,11 @@ const std::vector<std::pair<const char*, GeometryType>> kGeometries = {
   { "double_geodesic", GeometryType::kDoubleGeodesic },
   { "screw", GeometryType::kScrew },
 };
+const std::vector<std::pair<const char*, Parameterization>> kParameterizations = {
+  { "chord", Parameterization::kChord },
+  { "uniform", Parameterization::kUniform },
+  { "centripetal", Parameterization::kCentripetal },
+};
 const std::vector<std::pair<const char*, Timing>> kTimings = {
   { "stretch", Timing::kStretch },
   { "time_optimal", Timing::kTimeOptimal },
@@ -108,6 +113,21 @@ const char* toString(Timing t)
 Timing parseTiming(const std::string& name)
 {
   return parseName(name, "timing", kTimings, Timing::kStretch);
+}
+
+CurveType parseCurveType(const std::string& name, const std::string& field)
+{
+  return parseName(name, field, kCurves, CurveType::kInterpolating);
+}
+
+GeometryType parseGeometryType(const std::string& name, const std::string& field)
+{
+  return parseName(name, field, kGeometries, GeometryType::kDoubleGeodesic);
+}
+
+Parameterization parseParameterization(const std::string& name, const std::string& field)
+{
+  return parseName(name, field, kParameterizations, Parameterization::kChord);
 }
 
 const char* toString(CurveType c)
@@ -147,18 +167,14 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
     v.waypoints.push_back(validatePose(r.waypoints[i], indexed("waypoints", i)));
   }
 
-  v.curve = parseName(r.curve, "curve", kCurves, CurveType::kInterpolating);
-  v.geometry = parseName(r.geometry, "geometry", kGeometries, GeometryType::kDoubleGeodesic);
+  v.curve = parseCurveType(r.curve, "curve");
+  v.geometry = parseGeometryType(r.geometry, "geometry");
   v.end_condition = parseName(r.end_condition, "end_condition",
                               { { "natural", EndCondition::kNatural },
                                 { "clamped", EndCondition::kClamped },
                                 { "start", EndCondition::kStart } },
                               EndCondition::kNatural);
-  v.parameterization = parseName(r.parameterization, "parameterization",
-                                 { { "chord", Parameterization::kChord },
-                                   { "uniform", Parameterization::kUniform },
-                                   { "centripetal", Parameterization::kCentripetal } },
-                                 Parameterization::kChord);
+  v.parameterization = parseParameterization(r.parameterization, "parameterization");
 
   validateTimes(r.times, n);
   if (!r.times.empty())

@@ -230,3 +230,31 @@ TEST(HostileSampling, DenormalSamplePeriodIsRefusedByValidation)
   EXPECT_TRUE(startsWith(e, "sample_period: ")) << e;
   EXPECT_NE(e.find("1 ns resolution"), std::string::npos) << e;
 }
+
+// The node validates its string parameters with the same parsers as the request (issue 16):
+// every accepted name round-trips through toString, and a near miss is refused naming the
+// field given (a parameter, not a request field) and listing the known names.
+TEST(HostileNames, ParsersNameTheGivenFieldAndListTheKnownNames)
+{
+  for (const char* name : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    EXPECT_STREQ(toString(parseCurveType(name, "~curve")), name);
+  for (const char* name : { "double_geodesic", "screw" })
+    EXPECT_STREQ(toString(parseGeometryType(name, "~geometry")), name);
+  EXPECT_EQ(parseCurveType("", "~curve"), CurveType::kInterpolating);
+  EXPECT_EQ(parseParameterization("", "~parameterization"), Parameterization::kChord);
+  EXPECT_EQ(parseParameterization("uniform", "~parameterization"), Parameterization::kUniform);
+  EXPECT_EQ(parseParameterization("centripetal", "~parameterization"), Parameterization::kCentripetal);
+
+  const std::string curve = errorOf([] { parseCurveType("bspine", "~curve"); });
+  EXPECT_EQ(curve.rfind("~curve: unknown value 'bspine'", 0), 0u) << curve;
+  EXPECT_NE(curve.find("bspline"), std::string::npos) << curve;
+  const std::string geometry = errorOf([] { parseGeometryType("Screw", "~geometry"); });
+  EXPECT_EQ(geometry.rfind("~geometry: unknown value 'Screw'", 0), 0u) << geometry;
+  const std::string chord = errorOf([] { parseParameterization("chordal", "~parameterization"); });
+  EXPECT_EQ(chord.rfind("~parameterization: unknown value 'chordal'", 0), 0u) << chord;
+  // The request path still names the request's field.
+  TrajectoryRequest r = line();
+  r.curve = "bspine";
+  const std::string request = errorOf([&] { generateTrajectory(r, PlannerLimits()); });
+  EXPECT_EQ(request.rfind("curve: unknown value 'bspine'", 0), 0u) << request;
+}
