@@ -542,11 +542,13 @@ void InterpolationNode::tfWatchCallback(const ros::MessageEvent<const tf2_msgs::
   const std::string& publisher = event.getPublisherName();  // the connection header's callerid
   if (publisher == ros::this_node::getName())
     return;  // our own broadcasts (also under a nodelet manager: its name is ours)
-  std::string child;
+  std::shared_ptr<const Playback> playback;
   {
     std::lock_guard<std::mutex> lock(playback_mutex_);
-    child = playback_ ? playback_->child_frame_id : params_.child_frame_id;
+    playback = playback_;
   }
+  // const: a non-const std::string would pick std::quoted by argument-dependent lookup.
+  const std::string child = playback ? playback->child_frame_id : params_.child_frame_id;
   for (const auto& t : event.getMessage()->transforms)
   {
     if (withoutLeadingSlash(t.child_frame_id) != child)

@@ -119,26 +119,26 @@ Eigen::Isometry3d lookUp(tf2_ros::Buffer& buffer, const std::string& child, cons
   return tf2::transformToEigen(buffer.lookupTransform("map", child, t, ros::Duration(3.0)));
 }
 
-/// Sends a dynamic_reconfigure change (strings, doubles, bools) to `node`; returns the config
+/// Sends a dynamic_reconfigure change (strings, ints, bools) to `node`; returns the config
 /// the server keeps.
 dynamic_reconfigure::Config reconfigure(const std::string& node, const std::vector<std::pair<std::string, std::string>>& strs,
-                                        const std::vector<std::pair<std::string, double>>& doubles,
+                                        const std::vector<std::pair<std::string, int>>& ints,
                                         const std::vector<std::pair<std::string, bool>>& bools)
 {
   dynamic_reconfigure::Reconfigure srv;
+  for (const auto& i : ints)
+  {
+    dynamic_reconfigure::IntParameter p;
+    p.name = i.first;
+    p.value = i.second;
+    srv.request.config.ints.push_back(p);
+  }
   for (const auto& s : strs)
   {
     dynamic_reconfigure::StrParameter p;
     p.name = s.first;
     p.value = s.second;
     srv.request.config.strs.push_back(p);
-  }
-  for (const auto& d : doubles)
-  {
-    dynamic_reconfigure::DoubleParameter p;
-    p.name = d.first;
-    p.value = d.second;
-    srv.request.config.doubles.push_back(p);
   }
   for (const auto& b : bools)
   {
