@@ -8,8 +8,10 @@
 // Threading: ~generate runs on its own callback queue served by ~service_threads threads,
 // so a heavy request never delays a light one, the topics or TF. ~waypoint has its own queue
 // and thread (its tf2 lookups wait up to ~tf_timeout each without blocking anything else);
-// ~waypoints, ~clear_waypoints run on the global queue (main spins it); the TF timer and the
-// master watchdog each have their own queue and thread. The waypoint buffer and the latest
+// ~waypoints, ~clear_waypoints and dynamic_reconfigure's ~set_parameters run on the global queue
+// (main spins it; under a nodelet manager, the nodelet's queue); the TF timer (with the /tf
+// collision watch) and the master watchdog each have their own queue and thread. The run-time
+// parameters are read and written under a mutex. The waypoint buffer and the latest
 // trajectory are shared under mutexes; publishing a trajectory is serialised.
 //
 // /tf_static carries exactly the static frames of the latest published trajectory: the node
