@@ -62,7 +62,7 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/InterpolationNodeConfig.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/ros/node_parameters.h"
 
 namespace se3_interpolation
