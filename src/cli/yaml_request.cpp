@@ -152,6 +152,10 @@ void readCommonFields(const YAML::Node& root, Request* r)
 {
   if (!root || root.IsNull())
     throw InvalidInputError("request: the YAML document is empty");
+  // The service looks these up with tf2; the command-line tool has no TF.
+  if (root.IsMap() && root["waypoint_frames"])
+    throw InvalidInputError("waypoint_frames: the command-line tool has no TF to look frames up in; give their "
+                            "poses in waypoints (the node's ~generate service takes waypoint_frames)");
   requireKeys(root, "",
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",

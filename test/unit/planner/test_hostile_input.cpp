@@ -8,6 +8,7 @@
 #include <string>
 
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/validation.h"
 
@@ -229,4 +230,32 @@ TEST(HostileSampling, DenormalSamplePeriodIsRefusedByValidation)
   const std::string e = errorOf([&] { validateRequest(r, PlannerLimits()); });
   EXPECT_TRUE(startsWith(e, "sample_period: ")) << e;
   EXPECT_NE(e.find("1 ns resolution"), std::string::npos) << e;
+}
+
+// The node validates its string parameters with the same parsers as the request (issue 16):
+// every accepted name round-trips through toString, and a near miss is refused naming the
+// field given (a parameter, not a request field) and listing the known names.
+TEST(HostileNames, ParsersNameTheGivenFieldAndListTheKnownNames)
+{
+  for (const char* name : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    EXPECT_STREQ(toString(parseName(name, "~curve", CurveType::kBezier)), name);
+  for (const char* name : { "double_geodesic", "screw" })
+    EXPECT_STREQ(toString(parseName(name, "~geometry", GeometryType::kScrew)), name);
+  EXPECT_EQ(parseName("", "~curve", RequestDefaults::kCurve), CurveType::kInterpolating);
+  EXPECT_EQ(parseName("", "~parameterization", RequestDefaults::kParameterization), Parameterization::kChord);
+  EXPECT_EQ(parseName("uniform", "~parameterization", RequestDefaults::kParameterization), Parameterization::kUniform);
+  EXPECT_EQ(parseName("centripetal", "~parameterization", RequestDefaults::kParameterization), Parameterization::kCentripetal);
+
+  const std::string curve = errorOf([] { parseName("bspine", "~curve", RequestDefaults::kCurve); });
+  EXPECT_EQ(curve.rfind("~curve: unknown value 'bspine'", 0), 0u) << curve;
+  EXPECT_NE(curve.find("bspline"), std::string::npos) << curve;
+  const std::string geometry = errorOf([] { parseName("Screw", "~geometry", RequestDefaults::kGeometry); });
+  EXPECT_EQ(geometry.rfind("~geometry: unknown value 'Screw'", 0), 0u) << geometry;
+  const std::string chord = errorOf([] { parseName("chordal", "~parameterization", RequestDefaults::kParameterization); });
+  EXPECT_EQ(chord.rfind("~parameterization: unknown value 'chordal'", 0), 0u) << chord;
+  // The request path still names the request's field.
+  TrajectoryRequest r = line();
+  r.curve = "bspine";
+  const std::string request = errorOf([&] { generate(r, PlannerLimits()); });
+  EXPECT_EQ(request.rfind("curve: unknown value 'bspine'", 0), 0u) << request;
 }
