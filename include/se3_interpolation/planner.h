@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,21 @@ struct Twist
 {
   Eigen::Vector3d linear = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+};
+
+/// The state a new trajectory starts from when it replaces a moving one (replanning, README
+/// "Replanning"): the pose, velocity and acceleration of the old motion at the switch time, which
+/// is time 0 of the new request (its `times` count from it). The trajectory then starts exactly in
+/// this state (C² switch) and goes through the requested waypoints: `interpolating` with
+/// end_condition `start` takes it as its start data (the start pose becomes its first point);
+/// every other curve, and every stretched one, is entered by the joining quintic of
+/// curves/start_join.h, which replaces the curve's first segment (from the start pose to the first
+/// requested waypoint). A waypoints[0] equal to the start pose (1e-9) is not visited twice.
+struct StartState
+{
+  Pose<double> pose;
+  Twist velocity;
+  Twist acceleration;
 };
 
 enum class CurveType
@@ -93,6 +109,9 @@ struct TrajectoryRequest
   std::uint32_t sample_count = 0;
   /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
   double blend_radius = 0.0;
+  /// Start from this state instead of at waypoints[0] (the service's `from_current`, filled by the
+  /// node from the trajectory it is playing; the CLI's `start_state`). With it one waypoint suffices.
+  std::optional<StartState> start_state;
 };
 
 /// Resource bounds per request (node parameters ~max_samples, ~max_waypoints, ~max_work).
@@ -131,6 +150,11 @@ struct ValidatedRequest
   double sample_period = 0.0;
   std::uint32_t sample_count = 100;
   double blend_radius = 0.0;
+  /// The validated start state. When set, `waypoints`, `times` and `velocities` begin with it: the
+  /// start pose at time 0 (in place of waypoints[0] when that is the start pose, see
+  /// `start_replaces_first`, else inserted before it).
+  std::optional<StartState> start_state;
+  bool start_replaces_first = false;
 };
 
 struct TrajectorySample

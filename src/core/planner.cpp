@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "se3_interpolation/bspline.h"
+#include "se3_interpolation/curves/start_join.h"
 #include "se3_interpolation/curve_factory.h"
 #include "se3_interpolation/kinematics.h"
 #include "se3_interpolation/timing/time_optimal.h"
@@ -42,19 +43,14 @@ double stretchFactor(const ValidatedRequest& r, const CurveFigures& f, std::stri
   return k;
 }
 
+/// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].
 template <class G>
-TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
+void applyTiming(const ValidatedRequest& r, std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io,
+                 TrajectoryResult* out_io)
 {
-  const std::vector<double> times = waypointTimes(r);
-  // Bounded work: refused from the fields alone, before the curve is built or measured.
-  requireWorkWithin(estimateWork(r, expectedSamples(r, times.back() - times.front())), r, limits);
-  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
-  TrajectoryResult out;
-  if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
-    out.blend_radii = blended->radii();
-  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
-
-  out.waypoint_times = times;
+  std::shared_ptr<const Curve<G>>& curve = *curve_io;
+  CurveFigures& fig = *fig_io;
+  TrajectoryResult& out = *out_io;
   if (r.timing == Timing::kTimeOptimal)
   {
     timing::RateBounds bounds;
@@ -98,6 +94,111 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
     fig.max_linear_acceleration /= k * k;
     fig.max_angular_acceleration /= k * k;
     fig.energy /= k * k * k;
+  }
+}
+
+/// sqrt(|linear|^2 + rho^2 |angular|^2): the speed of a twist in the metric of the chord parameterisation.
+double weightedNorm(const Twist& v, double rho)
+{
+  return std::sqrt(v.linear.squaredNorm() + rho * rho * v.angular.squaredNorm());
+}
+
+/// The timing of a request with a start state (planner.h, StartState): the curve through the start
+/// pose and the waypoints (times from 0), entered by the joining quintic (curves/start_join.h)
+/// unless it takes the start data itself. Stretch: the curve is stretched and the joining segment
+/// rebuilt over the stretched first segment, so the start state is kept exactly. time_optimal from
+/// a moving state: the path after the first segment is timed from the current path speed, the
+/// joining segment leads into it in 2 d / (speed at its start + speed at its end) (the time of a
+/// constant acceleration over the chord d), at most the rest-to-rest time 2 sqrt(d / a) of the
+/// linear acceleration bound. The joining segment's own rates are not bounded: it starts at the old
+/// motion's state, which may itself exceed the bounds.
+template <class G>
+void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& times,
+                          std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io, TrajectoryResult* out_io)
+{
+  std::shared_ptr<const Curve<G>>& curve = *curve_io;
+  const std::shared_ptr<const Curve<G>> through = curve;  // starts at the start pose at 0
+  TrajectoryResult& out = *out_io;
+  const StartState& s = *r.start_state;
+  const double rho = r.rotation_scale;
+  const double t1 = times[1];
+  auto join = [&s](std::shared_ptr<const Curve<G>> rest, double h, double from) {
+    return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
+                                                 std::move(rest), from);
+  };
+  out.waypoint_times = times;
+  const double start_speed = weightedNorm(s.velocity, rho);
+  if (r.timing == Timing::kTimeOptimal && !(start_speed > 0.0))
+  {
+    // At rest: the time-optimal motion along the curve from the start pose, like any other.
+    applyTiming<G>(r, curve_io, fig_io, out_io);
+  }
+  else if (r.timing == Timing::kTimeOptimal)
+  {
+    timing::RateBounds bounds;
+    bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
+    bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+    const double path_speed = weightedNorm(kinematicsAt(*through, t1).velocity, rho);
+    timing::TimeOptimalOptions options;
+    options.start_speed = path_speed > 0.0 ? start_speed / path_speed : 0.0;
+    auto timed = timing::makeTimeOptimalCurve<G>(std::make_shared<CurveTail<G>>(through, t1), bounds, options);
+    out.time_scale = timed->profile().stretch;
+    const Kinematics entry = kinematicsAt(*timed, t1);
+    const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
+                                   std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
+    double h = 2.0 * chord / (start_speed + weightedNorm(entry.velocity, rho));
+    if (r.max_linear_acceleration > 0.0)
+      h = std::min(h, 2.0 * std::sqrt(chord / r.max_linear_acceleration));
+    validateTimeSpan(0.0, h + timed->endTime() - t1,
+                     "max_linear_velocity, max_angular_velocity or their accelerations");
+    curve = join(timed, h, t1);
+    for (std::size_t i = 1; i < times.size(); ++i)
+      out.waypoint_times[i] = h + timed->profile().timeAt(times[i]) - t1;
+    *fig_io = measureCurve(*curve, rho);
+  }
+  else
+  {
+    const bool native = r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart;
+    if (!native)
+      curve = join(through, t1, t1);
+    *fig_io = measureCurve(*curve, rho);
+    std::string cause = r.times.empty() ? "duration" : "times";
+    const double k = stretchFactor(r, *fig_io, &cause);
+    validateTimeSpan(0.0, curve->endTime() * k, cause);
+    if (k > 1.0)
+    {
+      curve = join(std::make_shared<TimeScaledCurve<G>>(through, k), k * t1, k * t1);
+      *fig_io = measureCurve(*curve, rho);
+      for (double& t : out.waypoint_times)
+        t *= k;
+    }
+    out.time_scale = k;
+  }
+  // The response lists the requested waypoints' times, not the start pose's.
+  if (!r.start_replaces_first)
+    out.waypoint_times.erase(out.waypoint_times.begin());
+}
+
+template <class G>
+TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
+{
+  const std::vector<double> times = waypointTimes(r);
+  // Bounded work: refused from the fields alone, before the curve is built or measured.
+  requireWorkWithin(estimateWork(r, expectedSamples(r, times.back() - times.front())), r, limits);
+  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  TrajectoryResult out;
+  if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
+    out.blend_radii = blended->radii();
+  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
+
+  if (r.start_state)
+  {
+    applyTimingFromStart<G>(r, times, &curve, &fig, &out);
+  }
+  else
+  {
+    out.waypoint_times = times;
+    applyTiming<G>(r, &curve, &fig, &out);
   }
   out.start_time = curve->startTime();
   out.duration = curve->endTime() - curve->startTime();
