@@ -188,6 +188,9 @@ struct TrajectoryResult
   double energy = 0.0;  ///< ∫ |p̈|² + ρ²|ω̇|² dt (Crouch et al. eq. 32 with the product metric)
   /// The final curve's pose at any time in [start_time, start_time + duration] (for TF).
   std::function<Pose<double>(double)> pose_at;
+  /// Pose, velocity and acceleration (exact jets, one-sided from the right) at any such time: what
+  /// a replanning request starts from (StartState).
+  std::function<TrajectorySample(double)> state_at;
 };
 
 /// Checks every field; throws InvalidInputError / NonUniqueGeodesicError / LimitExceededError

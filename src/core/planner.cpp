@@ -212,6 +212,15 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
   out.waypoints = r.waypoints;
   out.control_points = curve->controlPoints();
   out.pose_at = [curve](double t) { return curve->value(t); };
+  out.state_at = [curve](double t) {
+    const Kinematics k = kinematicsAt(*curve, t);
+    TrajectorySample s;
+    s.time = t;
+    s.pose = k.pose;
+    s.velocity = k.velocity;
+    s.acceleration = k.acceleration;
+    return s;
+  };
   // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
   // response as ∞ or NaN.
   const std::pair<const char*, double> figures[] = {

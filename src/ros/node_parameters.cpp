@@ -12,6 +12,10 @@ namespace se3_interpolation
 {
 namespace
 {
+/// s: a switch further ahead than this would leave the new request waiting on the old motion for
+/// longer than any replanning needs (a generation takes well under a second, README Performance).
+constexpr double kMaxReplanLead = 10.0;
+
 template <class T>
 void read(const ros::NodeHandle& nh, const std::string& name, T* value, const std::function<bool(const T&)>& valid,
           const char* requirement)
@@ -64,6 +68,10 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   read<int>(nh, "service_threads", &p.service_threads, [](const int& x) { return x >= 1 && x <= 64; },
             "must be in 1 ... 64");
   read<double>(nh, "master_check_period", &p.master_check_period, non_negative, "must be >= 0 s");
+  read<bool>(nh, "replan_from_current", &p.replan_from_current, any, "");
+  read<double>(nh, "replan_lead", &p.replan_lead,
+               [](const double& x) { return std::isfinite(x) && x >= 0.0 && x <= kMaxReplanLead; },
+               "must be in [0, 10] s");
   int max_samples = static_cast<int>(p.limits.max_samples);
   read<int>(nh, "max_samples", &max_samples, [](const int& x) { return x >= 2; }, "must be >= 2");
   p.limits.max_samples = static_cast<std::size_t>(max_samples);
