@@ -174,9 +174,13 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     }
     out.time_scale = k;
   }
-  // The response lists the requested waypoints' times, not the start pose's.
+  // The response lists the requested waypoints' times and radii, not the start pose's.
   if (!r.start_replaces_first)
+  {
     out.waypoint_times.erase(out.waypoint_times.begin());
+    if (!out.blend_radii.empty())
+      out.blend_radii.erase(out.blend_radii.begin());
+  }
 }
 
 template <class G>

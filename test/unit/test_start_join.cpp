@@ -270,6 +270,17 @@ TEST(StartJoin, RestAtTheFirstWaypointStartsThere)
   EXPECT_LT(test::poseDistance(out.pose_at(out.waypoint_times[2]), r.waypoints[2]), 1e-9);
 }
 
+// Corner blends: one radius per requested waypoint, the start's own corner not among them.
+TEST(StartJoin, BlendedPolylineListsTheRequestedWaypointsOnly)
+{
+  TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
+  r.blend_radius = 0.1;
+  const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  expectStartsIn(out, movingState(), 1e-5);
+  EXPECT_EQ(out.blend_radii.size(), r.waypoints.size());
+  EXPECT_EQ(out.waypoint_times.size(), r.waypoints.size());
+}
+
 TEST(StartJoin, OneWaypointIsEnough)
 {
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "screw");
