@@ -6,7 +6,7 @@ usage: plot_replan.py [SE3_INTERPOLATE] [OUT.png]
 Runs the CLI (default: se3_interpolate on PATH) twice: the old motion, sampled at the switch time
 T_s = 1.2 s among others, then the new request with start_state = the old motion's pose, velocity
 and acceleration at T_s (what the node does for `from_current`), and plots both against the same
-clock: the path in the x-y plane, and x, |v| and |a| against time, the switch marked. Pose space
+clock: the path in the x-y plane, and x, |v| and the acceleration's y component against time, the switch marked. Pose space
 only; needs Debian's python3-matplotlib (the shebang).
 """
 import csv
@@ -36,9 +36,9 @@ NEW = """start_state:
   velocity: {{linear: [{v}], angular: [{w}]}}
   acceleration: {{linear: [{a}], angular: [{al}]}}
 waypoints:
-  - {{position: [1.8, 1.6, 0], orientation: [0, 0, 0.7071068, 0.7071068]}}
-  - {{position: [0.8, 2.0, 0], orientation: [0, 0, 1, 0]}}
-times: [1.0, 2.0]
+  - {{position: [2.3, 0.6, 0], orientation: [0, 0, 0.7071068, 0.7071068]}}
+  - {{position: [2.6, 1.8, 0], orientation: [0, 0, 1, 0]}}
+times: [1.2, 2.2]
 sample_period: 0.01
 """
 
@@ -77,8 +77,9 @@ def main():
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal")
     ax.set_title("path (x-y)")
-    ax.legend(fontsize=7, loc="lower right")
-    panels = [("x [m]", lambda r: r[1]), ("|v| [m/s]", lambda r: norm(r, 8)), ("|a| [m/s^2]", lambda r: norm(r, 14))]
+    ax.legend(fontsize=7, loc="upper left")
+    panels = [("x [m]", lambda r: r[1]), ("|v| [m/s]", lambda r: norm(r, 8)),
+              ("acceleration a_y [m/s^2]", lambda r: r[15])]
     for ax, (label, f) in zip(axes[1:], panels):
         ax.plot([r[0] for r in before], [f(r) for r in before], "C0")
         ax.plot([r[0] for r in after], [f(r) for r in after], "C0:")
