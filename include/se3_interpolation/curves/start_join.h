@@ -27,10 +27,10 @@
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/curve.h"
+#include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/planner.h"
-#include "se3_interpolation/validation.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {
