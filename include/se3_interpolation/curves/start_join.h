@@ -142,7 +142,14 @@ public:
     const double tv = valueOf(t);
     const double joint = t0_ + h_;
     if (tv > joint || (tv == joint && side == Side::kRight))
-      return detail::evaluateAt<G>(*rest_, S(t - S(joint - rest_from_)), side);
+    {
+      S rest_time = t - S(offset());
+      // The end maps onto the rest's end exactly (t0 + h + (end - from) - offset may round past it,
+      // and the curve would be extrapolated there): the last sample is the last waypoint exactly.
+      if (tv == endTime())
+        rest_time = rest_time + S(rest_->endTime() - valueOf(rest_time));
+      return detail::evaluateAt<G>(*rest_, rest_time, side);
+    }
     const S tau = t - S(t0_);
     using TangentS = typename G::template Tangent<S>;
     TangentS p = coefficients_[5].template cast<S>();
@@ -152,14 +159,14 @@ public:
   }
 
   double startTime() const override { return t0_; }
-  double endTime() const override { return t0_ + h_ + rest_->endTime() - rest_from_; }
+  double endTime() const override { return rest_->endTime() + offset(); }
   double jointTime() const { return t0_ + h_; }
   std::vector<double> breakpoints() const override
   {
     std::vector<double> b{ t0_, t0_ + h_ };
     for (double x : rest_->breakpoints())
       if (x > rest_from_)
-        b.push_back(x - rest_from_ + t0_ + h_);
+        b.push_back(x + offset());
     if (b.size() < 3 || b.back() < endTime())
       b.push_back(endTime());
     return b;
@@ -173,6 +180,9 @@ public:
   }
 
 private:
+  /// Curve time minus the rest's time after the joint (0 when the rest continues on the same clock).
+  double offset() const { return t0_ + h_ - rest_from_; }
+
   Point start_;
   double t0_;
   double h_;

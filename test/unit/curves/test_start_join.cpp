@@ -281,6 +281,33 @@ TEST(StartJoin, BlendedPolylineListsTheRequestedWaypointsOnly)
   EXPECT_EQ(out.waypoint_times.size(), r.waypoints.size());
 }
 
+// The trajectory ends at the last waypoint (the end time maps onto the curve's end, no extrapolation).
+TEST(StartJoin, LastSampleIsTheLastWaypointExactly)
+{
+  for (const char* timing : { "stretch", "time_optimal" })
+  {
+    SCOPED_TRACE(timing);
+    TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
+    r.waypoints = { pose({ 0.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }), pose({ 1.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }) };
+    r.timing = timing;
+    r.max_linear_velocity = 1.0;
+    r.max_linear_acceleration = 1.0;
+    r.max_angular_velocity = 1.0;
+    r.max_angular_acceleration = 1.0;
+    r.start_state->pose.q = Quaternion<double>::Identity();
+    r.start_state->velocity.angular.setZero();
+    r.start_state->acceleration.angular.setZero();
+    for (double s : { 0.1, 0.3, 0.7, 1.1, 1.9 })
+    {
+      r.start_state->pose.p = Eigen::Vector3d(0.3 * s, -0.2 * s, 0.1);
+      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      // (To rounding: the geodesic's lambda = (t - t_i) / h need not round to 1 at the end.)
+      EXPECT_NEAR(out.samples.back().pose.p.x(), 1.0, 1e-15) << s;
+      EXPECT_NEAR(out.samples.back().pose.p.y(), 0.0, 1e-15) << s;
+    }
+  }
+}
+
 TEST(StartJoin, OneWaypointIsEnough)
 {
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "screw");
