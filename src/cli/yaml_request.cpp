@@ -161,7 +161,13 @@ void readCommonFields(const YAML::Node& root, Request* r)
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
                 "max_linear_acceleration", "max_angular_acceleration", "timing", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish", "blend_radius" });
+                "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state" });
+  // The service's from_current starts from the motion the node plays; the CLI plays none.
+  if (root["from_current"] && toBool(root["from_current"], "from_current"))
+    throw InvalidInputError("from_current: the CLI plays no trajectory, so there is no current motion to start "
+                            "from; give the state explicitly as start_state: {pose: {position: [x, y, z], "
+                            "orientation: [x, y, z, w]}, velocity: {linear: [..], angular: [..]}, acceleration: "
+                            "{linear: [..], angular: [..]}}");
   if (root["times"])
     r->times = toDoubles(root["times"], "times");
   if (root["curve"])
@@ -255,6 +261,22 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     for (std::size_t i = 0; i < v.size(); ++i)
       r.velocities.push_back(toTwist(v[i], indexedField("velocities", i)));
   }
+  if (root["start_state"])
+  {
+    const YAML::Node s = root["start_state"];
+    if (!s.IsMap())
+      throw InvalidInputError("start_state: expected {pose: .., velocity: .., acceleration: ..}");
+    requireKeys(s, "start_state", { "pose", "velocity", "acceleration" });
+    if (!s["pose"])
+      throw InvalidInputError("start_state.pose: missing ({position: [x, y, z], orientation: [x, y, z, w]})");
+    StartState state;
+    state.pose = toPose(s["pose"], "start_state.pose");
+    if (s["velocity"])
+      state.velocity = toTwist(s["velocity"], "start_state.velocity");
+    if (s["acceleration"])
+      state.acceleration = toTwist(s["acceleration"], "start_state.acceleration");
+    r.start_state = state;
+  }
   return r;
 }
 
@@ -264,6 +286,8 @@ SphereRequest sphereRequestFromYaml(const YAML::Node& root)
   readCommonFields(root, &r);
   if (root["blend_radius"])
     throw InvalidInputError("blend_radius: corner blending is for poses only (not with --space sphere)");
+  if (root["start_state"])
+    throw InvalidInputError("start_state: starting from a given state is for poses only (not with --space sphere)");
   auto toVectorX = [](const YAML::Node& node, const std::string& field) {
     const std::vector<double> v = toDoubles(node, field);
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));

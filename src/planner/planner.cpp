@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "se3_interpolation/analysis/figures.h"
+#include "se3_interpolation/curves/start_join.h"
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
@@ -92,21 +93,14 @@ const char* boundFields()
                                             : "max_linear_velocity, max_angular_velocity or their accelerations";
 }
 
+/// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].
 template <class Space, class G>
-BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits)
+void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io,
+                 BasicResult<Space>* out_io)
 {
-  const std::vector<double> times = waypointTimes(r);
-  // Bounded work: refused from the fields alone, before the curve is built or measured.
-  const WorkShape shape = workShape(r);
-  requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
-  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
-  BasicResult<Space> out;
-  if constexpr (std::is_same_v<Space, PoseSpace>)
-    if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
-      out.blend_radii = blended->radii();
-  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
-
-  out.waypoint_times = times;
+  std::shared_ptr<const Curve<G>>& curve = *curve_io;
+  CurveFigures& fig = *fig_io;
+  BasicResult<Space>& out = *out_io;
   if (r.timing == Timing::kTimeOptimal)
   {
     timing::RateBounds bounds;
@@ -129,33 +123,142 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
     // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
     fig.energy = p.acceleration_energy[timing::kLinear] +
                  (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
+    return;
+  }
+  std::string cause = r.times.empty() ? "duration" : "times";
+  out.time_scale = stretchFactor(r, fig, &cause);
+  // Tiny bounds stretch time without limit: every time must still fit ros::Duration.
+  validateTimeSpan(curve->startTime(), curve->startTime() + (curve->endTime() - curve->startTime()) * out.time_scale,
+                   cause);
+  for (double& t : out.waypoint_times)
+    t = curve->startTime() + (t - curve->startTime()) * out.time_scale;
+  if (out.time_scale > 1.0)
+  {
+    const double k = out.time_scale;
+    curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
+    fig.max_linear_speed /= k;
+    fig.max_angular_speed /= k;
+    fig.max_linear_acceleration /= k * k;
+    fig.max_angular_acceleration /= k * k;
+    fig.energy /= k * k * k;
+  }
+}
+
+/// sqrt(|linear|^2 + rho^2 |angular|^2): the speed of a twist in the metric of the chord parameterisation.
+double weightedNorm(const Twist& v, double rho)
+{
+  return std::sqrt(v.linear.squaredNorm() + rho * rho * v.angular.squaredNorm());
+}
+
+/// The timing of a pose request with a start state (request.h, StartState): the curve through the
+/// start pose and the waypoints (times from 0), entered by the joining quintic (curves/start_join.h)
+/// unless it takes the start data itself. Stretch: the curve is stretched and the joining segment
+/// rebuilt over the stretched first segment, so the start state is kept exactly. time_optimal from
+/// a moving state: the path after the first segment is timed from the current path speed, the
+/// joining segment leads into it in 2 d / (speed at its start + speed at its end) (the time of a
+/// constant acceleration over the chord d), at most the rest-to-rest time 2 sqrt(d / a) of the
+/// linear acceleration bound. The joining segment's own rates are not bounded: it starts at the old
+/// motion's state, which may itself exceed the bounds.
+template <class G>
+void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& times,
+                          std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io, TrajectoryResult* out_io)
+{
+  std::shared_ptr<const Curve<G>>& curve = *curve_io;
+  const std::shared_ptr<const Curve<G>> through = curve;  // starts at the start pose at 0
+  TrajectoryResult& out = *out_io;
+  const StartState& s = *r.start_state;
+  const double rho = r.rotation_scale;
+  const double t1 = times[1];
+  auto join = [&s](std::shared_ptr<const Curve<G>> rest, double h, double from) {
+    return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
+                                                 std::move(rest), from);
+  };
+  const double start_speed = weightedNorm(s.velocity, rho);
+  if (r.timing == Timing::kTimeOptimal && !(start_speed > 0.0))
+  {
+    // At rest: the time-optimal motion along the curve from the start pose, like any other.
+    applyTiming<PoseSpace, G>(r, curve_io, fig_io, out_io);
+  }
+  else if (r.timing == Timing::kTimeOptimal)
+  {
+    timing::RateBounds bounds;
+    bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
+    bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+    const double path_speed = weightedNorm(kinematicsAt(*through, t1).velocity, rho);
+    timing::TimeOptimalOptions options;
+    options.start_speed = path_speed > 0.0 ? start_speed / path_speed : 0.0;
+    auto timed = timing::makeTimeOptimalCurve<G>(std::make_shared<CurveTail<G>>(through, t1), bounds, options);
+    out.time_scale = timed->profile().stretch;
+    const Kinematics entry = kinematicsAt(*timed, t1);
+    const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
+                                   std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
+    double h = 2.0 * chord / (start_speed + weightedNorm(entry.velocity, rho));
+    if (r.max_linear_acceleration > 0.0)
+      h = std::min(h, 2.0 * std::sqrt(chord / r.max_linear_acceleration));
+    validateTimeSpan(0.0, h + timed->endTime() - t1, boundFields<PoseSpace>());
+    curve = join(timed, h, t1);
+    for (std::size_t i = 1; i < times.size(); ++i)
+      out.waypoint_times[i] = h + timed->profile().timeAt(times[i]) - t1;
+    *fig_io = measureCurve(*curve, rho);
   }
   else
   {
+    const bool native = r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart;
+    if (!native)
+      curve = join(through, t1, t1);
+    *fig_io = measureCurve(*curve, rho);
     std::string cause = r.times.empty() ? "duration" : "times";
-    out.time_scale = stretchFactor(r, fig, &cause);
-    // Tiny bounds stretch time without limit: every time must still fit ros::Duration.
-    validateTimeSpan(curve->startTime(),
-                     curve->startTime() + (curve->endTime() - curve->startTime()) * out.time_scale, cause);
-    for (double& t : out.waypoint_times)
-      t = curve->startTime() + (t - curve->startTime()) * out.time_scale;
-    if (out.time_scale > 1.0)
+    const double k = stretchFactor(r, *fig_io, &cause);
+    validateTimeSpan(0.0, curve->endTime() * k, cause);
+    if (k > 1.0)
     {
-      const double k = out.time_scale;
-      curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
-      fig.max_linear_speed /= k;
-      fig.max_angular_speed /= k;
-      fig.max_linear_acceleration /= k * k;
-      fig.max_angular_acceleration /= k * k;
-      fig.energy /= k * k * k;
+      curve = join(std::make_shared<TimeScaledCurve<G>>(through, k), k * t1, k * t1);
+      *fig_io = measureCurve(*curve, rho);
+      for (double& t : out.waypoint_times)
+        t *= k;
     }
+    out.time_scale = k;
   }
+  // The response lists the requested waypoints' times and radii, not the start pose's.
+  if (!r.start_replaces_first)
+  {
+    out.waypoint_times.erase(out.waypoint_times.begin());
+    if (!out.blend_radii.empty())
+      out.blend_radii.erase(out.blend_radii.begin());
+  }
+}
+
+template <class Space, class G>
+BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits)
+{
+  const std::vector<double> times = waypointTimes(r);
+  // Bounded work: refused from the fields alone, before the curve is built or measured.
+  const WorkShape shape = workShape(r);
+  requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
+  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  BasicResult<Space> out;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
+      out.blend_radii = blended->radii();
+  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
+
+  out.waypoint_times = times;
+  bool timed = false;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (r.start_state)
+    {
+      applyTimingFromStart<G>(r, times, &curve, &fig, &out);
+      timed = true;
+    }
+  if (!timed)
+    applyTiming<Space, G>(r, &curve, &fig, &out);
   out.start_time = curve->startTime();
   out.duration = curve->endTime() - curve->startTime();
   out.figures = fig;
   out.waypoints = r.waypoints;
   out.control_points = curve->controlPoints();
   out.point_at = [curve](double t) { return curve->value(t); };
+  out.state_at = [curve](double t) { return sampleAt(*curve, t, nullptr); };
   // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
   // response as ∞ or NaN.
   const std::pair<const char*, double> figures[] = {

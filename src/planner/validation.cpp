@@ -183,6 +183,68 @@ void validateSpaceFields(const SphereRequest& r, ValidatedSphereRequest* v)
   requireUnused(r.blend_radius, "blend_radius", " (corner blends are for poses)");
   v->rotation_scale = 1.0;
 }
+/// Distance (m, rad) below which waypoints[0] counts as the start pose itself: far above the
+/// rounding of a pose evaluated on the old trajectory, far below any motion worth planning.
+constexpr double kStartCoincidence = 1e-9;
+
+/// Validates the start state and puts it in front of the waypoints (request.h, StartState).
+void applyStartState(const StartState& raw, int raw_degree, ValidatedRequest* v)
+{
+  StartState s;
+  s.pose = validatePose(raw.pose, "start_state.pose");
+  s.velocity = validVelocity(raw.velocity, s.pose, "start_state.velocity");
+  s.acceleration = validVelocity(raw.acceleration, s.pose, "start_state.acceleration");
+  if (!v->knots.empty())
+    throw InvalidInputError("knots: cannot be combined with a start state (from_current): the start pose adds a "
+                            "control point; leave knots empty");
+  const Pose<double>& first = v->waypoints.front();
+  if (std::abs(first.q.coeffs().dot(s.pose.q.coeffs())) <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("waypoints[0]: its rotation from the start state (from_current) is exactly pi, "
+                                 "so the geodesic between them is not unique");
+  const bool same_pose = (first.p - s.pose.p).norm() <= kStartCoincidence &&
+                         first.q.angularDistance(s.pose.q) <= kStartCoincidence;
+  if (!v->times.empty())
+  {
+    if (v->times.front() < 0.0)
+      throw InvalidInputError("times[0]: " + formatNumber(v->times.front()) +
+                              " is before the start state (with from_current, times count from the switch time)");
+    if (v->times.front() == 0.0 && !same_pose)
+      throw InvalidInputError("times[0]: 0 is the switch time, but waypoints[0] is not the start pose (with "
+                              "from_current, times count from the switch time: give waypoints[0] a later time)");
+  }
+  v->start_replaces_first = same_pose && (v->times.empty() || v->times.front() == 0.0);
+  if (v->start_replaces_first)
+  {
+    v->waypoints.front() = s.pose;
+    if (!v->velocities.empty())
+      v->velocities.front() = s.velocity;
+    if (v->waypoints.size() < 2)
+      throw InvalidInputError("waypoints: the only waypoint is the start pose (from_current): there is no motion "
+                              "to plan");
+  }
+  else
+  {
+    v->waypoints.insert(v->waypoints.begin(), s.pose);
+    if (!v->times.empty())
+      v->times.insert(v->times.begin(), 0.0);
+    if (!v->velocities.empty())
+      v->velocities.insert(v->velocities.begin(), s.velocity);
+  }
+  if (raw_degree == 0)
+    v->degree = std::min(RequestDefaults::kDegree, static_cast<int>(v->waypoints.size()) - 1);
+  if (v->curve == CurveType::kInterpolating && v->end_condition == EndCondition::kStart)
+  {
+    v->start_velocity = s.velocity;
+    v->start_acceleration = s.acceleration;
+  }
+  v->start_state = s;
+}
+
+/// The sphere has no replanning (yet): a start state is refused.
+void applyStartState(const StartState& /*raw*/, int /*raw_degree*/, ValidatedSphereRequest* /*v*/)
+{
+  throw InvalidInputError("start_state: starting from a given state is for poses only (not on the sphere)");
+}
 }  // namespace
 
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
@@ -196,8 +258,11 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
 {
   BasicValidatedRequest<Space> v;
   const std::size_t n = r.waypoints.size();
-  if (n < 2)
-    throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least 2 are needed");
+  // With a start state the start pose is the first point of the motion: one waypoint suffices.
+  const std::size_t min_waypoints = r.start_state ? 1 : 2;
+  if (n < min_waypoints)
+    throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least " + std::to_string(min_waypoints) +
+                            " are needed");
   if (n > limits.max_waypoints)
     throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (~max_waypoints) is " +
                              std::to_string(limits.max_waypoints));
@@ -267,6 +332,8 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
   v.timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
+  if (r.start_state)
+    applyStartState(*r.start_state, r.degree, &v);
   return v;
 }
 

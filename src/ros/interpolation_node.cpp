@@ -172,11 +172,22 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
 
     TrajectoryRequest r = fromRequestMsg(req, poses);
     applyRequestDefaults(&r);
+    ros::Time stamp = req.waypoints.header.stamp;
+    if (req.from_current)
+    {
+      // The switch time T_s: the request's stamp, else ~replan_lead from now; times count from it.
+      if (stamp.isZero())
+      {
+        std::lock_guard<std::mutex> lock(params_mutex_);
+        stamp = ros::Time::now() + ros::Duration(params_.replan_lead);
+      }
+      startFromCurrent(stamp, frame, child, &r);
+    }
     const TrajectoryResult result = generate(r, params_.limits);
 
     std_msgs::Header header;
     header.frame_id = frame;
-    header.stamp = req.waypoints.header.stamp.isZero() ? ros::Time::now() : req.waypoints.header.stamp;
+    header.stamp = stamp.isZero() ? ros::Time::now() : stamp;
     validateStampedSpan(header.stamp.toSec(), result.start_time, result.start_time + result.duration,
                         "waypoints.header.stamp");
 
@@ -286,6 +297,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
 
   auto playback = std::make_shared<Playback>();
   playback->point_at = result.point_at;
+  playback->state_at = result.state_at;
   playback->stamp = header.stamp;
   playback->start_time = result.start_time;
   playback->duration = result.duration;
@@ -293,6 +305,15 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   playback->child_frame_id = child_frame_id;
   {
     std::lock_guard<std::mutex> lock(playback_mutex_);
+    // Until the new trajectory starts the frame keeps showing the one playing now (a replan's
+    // switch time lies ~replan_lead ahead); older pending ones are no longer reachable.
+    if (playback_ && playback_->child_frame_id == child_frame_id)
+    {
+      auto current = std::make_shared<Playback>(*playback_);
+      if (current->previous && ros::Time::now() >= current->stamp + ros::Duration(current->start_time))
+        current->previous.reset();
+      playback->previous = current;
+    }
     playback_ = playback;
   }
   if (!params_.publish_tf || params_.max_tf_samples <= 0)
@@ -484,6 +505,7 @@ void InterpolationNode::autoGenerate()
     return;
   GenerateTrajectory::Request req;
   req.publish = true;
+  req.from_current = params_.replan_from_current;
   GenerateTrajectory::Response res;
   generateInto(req, res);
   publishStatus(req, res, "auto_generation");
@@ -512,22 +534,14 @@ void InterpolationNode::tfTimerCallback(const ros::TimerEvent& /*event*/)
 
 void InterpolationNode::broadcastMovingFrame()
 {
-  std::shared_ptr<const Playback> playback;
-  {
-    std::lock_guard<std::mutex> lock(playback_mutex_);
-    playback = playback_;
-  }
+  const ros::Time now = ros::Time::now();
+  const std::shared_ptr<const Playback> playback = playbackAt(now);
   if (!playback || !params_.publish_tf)
     return;
-  const ros::Time now = ros::Time::now();
   if (now <= last_tf_stamp_)
     return;  // TF stamps never repeat or go backwards
-  bool loop = false;
-  {
-    std::lock_guard<std::mutex> lock(params_mutex_);
-    loop = params_.loop;
-  }
-  const double t = playbackTime(playback->stamp, playback->start_time, playback->duration, now, loop);
+  bool ended = false;
+  const double t = playbackClock(*playback, now, &ended);
   geometry_msgs::TransformStamped ts;
   ts.header.stamp = now;
   ts.header.frame_id = playback->frame_id;
@@ -638,6 +652,61 @@ void InterpolationNode::reconfigure(InterpolationNodeConfig& config, std::uint32
                                                 << ", parameterization " << config.parameterization << ", timing "
                                                 << config.timing << ", loop " << (config.loop ? "on" : "off")
                                                 << ", tf_rate " << config.tf_rate << " Hz");
+}
+
+std::shared_ptr<const InterpolationNode::Playback> InterpolationNode::playbackAt(const ros::Time& time) const
+{
+  std::shared_ptr<const Playback> p;
+  {
+    std::lock_guard<std::mutex> lock(playback_mutex_);
+    p = playback_;
+  }
+  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
+  while (p && p->previous &&
+         static_cast<std::int64_t>(time.toNSec()) <
+             static_cast<std::int64_t>(p->stamp.toNSec()) + static_cast<std::int64_t>(std::llround(p->start_time * 1e9)))
+    p = p->previous;
+  return p;
+}
+
+double InterpolationNode::playbackClock(const Playback& playback, const ros::Time& time, bool* ended) const
+{
+  bool loop = false;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    loop = params_.loop;
+  }
+  const double t0 = playback.start_time;
+  const double d = playback.duration;
+  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
+  const double raw = static_cast<double>(static_cast<std::int64_t>(time.toNSec()) -
+                                         static_cast<std::int64_t>(playback.stamp.toNSec())) *
+                     1e-9;
+  *ended = !(loop && d > 0.0) && (raw < t0 || raw >= t0 + d);
+  return playbackTime(playback.stamp, t0, d, time, loop);
+}
+
+void InterpolationNode::startFromCurrent(const ros::Time& switch_time, const std::string& frame,
+                                         const std::string& child, TrajectoryRequest* r) const
+{
+  const std::shared_ptr<const Playback> playback = playbackAt(switch_time);
+  if (!playback || playback->child_frame_id != child || !playback->state_at)
+    return;  // nothing plays on this frame: the trajectory starts at waypoints[0]
+  if (playback->frame_id != frame)
+    throw InvalidInputError("from_current: the moving frame " + quotedText(child) + " plays in frame " +
+                            quotedText(playback->frame_id) + ", not in the waypoints' frame " + quotedText(frame) +
+                            " (give waypoints in that frame, or from_current false)");
+  bool ended = false;
+  const double t = playbackClock(*playback, switch_time, &ended);
+  const TrajectorySample s = playback->state_at(t);
+  StartState start;
+  start.pose = s.pose;
+  if (!ended)
+  {
+    start.velocity = s.velocity;
+    start.acceleration = s.acceleration;
+  }
+  r->start_state = start;
 }
 
 void InterpolationNode::watchdogCallback(const ros::TimerEvent& /*event*/)

@@ -36,6 +36,9 @@ const Range kRanges[] = {
   { "waypoint_queue_size", 1.0, true, 100000.0, "must be in 1 ... 100000" },
   { "service_threads", 1.0, true, 64.0, "must be in 1 ... 64" },
   { "master_check_period", 0.0, true, kUnbounded, "must be >= 0 s" },
+  // A switch further ahead than 10 s would leave the new request waiting on the old motion for
+  // longer than any replanning needs (a generation takes well under a second, README Performance).
+  { "replan_lead", 0.0, true, 10.0, "must be in [0, 10] s" },
   { "max_samples", 2.0, true, kUnbounded, "must be >= 2" },
   { "max_waypoints", 2.0, true, kUnbounded, "must be >= 2" },
   { "max_work", 0.0, false, kUnbounded, "must be > 0 work units" },
@@ -164,6 +167,8 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   readNumber(nh, "waypoint_queue_size", &p.waypoint_queue_size);
   readNumber(nh, "service_threads", &p.service_threads);
   readNumber(nh, "master_check_period", &p.master_check_period);
+  readBool(nh, "replan_from_current", &p.replan_from_current);
+  readNumber(nh, "replan_lead", &p.replan_lead);
   readLimit(nh, "max_samples", &p.limits.max_samples);
   readLimit(nh, "max_waypoints", &p.limits.max_waypoints);
   readNumber(nh, "max_work", &p.limits.max_work);

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,22 @@ struct SphereSample
   Eigen::VectorXd acceleration;  ///< D²x/dt², tangent at point
 };
 
+/// The state a new trajectory starts from when it replaces a moving one (replanning, README
+/// "Replanning"): the pose, velocity and acceleration of the old motion at the switch time, which
+/// is time 0 of the new request (its `times` count from it). The trajectory then starts exactly in
+/// this state (C² switch) and goes through the requested waypoints: `interpolating` with
+/// end_condition `start` takes it as its start data (the start pose becomes its first point);
+/// every other curve, and every stretched one, is entered by the joining quintic of
+/// curves/start_join.h, which replaces the curve's first segment (from the start pose to the first
+/// requested waypoint). A waypoints[0] equal to the start pose (1e-9) is not visited twice.
+/// Poses only: a sphere request with a start state is refused.
+struct StartState
+{
+  Pose<double> pose;
+  Twist velocity;
+  Twist acceleration;
+};
+
 /// Poses: waypoints world_T_body, velocities spatial twists; geometry chosen by the request.
 struct PoseSpace
 {
@@ -158,6 +175,9 @@ struct BasicRequest
   std::uint32_t sample_count = 0;
   /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
   double blend_radius = 0.0;
+  /// Start from this state instead of at waypoints[0] (the service's `from_current`, filled by the
+  /// node from the trajectory it is playing; the CLI's `start_state`). With it one waypoint suffices.
+  std::optional<StartState> start_state;
 };
 
 /// A request after validation: names parsed, defaults resolved, points normalised, sphere
@@ -190,6 +210,11 @@ struct BasicValidatedRequest
   Timing timing = RequestDefaults::kTiming;
   Sampling sampling;
   double blend_radius = 0.0;
+  /// The validated start state. When set, `waypoints`, `times` and `velocities` begin with it: the
+  /// start pose at time 0 (in place of waypoints[0] when that is the start pose, see
+  /// `start_replaces_first`, else inserted before it).
+  std::optional<StartState> start_state;
+  bool start_replaces_first = false;
 };
 
 template <class Space>
@@ -213,6 +238,9 @@ struct BasicResult
   CurveFigures figures;
   /// The final curve's point at any time in [start_time, start_time + duration] (for TF).
   std::function<Waypoint(double)> point_at;
+  /// Point, velocity and acceleration (exact jets, one-sided from the right) at any such time: what
+  /// a replanning request starts from (StartState).
+  std::function<typename Space::Sample(double)> state_at;
 };
 
 using TrajectoryRequest = BasicRequest<PoseSpace>;

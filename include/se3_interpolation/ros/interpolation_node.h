@@ -87,6 +87,10 @@ private:
     double duration = 0.0;
     std::string frame_id;
     std::string child_frame_id;
+    std::function<TrajectorySample(double)> state_at;  ///< for replanning from the current motion
+    /// The trajectory that plays until this one starts (a replan switches at stamp + start_time,
+    /// ~replan_lead after the request): no jump on the moving frame while the new one is pending.
+    std::shared_ptr<const Playback> previous;
   };
 
   bool generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
@@ -95,6 +99,18 @@ private:
   void waypointsCallback(const geometry_msgs::PoseArray::ConstPtr& msg);
   void tfTimerCallback(const ros::TimerEvent& event);
   void broadcastMovingFrame();
+
+  // Replanning from the current motion (README "Replanning").
+  /// The playback the moving frame shows at `time`: the latest, or the one it replaces while the
+  /// latest has not started yet.
+  std::shared_ptr<const Playback> playbackAt(const ros::Time& time) const;
+  /// The trajectory time shown at `time` (looped or held at the ends); `ended` says whether it is
+  /// held at the end (or before the start) rather than moving.
+  double playbackClock(const Playback& playback, const ros::Time& time, bool* ended) const;
+  /// Fills r->start_state with the moving frame's state at `switch_time` if `child` is playing
+  /// (at rest at the held pose when its trajectory ended); leaves it empty when nothing plays.
+  void startFromCurrent(const ros::Time& switch_time, const std::string& frame, const std::string& child,
+                        TrajectoryRequest* r) const;
   void watchdogCallback(const ros::TimerEvent& event);
   /// Warns when a publisher's header.seq jumps (messages dropped by the queue).
   void noticeDrops(const std::string& publisher, std::uint32_t seq);
@@ -164,7 +180,7 @@ private:
   std::vector<geometry_msgs::Pose> buffer_;
   std::string buffer_frame_;
 
-  std::mutex playback_mutex_;
+  mutable std::mutex playback_mutex_;
   std::shared_ptr<const Playback> playback_;
   ros::Time last_tf_stamp_;
 };

@@ -27,6 +27,8 @@ struct NodeParameters
   int waypoint_queue_size = 100;             ///< ~waypoint subscriber queue (drops are warned)
   int service_threads = 4;                   ///< threads serving ~generate concurrently
   double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
+  bool replan_from_current = true;           ///< auto-generation starts from the current motion
+  double replan_lead = 0.1;                  ///< s, switch time after the request (from_current)
   PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work
   /// Defaults for empty request fields (and the auto-generated trajectory).
   std::string curve = "interpolating";
