@@ -10,11 +10,6 @@ namespace cli
 {
 namespace
 {
-std::string at(const std::string& field, std::size_t i)
-{
-  return field + "[" + std::to_string(i) + "]";
-}
-
 double toDouble(const YAML::Node& node, const std::string& field)
 {
   if (!node.IsScalar())
@@ -73,7 +68,7 @@ std::vector<double> toDoubles(const YAML::Node& node, const std::string& field)
     throw InvalidInputError(field + ": expected a list of numbers");
   std::vector<double> v;
   for (std::size_t i = 0; i < node.size(); ++i)
-    v.push_back(toDouble(node[i], at(field, i)));
+    v.push_back(toDouble(node[i], indexedField(field, i)));
   return v;
 }
 
@@ -157,12 +152,22 @@ void readCommonFields(const YAML::Node& root, Request* r)
 {
   if (!root || root.IsNull())
     throw InvalidInputError("request: the YAML document is empty");
+  // The service looks these up with tf2; the command-line tool has no TF.
+  if (root.IsMap() && root["waypoint_frames"])
+    throw InvalidInputError("waypoint_frames: the command-line tool has no TF to look frames up in; give their "
+                            "poses in waypoints (the node's ~generate service takes waypoint_frames)");
   requireKeys(root, "",
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
                 "max_linear_acceleration", "max_angular_acceleration", "timing", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish", "blend_radius" });
+                "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state" });
+  // The service's from_current starts from the motion the node plays; the CLI plays none.
+  if (root["from_current"] && toBool(root["from_current"], "from_current"))
+    throw InvalidInputError("from_current: the CLI plays no trajectory, so there is no current motion to start "
+                            "from; give the state explicitly as start_state: {pose: {position: [x, y, z], "
+                            "orientation: [x, y, z, w]}, velocity: {linear: [..], angular: [..]}, acceleration: "
+                            "{linear: [..], angular: [..]}}");
   if (root["times"])
     r->times = toDoubles(root["times"], "times");
   if (root["curve"])
@@ -213,7 +218,7 @@ std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const s
     throw InvalidInputError(field + ": expected a list of vectors");
   std::vector<std::vector<double>> out;
   for (std::size_t i = 0; i < node.size(); ++i)
-    out.push_back(toDoubles(node[i], at(field, i)));
+    out.push_back(toDoubles(node[i], indexedField(field, i)));
   return out;
 }
 
@@ -241,7 +246,7 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
                             "{header: {frame_id: ..}, poses: [...]} as in the service)");
   for (std::size_t i = 0; i < poses.size(); ++i)
-    r.waypoints.push_back(toPose(poses[i], at("waypoints", i)));
+    r.waypoints.push_back(toPose(poses[i], indexedField("waypoints", i)));
   if (root["start_velocity"])
     r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])
@@ -254,7 +259,23 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     if (!v.IsSequence())
       throw InvalidInputError("velocities: expected a list of twists");
     for (std::size_t i = 0; i < v.size(); ++i)
-      r.velocities.push_back(toTwist(v[i], at("velocities", i)));
+      r.velocities.push_back(toTwist(v[i], indexedField("velocities", i)));
+  }
+  if (root["start_state"])
+  {
+    const YAML::Node s = root["start_state"];
+    if (!s.IsMap())
+      throw InvalidInputError("start_state: expected {pose: .., velocity: .., acceleration: ..}");
+    requireKeys(s, "start_state", { "pose", "velocity", "acceleration" });
+    if (!s["pose"])
+      throw InvalidInputError("start_state.pose: missing ({position: [x, y, z], orientation: [x, y, z, w]})");
+    StartState state;
+    state.pose = toPose(s["pose"], "start_state.pose");
+    if (s["velocity"])
+      state.velocity = toTwist(s["velocity"], "start_state.velocity");
+    if (s["acceleration"])
+      state.acceleration = toTwist(s["acceleration"], "start_state.acceleration");
+    r.start_state = state;
   }
   return r;
 }
@@ -265,6 +286,8 @@ SphereRequest sphereRequestFromYaml(const YAML::Node& root)
   readCommonFields(root, &r);
   if (root["blend_radius"])
     throw InvalidInputError("blend_radius: corner blending is for poses only (not with --space sphere)");
+  if (root["start_state"])
+    throw InvalidInputError("start_state: starting from a given state is for poses only (not with --space sphere)");
   auto toVectorX = [](const YAML::Node& node, const std::string& field) {
     const std::vector<double> v = toDoubles(node, field);
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));

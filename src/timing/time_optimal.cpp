@@ -82,7 +82,7 @@ class Solver
 {
 public:
   Solver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options)
-    : path_(path), bounds_(bounds)
+    : path_(path), bounds_(bounds), start_x_(options.start_speed * options.start_speed)
   {
     buildGrid(options);
     evaluateGrid();
@@ -287,7 +287,8 @@ private:
     k_.assign(n, 0.0);
     for (std::size_t i = n - 1; i-- > 0;)
     {
-      if (corner_[i] || i == 0)
+      // K_0 = {0} for a start at rest; a moving start needs the whole controllable set at s_0.
+      if (corner_[i] || (i == 0 && !(start_x_ > 0.0)))
         continue;
       const double next = nextLimit(i);
       auto admissible = [&](double x) { return !controls(i, x, next).isEmpty(); };
@@ -328,6 +329,7 @@ private:
     x.assign(n, 0.0);
     u.assign(n - 1, 0.0);
     t.assign(n, profile_.s.front());
+    x[0] = std::min(start_x_, k_[0]);
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
       const double d = delta(i);
@@ -550,6 +552,7 @@ private:
 
   const PathModel& path_;
   RateBounds bounds_;
+  double start_x_;  ///< the requested ṡ² at s_0 (0: from rest)
   std::array<bool, 2> moves_{};
   std::array<double, 2> floor_{};
   TimingProfile profile_;

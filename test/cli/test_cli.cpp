@@ -160,6 +160,45 @@ TEST(Cli, ScrewBezierCsvToFile)
     EXPECT_NE(r.err.find(figure), std::string::npos) << figure;
 }
 
+/// The classical quintic Hermite interpolant on [0, h] (basis polynomials in u = t/h).
+double quinticHermite(double t, double h, double p0, double v0, double a0, double p1, double v1, double a1)
+{
+  const double u = t / h, u3 = u * u * u, u4 = u3 * u, u5 = u4 * u;
+  return (1 - 10 * u3 + 15 * u4 - 6 * u5) * p0 + (u - 6 * u3 + 8 * u4 - 3 * u5) * h * v0 +
+         0.5 * (u * u - 3 * u3 + 3 * u4 - u5) * h * h * a0 + 0.5 * (u3 - 2 * u4 + u5) * h * h * a1 +
+         (-4 * u3 + 7 * u4 - 3 * u5) * h * v1 + (10 * u3 - 15 * u4 + 6 * u5) * p1;
+}
+
+// start_state: the motion starts in the given state and joins the geodesic to the waypoint by the
+// classical quintic Hermite polynomial (pure translation); from_current is refused.
+TEST(Cli, StartStateIsTheClassicalQuinticAndFromCurrentIsRefused)
+{
+  const CliRun r = run(data("start_state.yaml"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_EQ(rows.size(), 4U);
+  // The geodesic start -> (2, 1) over 2 s has velocity (1, 0.5) and no acceleration.
+  for (const auto& row : rows)
+  {
+    const double t = row[0];
+    EXPECT_NEAR(row[1], quinticHermite(t, 2.0, 0.0, 1.0, 0.0, 2.0, 1.0, 0.0), 1e-12) << t;
+    EXPECT_NEAR(row[2], quinticHermite(t, 2.0, 0.0, 0.0, 2.0, 1.0, 0.5, 0.0), 1e-12) << t;
+  }
+  EXPECT_NEAR(rows[0][8], 1.0, 1e-12);   // vx at the start
+  EXPECT_NEAR(rows[0][15], 2.0, 1e-12);  // ay at the start
+
+  const std::string text = slurp(data("start_state.yaml"));
+  const CliRun refused = run(writeTemp("from_current.yaml", text + "from_current: true\n"));
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.err.find("from_current: the CLI plays no trajectory"), std::string::npos) << refused.err;
+  const CliRun sphere = run(writeTemp("start_sphere.yaml",
+                                      "waypoints: [[1, 0, 0], [0, 1, 0]]\nstart_state: {pose: {position: [0, 0, 0]}}\n") +
+                            " --space sphere");
+  EXPECT_EQ(sphere.status, 2);
+  EXPECT_NE(sphere.err.find("start_state:"), std::string::npos) << sphere.err;
+}
+
 TEST(Cli, ErrorsExitTwoWithoutOutputFile)
 {
   const std::string out = testing::TempDir() + "must_not_exist.csv";
@@ -347,6 +386,9 @@ TEST(Cli, ServiceSpellingRefusals)
       "start_velocity.linear.w: unknown field" },
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nvelocities: [{angular: [1, 2]}, {}]\n",
       "velocities[0].angular: expected 3 numbers" },
+    // A service field the CLI cannot serve (no TF): refused by name, not as an unknown field.
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nwaypoint_frames: [taught_1]\n",
+      "waypoint_frames: the command-line tool has no TF" },
   };
   const std::string out = testing::TempDir() + "spelling_must_not_exist.csv";
   for (const auto& c : cases)

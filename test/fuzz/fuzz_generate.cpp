@@ -1,4 +1,4 @@
-// libFuzzer target: bytes -> TrajectoryRequest -> generateTrajectory (validation, timing,
+// libFuzzer target: bytes -> TrajectoryRequest -> generate (validation, timing,
 // curve, stretch, sampling): the whole request. The per-layer targets (fuzz_lie, fuzz_validate,
 // fuzz_curves, fuzz_sphere, fuzz_yaml) run the layers alone, much faster.
 //
@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   limits.max_waypoints = 12;
   try
   {
-    checkResult(generateTrajectory(request, limits), limits);
+    checkResult(generate(request, limits), limits);
   }
   catch (const InterpolationError&)
   {

@@ -65,11 +65,19 @@
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/geometry/tangent_space.h"
+#include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/math/banded_lu.h"
-#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {
+/// The end conditions of the C² spline (request field `end_condition`).
+enum class EndCondition
+{
+  kNatural,  ///< "natural": zero acceleration at both ends
+  kClamped,  ///< "clamped": the given start and end velocities
+  kStart     ///< "start": the given start velocity and acceleration (Crouch Case 2)
+};
+
 /// Limits of the iterative solve (natural / clamped).
 struct SplineSolverOptions
 {

@@ -66,7 +66,6 @@
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/curves/interpolating_solver.h"
 #include "se3_interpolation/geometry/tangent_space.h"
-#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {
@@ -131,7 +130,7 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
     }
     if (!end[i].allFinite() || !v.allFinite() || !a.allFinite())
       throw ConvergenceError("curve 'interpolating' (end_condition 'start'): the velocity carried to " +
-                             detail::indexedField("waypoints", i + 1) +
+                             indexedField("waypoints", i + 1) +
                              " is not finite: the C^2 spline with these start data exists but its velocities leave "
                              "double range (the forward construction, Algorithm 7.4.1, amplifies the start data "
                              "from segment to segment: by 2 + sqrt3 in the abelian case, quadratically in the "

@@ -25,7 +25,8 @@
 //    always admissible), and the admissible x form an interval containing 0, so k_i is the root
 //    of a monotone predicate, found by bisection to relative 1e-12 (a 1-D convex problem solved
 //    to rounding, on the exact constraints);
-//  - greedy forward pass: x_0 = 0 and u_i the largest admissible control with x_{i+1} ∈ K_{i+1}
+//  - greedy forward pass: x_0 = 0 (or the requested start speed squared, clamped to K_0, when
+//    replanning from a moving state: TimeOptimalOptions::start_speed) and u_i the largest admissible control with x_{i+1} ∈ K_{i+1}
 //    (Pham & Pham, eq. 12), which is time-optimal for the discretised problem;
 //  - velocity corners (breakpoints where C′ jumps: piecewise_geodesic waypoints, B-spline knots
 //    of full multiplicity) get K = {0}: the motion comes to rest there (a jump of C′ at ṡ > 0 is an
@@ -63,7 +64,7 @@
 
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/geometry/sphere.h"
+#include "se3_interpolation/analysis/sphere_kinematics.h"
 
 namespace se3_interpolation
 {
@@ -129,6 +130,12 @@ struct TimeOptimalOptions
 {
   std::size_t intervals_per_piece = 16;  ///< at least this many intervals between breakpoints
   std::size_t min_intervals = 512;       ///< at least this many in all (spread by piece length)
+  /// ṡ at s_0 (replanning from a moving state: the motion starts at this path speed instead of at
+  /// rest). The forward pass starts from x_0 = min(start_speed², k_0), k_0 the largest controllable
+  /// x at s_0 (the start's own velocity bound and the ability to brake within the path included),
+  /// so a speed beyond what the bounds allow is reduced to the largest that they do. The final
+  /// uniform correction k then scales it by 1/k like every speed (TimingProfile::stretch).
+  double start_speed = 0.0;
 };
 
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].

@@ -1,0 +1,221 @@
+// Replanning from a moving state: the joining segment from a given start state (pose, velocity,
+// acceleration) into a curve, C² at both of its ends, written once over the geometry G.
+//
+// Given the start point x_s with its second-order jet X_s(τ) (the pose, velocity and acceleration
+// of the motion being replaced, τ = t − t_s), a curve R and the time t_r at which the motion is to
+// continue on R, the joining segment on [t_s, t_s + h] is the quintic in the chart at x_s
+//   J(t) = G::exp(x_s, P(t − t_s)),   P(τ) = Σ_{k=0}^{5} c_k τ^k ∈ T_{x_s},                       (J1)
+// with the six conditions of a quintic Hermite interpolant (the chart's Taylor coefficients):
+//   (c_0, c_1, c_2)              = the jet of τ ↦ G::log(x_s, X_s(τ)) at 0,
+//   (P(h), P'(h), P''(h)/2)      = the jet of τ ↦ G::log(x_s, R(t_r + τ)) at 0 = (E_0, E_1, E_2),
+// which, with A = E_0 − c_0 − c_1 h − c_2 h², B = (E_1 − c_1 − 2 c_2 h) h, C = (E_2 − c_2) h²,
+// gives
+//   c_3 h³ = 10 A − 4 B + C,   c_4 h⁴ = −15 A + 7 B − 2 C,   c_5 h⁵ = 6 A − 3 B + C           (J2)
+// (the classical quintic Hermite basis, written in the monomials). G::exp(x_s, ·) inverts
+// G::log(x_s, ·) as a map, so it inverts it on jets too: J has at t_s the value, velocity and
+// acceleration of X_s and at t_s + h those of R at t_r, i.e. the joined motion is C² at the
+// switch and at the joint, to rounding, whatever the curve R (and in any geometry whose log at x_s
+// is smooth near both ends: rotations below π from x_s). In the abelian cases (R^n, pure
+// translations, rotations about one axis) the chart is linear and (J1) is the classical quintic
+// Hermite polynomial; this is how the geometry-free construction is tested.
+//
+// After the joint the motion is R shifted in time: c(t) = R(t − (t_s + h) + t_r) for t ≥ t_s + h.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/curves/curve.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/geometry/se3_velocity.h"
+
+namespace se3_interpolation
+{
+namespace detail
+{
+/// A curve evaluated at a double or a jet of time (the two faces of the virtual interface).
+template <class G>
+typename G::template Point<double> evaluateAt(const Curve<G>& c, double t, Side /*side*/)
+{
+  return c.value(t);
+}
+template <class G>
+typename G::template Point<Jet<2>> evaluateAt(const Curve<G>& c, const Jet<2>& t, Side side)
+{
+  return c.jet(t, side);
+}
+
+/// The coefficients 0, 1, 2 of a tangent of jets, as three tangents of doubles.
+template <class G>
+std::array<typename G::template Tangent<double>, 3> tangentCoefficients(const typename G::template Tangent<Jet<2>>& v)
+{
+  std::array<typename G::template Tangent<double>, 3> c;
+  for (int k = 0; k < 3; ++k)
+  {
+    c[k].resize(v.size());
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      c[k][i] = v[i].coefficient(k);
+  }
+  return c;
+}
+}  // namespace detail
+
+/// The second-order jet of a pose moving with the given velocity and acceleration (planner.h
+/// conventions: ṗ, p̈ and the spatial ω, ω̇ with Ṙ = [ω]× R). The inverse of kinematicsFromJet:
+/// q̇ = ½ (0, ω) q and q̈ = ½ (0, ω̇) q + ¼ (0, ω)(0, ω) q; a jet stores q̈/2.
+inline Pose<Jet<2>> poseJet(const Pose<double>& x, const Twist& velocity, const Twist& acceleration)
+{
+  const Quaternion<double> w(0.0, velocity.angular.x(), velocity.angular.y(), velocity.angular.z());
+  const Quaternion<double> dw(0.0, acceleration.angular.x(), acceleration.angular.y(), acceleration.angular.z());
+  const Quaternion<double> q1 = Quaternion<double>(w.coeffs() * 0.5) * x.q;
+  const Quaternion<double> q2a = dw * x.q;
+  const Quaternion<double> q2b = w * (w * x.q);
+  const Eigen::Vector4d q2 = 0.25 * q2a.coeffs() + 0.125 * q2b.coeffs();  // q̈/2
+  Pose<Jet<2>> j;
+  Eigen::Matrix<Jet<2>, 4, 1> c;
+  for (int i = 0; i < 4; ++i)
+  {
+    c[i] = Jet<2>(x.q.coeffs()[i]);
+    c[i].coefficient(1) = q1.coeffs()[i];
+    c[i].coefficient(2) = q2[i];
+  }
+  j.q.coeffs() = c;
+  for (int i = 0; i < 3; ++i)
+  {
+    j.p[i] = Jet<2>(x.p[i]);
+    j.p[i].coefficient(1) = velocity.linear[i];
+    j.p[i].coefficient(2) = 0.5 * acceleration.linear[i];
+  }
+  return j;
+}
+
+/// The joining segment (J1) on [start_time, start_time + duration] followed by `rest` from
+/// `rest_from` on. Throws InvalidInputError for a duration that is not positive and finite,
+/// NonUniqueGeodesicError when R(rest_from) is half a turn from x_s.
+template <class G>
+class StartJoinedCurve final : public CurveBase<G, StartJoinedCurve<G>>
+{
+public:
+  template <class S>
+  using PointT = typename G::template Point<S>;
+  using Point = PointT<double>;
+  using Tangent = typename G::template Tangent<double>;
+
+  StartJoinedCurve(const Point& start, const PointT<Jet<2>>& start_jet, double start_time, double duration,
+                   std::shared_ptr<const Curve<G>> rest, double rest_from)
+    : start_(start), t0_(start_time), h_(duration), rest_(std::move(rest)), rest_from_(rest_from)
+  {
+    if (!(h_ > 0.0) || !std::isfinite(h_))
+      throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
+                              formatNumber(h_) + " s (it must be positive)");
+    const PointT<Jet<2>> origin = G::template cast<Jet<2>>(start_);
+    const auto c = detail::tangentCoefficients<G>(G::log(origin, start_jet));
+    typename G::template Tangent<Jet<2>> end_log;
+    try
+    {
+      end_log = G::log(origin, rest_->jet(Jet<2>::variable(rest_from_), Side::kRight));
+    }
+    catch (const NonUniqueGeodesicError&)
+    {
+      throw NonUniqueGeodesicError("waypoints[0]: the curve's start is half a turn from the start state's "
+                                   "orientation, so the joining segment is not unique");
+    }
+    const auto e = detail::tangentCoefficients<G>(end_log);
+    const double h = h_;
+    const Tangent a = e[0] - c[0] - c[1] * h - c[2] * (h * h);
+    const Tangent b = (e[1] - c[1] - c[2] * (2.0 * h)) * h;
+    const Tangent cc = (e[2] - c[2]) * (h * h);
+    coefficients_ = { c[0],
+                      c[1],
+                      c[2],
+                      Tangent((10.0 * a - 4.0 * b + cc) / (h * h * h)),
+                      Tangent((-15.0 * a + 7.0 * b - 2.0 * cc) / (h * h * h * h)),
+                      Tangent((6.0 * a - 3.0 * b + cc) / (h * h * h * h * h)) };
+  }
+
+  template <class S>
+  PointT<S> evaluate(const S& t, Side side) const
+  {
+    const double tv = valueOf(t);
+    const double joint = t0_ + h_;
+    if (tv > joint || (tv == joint && side == Side::kRight))
+    {
+      S rest_time = t - S(offset());
+      // The end maps onto the rest's end exactly (t0 + h + (end - from) - offset may round past it,
+      // and the curve would be extrapolated there): the last sample is the last waypoint exactly.
+      if (tv == endTime())
+        rest_time = rest_time + S(rest_->endTime() - valueOf(rest_time));
+      return detail::evaluateAt<G>(*rest_, rest_time, side);
+    }
+    const S tau = t - S(t0_);
+    using TangentS = typename G::template Tangent<S>;
+    TangentS p = coefficients_[5].template cast<S>();
+    for (int k = 4; k >= 0; --k)
+      p = TangentS(p * tau + coefficients_[k].template cast<S>());
+    return G::exp(G::template cast<S>(start_), p);
+  }
+
+  double startTime() const override { return t0_; }
+  double endTime() const override { return rest_->endTime() + offset(); }
+  double jointTime() const { return t0_ + h_; }
+  std::vector<double> breakpoints() const override
+  {
+    std::vector<double> b{ t0_, t0_ + h_ };
+    for (double x : rest_->breakpoints())
+      if (x > rest_from_)
+        b.push_back(x + offset());
+    if (b.size() < 3 || b.back() < endTime())
+      b.push_back(endTime());
+    return b;
+  }
+  std::vector<Point> controlPoints() const override
+  {
+    std::vector<Point> c{ start_ };
+    for (const Point& x : rest_->controlPoints())
+      c.push_back(x);
+    return c;
+  }
+
+private:
+  /// Curve time minus the rest's time after the joint (0 when the rest continues on the same clock).
+  double offset() const { return t0_ + h_ - rest_from_; }
+
+  Point start_;
+  double t0_;
+  double h_;
+  std::shared_ptr<const Curve<G>> rest_;
+  double rest_from_;
+  std::array<Tangent, 6> coefficients_;
+};
+
+/// The part of a curve from `from` on (a window for the timing of the path after a joint).
+template <class G>
+class CurveTail final : public Curve<G>
+{
+public:
+  using typename Curve<G>::Point;
+  using typename Curve<G>::Jet2Point;
+
+  CurveTail(std::shared_ptr<const Curve<G>> base, double from) : base_(std::move(base)), from_(from) {}
+  Point value(double t) const override { return base_->value(t); }
+  Jet2Point jet(const Jet<2>& t, Side side) const override { return base_->jet(t, side); }
+  double startTime() const override { return from_; }
+  double endTime() const override { return base_->endTime(); }
+  std::vector<double> breakpoints() const override
+  {
+    std::vector<double> b{ from_ };
+    for (double x : base_->breakpoints())
+      if (x > from_)
+        b.push_back(x);
+    return b;
+  }
+  std::vector<Point> controlPoints() const override { return base_->controlPoints(); }
+
+private:
+  std::shared_ptr<const Curve<G>> base_;
+  double from_;
+};
+
+}  // namespace se3_interpolation

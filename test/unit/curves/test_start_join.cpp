@@ -1,0 +1,438 @@
+// Replanning from a moving state (planner.h StartState, curves/start_join.h, the time-optimal
+// start speed): the trajectory starts in the given state (C² switch), checked against finite
+// differences of the produced curve, the classical quintic Hermite polynomial in the abelian cases,
+// a closed-form time-optimal line motion, and hard points (rest, rotations near pi, q vs -q).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "se3_interpolation/curves/start_join.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/curves/bezier.h"
+#include "se3_interpolation/timing/time_optimal.h"
+#include "test_utils.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+constexpr double kSwitchTolerance = 1e-9;  // the C² switch tolerance
+
+Twist twist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular)
+{
+  Twist t;
+  t.linear = linear;
+  t.angular = angular;
+  return t;
+}
+
+Pose<double> pose(const Eigen::Vector3d& p, double angle, const Eigen::Vector3d& axis)
+{
+  return Pose<double>(Quaternion<double>(Eigen::AngleAxisd(angle, axis.normalized())), p);
+}
+
+StartState movingState()
+{
+  StartState s;
+  s.pose = pose({ 0.3, -0.2, 0.5 }, 0.7, { 1.0, 2.0, -0.5 });
+  s.velocity = twist({ 0.4, 0.1, -0.3 }, { 0.2, -0.5, 0.3 });
+  s.acceleration = twist({ -0.6, 0.2, 0.1 }, { 0.4, 0.1, -0.7 });
+  return s;
+}
+
+TrajectoryRequest requestFrom(const StartState& s, const std::string& curve, const std::string& geometry)
+{
+  TrajectoryRequest r;
+  r.waypoints = { pose({ 1.0, 0.0, 0.5 }, 1.2, { 0.0, 0.0, 1.0 }), pose({ 1.5, 1.0, 0.2 }, 0.4, { 1.0, 0.0, 0.0 }),
+                  pose({ 0.5, 1.5, 0.0 }, -0.6, { 0.0, 1.0, 1.0 }) };
+  r.curve = curve;
+  r.geometry = geometry;
+  r.duration = 4.0;
+  r.start_state = s;
+  return r;
+}
+
+double rotationBetween(const Quaternion<double>& a, const Quaternion<double>& b)
+{
+  return rotationAngle(Quaternion<double>(a.conjugate() * b));
+}
+
+/// The first sample (exact jets) and finite differences of point_at at 0 against the start state.
+void expectStartsIn(const TrajectoryResult& out, const StartState& s, double fd_tolerance)
+{
+  ASSERT_FALSE(out.samples.empty());
+  const TrajectorySample& first = out.samples.front();
+  EXPECT_EQ(first.time, 0.0);
+  EXPECT_LT((first.pose.p - s.pose.p).norm(), kSwitchTolerance);
+  EXPECT_LT(rotationBetween(first.pose.q, s.pose.q), kSwitchTolerance);
+  EXPECT_LT((first.velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+  EXPECT_LT((first.velocity.angular - s.velocity.angular).norm(), kSwitchTolerance);
+  EXPECT_LT((first.acceleration.linear - s.acceleration.linear).norm(), kSwitchTolerance);
+  EXPECT_LT((first.acceleration.angular - s.acceleration.angular).norm(), kSwitchTolerance);
+  // Independent of the jets: differences of the curve's values (the joining polynomial extends
+  // analytically to t < 0).
+  const Kinematics fd = test::centralDifferences(out.point_at, 0.0, 1e-3);
+  EXPECT_LT((fd.velocity.linear - s.velocity.linear).norm(), fd_tolerance);
+  EXPECT_LT((fd.velocity.angular - s.velocity.angular).norm(), fd_tolerance);
+  EXPECT_LT((fd.acceleration.linear - s.acceleration.linear).norm(), fd_tolerance);
+  EXPECT_LT((fd.acceleration.angular - s.acceleration.angular).norm(), fd_tolerance);
+}
+
+TEST(StartJoin, PoseJetIsTheInverseOfKinematicsFromJet)
+{
+  const StartState s = movingState();
+  const Kinematics k = kinematicsFromJet(poseJet(s.pose, s.velocity, s.acceleration));
+  EXPECT_LT((k.velocity.linear - s.velocity.linear).norm(), 1e-15);
+  EXPECT_LT((k.velocity.angular - s.velocity.angular).norm(), 1e-15);
+  EXPECT_LT((k.acceleration.linear - s.acceleration.linear).norm(), 1e-15);
+  EXPECT_LT((k.acceleration.angular - s.acceleration.angular).norm(), 1e-15);
+}
+
+// Every curve family, both SE(3) geometries: C² switch, and the first requested waypoint reached.
+TEST(StartJoin, EveryCurveStartsInTheGivenState)
+{
+  for (const char* geometry : { "double_geodesic", "screw" })
+    for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    {
+      SCOPED_TRACE(std::string(curve) + " / " + geometry);
+      const TrajectoryResult out = generate(requestFrom(movingState(), curve, geometry), PlannerLimits());
+      expectStartsIn(out, movingState(), 1e-5);
+      ASSERT_EQ(out.waypoint_times.size(), 3u);
+      EXPECT_GT(out.waypoint_times.front(), 0.0);
+      EXPECT_NEAR(out.samples.back().time, 4.0, 1e-12);
+    }
+}
+
+TEST(StartJoin, InterpolatingStartTakesTheStateNatively)
+{
+  const StartState s = movingState();
+  TrajectoryRequest r = requestFrom(s, "interpolating", "screw");
+  r.end_condition = "start";
+  r.times = { 1.0, 2.0, 3.5 };
+  r.start_velocity = twist({ 9.0, 9.0, 9.0 }, { 0.0, 0.0, 0.0 });  // replaced by the start state
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  expectStartsIn(out, s, 1e-5);
+  // Natively: the same curve as the forward spline through the start pose and the waypoints with
+  // the state as its start data (no joining segment).
+  TrajectoryRequest plain = r;
+  plain.start_state.reset();
+  plain.waypoints.insert(plain.waypoints.begin(), s.pose);
+  plain.times.insert(plain.times.begin(), 0.0);
+  plain.start_velocity = s.velocity;
+  plain.start_acceleration = s.acceleration;
+  const TrajectoryResult ref = generate(plain, PlannerLimits());
+  ASSERT_EQ(out.samples.size(), ref.samples.size());
+  for (std::size_t i = 0; i < out.samples.size(); ++i)
+    EXPECT_LT(test::poseDistance(out.samples[i].pose, ref.samples[i].pose), 1e-12);
+}
+
+// Interpolating curves pass the waypoints at their times, which count from the switch.
+TEST(StartJoin, TimesCountFromTheSwitch)
+{
+  TrajectoryRequest r = requestFrom(movingState(), "interpolating", "double_geodesic");
+  r.times = { 1.0, 2.5, 3.0 };
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  ASSERT_EQ(out.waypoint_times.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+  {
+    EXPECT_DOUBLE_EQ(out.waypoint_times[i], r.times[i]);
+    EXPECT_LT(test::poseDistance(out.point_at(r.times[i]), r.waypoints[i]), 1e-9);
+  }
+  expectStartsIn(out, movingState(), 1e-5);
+}
+
+// At the joint the joining segment and the curve agree to second order (one-sided jets).
+TEST(StartJoin, JointIsC2)
+{
+  const StartState s = movingState();
+  for (double angle : { 0.3, 2.0, M_PI - 1e-6 })
+  {
+    SCOPED_TRACE(angle);
+    std::vector<Pose<double>> points{ pose({ 1.0, 0.0, 0.0 }, 0.7 + angle, { 1.0, 2.0, -0.5 }),
+                                      pose({ 2.0, 1.0, 0.0 }, 0.2, { 0.0, 0.0, 1.0 }) };
+    auto rest = std::make_shared<PiecewiseGeodesic<ScrewSe3>>(points, std::vector<double>{ 0.0, 2.0 });
+    StartJoinedCurve<ScrewSe3> c(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, 1.5, rest, 0.0);
+    const Kinematics left = kinematicsAt(c, 1.5, Side::kLeft);
+    const Kinematics right = kinematicsAt(c, 1.5, Side::kRight);
+    const Kinematics ref = kinematicsAt(*rest, 0.0);
+    EXPECT_LT(test::poseDistance(left.pose, ref.pose), 1e-9);
+    EXPECT_LT(test::poseDistance(right.pose, ref.pose), 1e-12);
+    const double scale = 1.0 + ref.velocity.angular.norm() + ref.velocity.linear.norm();
+    EXPECT_LT((left.velocity.linear - ref.velocity.linear).norm(), 1e-9 * scale);
+    EXPECT_LT((left.velocity.angular - ref.velocity.angular).norm(), 1e-9 * scale);
+    EXPECT_LT((left.acceleration.linear - ref.acceleration.linear).norm(), 1e-9 * scale * scale);
+    EXPECT_LT((left.acceleration.angular - ref.acceleration.angular).norm(), 1e-9 * scale * scale);
+    EXPECT_NEAR(c.endTime(), 3.5, 1e-15);
+    EXPECT_LT(test::poseDistance(c.value(3.5), points[1]), 1e-12);
+  }
+}
+
+/// The classical quintic Hermite interpolant on [0, h] (basis polynomials in u = t/h).
+double quinticHermite(double t, double h, double p0, double v0, double a0, double p1, double v1, double a1)
+{
+  const double u = t / h, u3 = u * u * u, u4 = u3 * u, u5 = u4 * u;
+  return (1 - 10 * u3 + 15 * u4 - 6 * u5) * p0 + (u - 6 * u3 + 8 * u4 - 3 * u5) * h * v0 +
+         0.5 * (u * u - 3 * u3 + 3 * u4 - u5) * h * h * a0 + 0.5 * (u3 - 2 * u4 + u5) * h * h * a1 +
+         (-4 * u3 + 7 * u4 - 3 * u5) * h * v1 + (10 * u3 - 15 * u4 + 6 * u5) * p1;
+}
+
+// Pure translation: each coordinate is the classical quintic Hermite polynomial.
+TEST(StartJoin, PureTranslationIsTheClassicalQuinticHermite)
+{
+  StartState s;
+  s.pose = pose({ 0.1, 0.2, 0.3 }, 0.4, { 0.0, 1.0, 0.0 });
+  s.velocity = twist({ 1.0, -2.0, 0.5 }, Eigen::Vector3d::Zero());
+  s.acceleration = twist({ 3.0, 0.5, -1.0 }, Eigen::Vector3d::Zero());
+  std::vector<Pose<double>> points{ pose({ 2.0, 1.0, -1.0 }, 0.4, { 0.0, 1.0, 0.0 }),
+                                    pose({ 3.0, 3.0, 0.0 }, 0.4, { 0.0, 1.0, 0.0 }) };
+  const double h = 1.7;
+  for (const bool screw : { false, true })
+  {
+    std::shared_ptr<const Curve<ScrewSe3>> rest_s =
+        std::make_shared<PiecewiseGeodesic<ScrewSe3>>(points, std::vector<double>{ 0.0, 2.0 });
+    std::shared_ptr<const Curve<DoubleGeodesicSe3>> rest_d =
+        std::make_shared<PiecewiseGeodesic<DoubleGeodesicSe3>>(points, std::vector<double>{ 0.0, 2.0 });
+    const Eigen::Vector3d v1 = (points[1].p - points[0].p) / 2.0;  // the geodesic's constant velocity
+    for (double t : { 0.0, 0.2, 0.85, 1.3, 1.7 })
+    {
+      Pose<double> x = screw ? StartJoinedCurve<ScrewSe3>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0,
+                                                          h, rest_s, 0.0)
+                                   .value(t)
+                             : StartJoinedCurve<DoubleGeodesicSe3>(s.pose, poseJet(s.pose, s.velocity, s.acceleration),
+                                                                   0.0, h, rest_d, 0.0)
+                                   .value(t);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(x.p[i],
+                    quinticHermite(t, h, s.pose.p[i], s.velocity.linear[i], s.acceleration.linear[i], points[0].p[i],
+                                   v1[i], 0.0),
+                    1e-12)
+            << "t = " << t << ", screw " << screw;
+      EXPECT_LT(rotationBetween(x.q, s.pose.q), 1e-12);
+    }
+  }
+}
+
+// Rotation about one fixed axis: the angle is the classical quintic Hermite polynomial, also near
+// half a turn and with the start quaternion given as -q.
+TEST(StartJoin, RotationAboutOneAxisIsTheClassicalQuinticHermite)
+{
+  const Eigen::Vector3d axis(0.0, 0.6, 0.8);
+  for (double end_angle : { 0.5, 2.9, 0.2 + M_PI - 1e-6 })
+    for (double sign : { 1.0, -1.0 })
+    {
+      StartState s;
+      s.pose = pose({ 0.0, 0.0, 0.0 }, 0.2, axis);
+      s.pose.q.coeffs() *= sign;
+      s.velocity = twist(Eigen::Vector3d::Zero(), 0.8 * axis);
+      s.acceleration = twist(Eigen::Vector3d::Zero(), -1.5 * axis);
+      std::vector<Pose<double>> points{ pose({ 0.0, 0.0, 0.0 }, end_angle, axis),
+                                        pose({ 0.0, 0.0, 0.0 }, end_angle + 1.0, axis) };
+      auto rest = std::make_shared<PiecewiseGeodesic<ScrewSe3>>(points, std::vector<double>{ 0.0, 2.0 });
+      const double h = 1.3;
+      StartJoinedCurve<ScrewSe3> c(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h, rest, 0.0);
+      for (double t : { 0.0, 0.3, 0.65, 1.0, 1.3 })
+      {
+        const double theta = quinticHermite(t, h, 0.2, 0.8, -1.5, end_angle, 0.5, 0.0);
+        EXPECT_LT(rotationBetween(c.value(t).q, pose({ 0, 0, 0 }, theta, axis).q), 1e-10)
+            << "end " << end_angle << " sign " << sign << " t " << t;
+      }
+    }
+}
+
+// q and -q describe the same start: the same trajectory.
+TEST(StartJoin, NegatedStartQuaternionGivesTheSameMotion)
+{
+  StartState a = movingState(), b = movingState();
+  b.pose.q.coeffs() = -b.pose.q.coeffs();
+  const TrajectoryResult ra = generate(requestFrom(a, "interpolating", "screw"), PlannerLimits());
+  const TrajectoryResult rb = generate(requestFrom(b, "interpolating", "screw"), PlannerLimits());
+  ASSERT_EQ(ra.samples.size(), rb.samples.size());
+  for (std::size_t i = 0; i < ra.samples.size(); ++i)
+  {
+    EXPECT_LT(test::poseDistance(ra.samples[i].pose, rb.samples[i].pose), 1e-12);
+    EXPECT_LT((ra.samples[i].velocity.angular - rb.samples[i].velocity.angular).norm(), 1e-10);
+  }
+  expectStartsIn(rb, b, 1e-5);
+}
+
+// At rest from the held pose when waypoints[0] is that pose: it is not visited twice.
+TEST(StartJoin, RestAtTheFirstWaypointStartsThere)
+{
+  TrajectoryRequest r = requestFrom(StartState(), "interpolating", "double_geodesic");
+  r.start_state->pose = r.waypoints[0];
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  expectStartsIn(out, *r.start_state, 1e-6);
+  ASSERT_EQ(out.waypoint_times.size(), 3u);
+  EXPECT_EQ(out.waypoint_times[0], 0.0);
+  EXPECT_LT(test::poseDistance(out.point_at(out.waypoint_times[2]), r.waypoints[2]), 1e-9);
+}
+
+// Corner blends: one radius per requested waypoint, the start's own corner not among them.
+TEST(StartJoin, BlendedPolylineListsTheRequestedWaypointsOnly)
+{
+  TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
+  r.blend_radius = 0.1;
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  expectStartsIn(out, movingState(), 1e-5);
+  EXPECT_EQ(out.blend_radii.size(), r.waypoints.size());
+  EXPECT_EQ(out.waypoint_times.size(), r.waypoints.size());
+}
+
+// The trajectory ends at the last waypoint (the end time maps onto the curve's end, no extrapolation).
+TEST(StartJoin, LastSampleIsTheLastWaypointExactly)
+{
+  for (const char* timing : { "stretch", "time_optimal" })
+  {
+    SCOPED_TRACE(timing);
+    TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
+    r.waypoints = { pose({ 0.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }), pose({ 1.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }) };
+    r.timing = timing;
+    r.max_linear_velocity = 1.0;
+    r.max_linear_acceleration = 1.0;
+    r.max_angular_velocity = 1.0;
+    r.max_angular_acceleration = 1.0;
+    r.start_state->pose.q = Quaternion<double>::Identity();
+    r.start_state->velocity.angular.setZero();
+    r.start_state->acceleration.angular.setZero();
+    for (double s : { 0.1, 0.3, 0.7, 1.1, 1.9 })
+    {
+      r.start_state->pose.p = Eigen::Vector3d(0.3 * s, -0.2 * s, 0.1);
+      const TrajectoryResult out = generate(r, PlannerLimits());
+      // (To rounding: the geodesic's lambda = (t - t_i) / h need not round to 1 at the end.)
+      EXPECT_NEAR(out.samples.back().pose.p.x(), 1.0, 1e-15) << s;
+      EXPECT_NEAR(out.samples.back().pose.p.y(), 0.0, 1e-15) << s;
+    }
+  }
+}
+
+TEST(StartJoin, OneWaypointIsEnough)
+{
+  TrajectoryRequest r = requestFrom(movingState(), "interpolating", "screw");
+  r.waypoints.resize(1);
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  expectStartsIn(out, movingState(), 1e-5);
+  EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-9);
+}
+
+// A bound that stretches the curve keeps the start state exactly (the joint is rebuilt).
+TEST(StartJoin, StretchKeepsTheStartState)
+{
+  TrajectoryRequest r = requestFrom(movingState(), "interpolating", "double_geodesic");
+  r.duration = 1.0;
+  r.max_linear_velocity = 1.0;
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  EXPECT_GT(out.time_scale, 1.5);
+  expectStartsIn(out, movingState(), 1e-5);
+  EXPECT_NEAR(out.samples.back().time, out.duration, 1e-12);
+}
+
+// time_optimal from a moving state: the switch is C², and the timed path after the joining
+// segment starts at the frame's speed (the bounds allow it here).
+TEST(StartJoin, TimeOptimalStartsAtTheCurrentPathSpeed)
+{
+  for (const char* geometry : { "double_geodesic", "screw" })
+  {
+    SCOPED_TRACE(geometry);
+    TrajectoryRequest r = requestFrom(movingState(), "interpolating", geometry);
+    r.timing = "time_optimal";
+    r.max_linear_velocity = 2.0;
+    r.max_angular_velocity = 2.0;
+    r.max_linear_acceleration = 3.0;
+    r.max_angular_acceleration = 3.0;
+    r.sample_count = 2000;
+    const TrajectoryResult out = generate(r, PlannerLimits());
+    expectStartsIn(out, movingState(), 1e-5);
+    // The joint is the first requested waypoint's time: the speed there is the start speed
+    // (up to the profile's final correction k, ~1e-3).
+    const double joint = out.waypoint_times.front();
+    const Kinematics at = test::centralDifferences(out.point_at, joint + 1e-6, 1e-7);
+    const Twist& v = movingState().velocity;
+    const double start_speed = std::sqrt(v.linear.squaredNorm() + v.angular.squaredNorm());
+    const double joint_speed = std::sqrt(at.velocity.linear.squaredNorm() + at.velocity.angular.squaredNorm());
+    EXPECT_NEAR(joint_speed, start_speed, 5e-3 * start_speed);
+    EXPECT_LT(test::poseDistance(out.point_at(joint), r.waypoints[0]), 1e-9);
+    EXPECT_LT(out.samples.back().velocity.linear.norm(), 1e-6);
+  }
+}
+
+TEST(StartJoin, TimeOptimalAtRestStartsAtRest)
+{
+  TrajectoryRequest r = requestFrom(StartState(), "interpolating", "screw");
+  r.start_state->pose = pose({ -1.0, 0.0, 0.0 }, 0.0, { 0.0, 0.0, 1.0 });
+  r.timing = "time_optimal";
+  r.max_linear_velocity = 1.0;
+  r.max_angular_velocity = 1.0;
+  r.max_linear_acceleration = 2.0;
+  r.max_angular_acceleration = 2.0;
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  EXPECT_LT(test::poseDistance(out.samples.front().pose, r.start_state->pose), 1e-12);
+  EXPECT_LT(out.samples.front().velocity.linear.norm() + out.samples.front().velocity.angular.norm(), 1e-12);
+}
+
+// Time-optimal along a straight line from speed v0: accelerate to v_max, cruise, brake to rest
+// (closed form), and the profile's first speed is v0.
+TEST(StartJoin, TimeOptimalLineFromAMovingStartMatchesTheClosedForm)
+{
+  const double length = 4.0, v0 = 0.5, vmax = 1.0, amax = 2.0, path_duration = 8.0;
+  std::vector<Pose<double>> points{ pose({ 0, 0, 0 }, 0.0, { 0, 0, 1 }), pose({ length, 0, 0 }, 0.0, { 0, 0, 1 }) };
+  auto line = std::make_shared<PiecewiseGeodesic<DoubleGeodesicSe3>>(points, std::vector<double>{ 0.0, path_duration });
+  timing::RateBounds bounds;
+  bounds.velocity = { vmax, 0.0 };
+  bounds.acceleration = { amax, 0.0 };
+  timing::TimeOptimalOptions options;
+  const double path_rate = length / path_duration;  // |C'|
+  options.start_speed = v0 / path_rate;
+  const timing::TimingProfile p = timing::timeOptimalProfile(timing::CurvePath<DoubleGeodesicSe3>(line), bounds, options);
+  const double up = (vmax - v0) / amax, down = vmax / amax;
+  const double cruise = (length - (vmax * vmax - v0 * v0) / (2 * amax) - vmax * vmax / (2 * amax)) / vmax;
+  EXPECT_NEAR(p.duration(), up + cruise + down, 2e-3 * (up + cruise + down));
+  EXPECT_NEAR(std::sqrt(p.x.front()) * p.stretch * path_rate, v0, 1e-12);
+  EXPECT_EQ(p.x.back(), 0.0);
+  // A start speed beyond the bound is brought down to it.
+  options.start_speed = 3.0 * vmax / path_rate;
+  const timing::TimingProfile q = timing::timeOptimalProfile(timing::CurvePath<DoubleGeodesicSe3>(line), bounds, options);
+  EXPECT_LE(std::sqrt(q.x.front()) * path_rate, vmax * (1.0 + 1e-9));
+  EXPECT_GT(std::sqrt(q.x.front()) * path_rate, 0.99 * vmax);
+}
+
+TEST(StartJoin, BadInputNamesTheField)
+{
+  auto message = [](const TrajectoryRequest& r) -> std::string {
+    try
+    {
+      generate(r, PlannerLimits());
+    }
+    catch (const InvalidInputError& e)
+    {
+      return e.what();
+    }
+    return "";
+  };
+  TrajectoryRequest r = requestFrom(movingState(), "interpolating", "screw");
+  r.times = { 0.0, 1.0, 2.0 };
+  EXPECT_EQ(message(r).rfind("times[0]", 0), 0u) << message(r);
+  r.times = { -1.0, 1.0, 2.0 };
+  EXPECT_EQ(message(r).rfind("times[0]", 0), 0u) << message(r);
+  r = requestFrom(movingState(), "bspline", "screw");
+  r.knots = { 0, 0, 0, 0, 1, 1, 1, 1 };
+  EXPECT_NE(message(r).find("knots"), std::string::npos) << message(r);
+  r = requestFrom(movingState(), "interpolating", "screw");
+  r.start_state->velocity.linear.x() = std::nan("");
+  EXPECT_EQ(message(r).rfind("start_state.velocity.linear.x", 0), 0u) << message(r);
+  r = requestFrom(movingState(), "interpolating", "screw");
+  r.start_state->pose.q.coeffs() *= 2.0;
+  EXPECT_EQ(message(r).rfind("start_state.pose.orientation", 0), 0u) << message(r);
+  r = requestFrom(StartState(), "interpolating", "screw");
+  r.waypoints.resize(1);
+  r.start_state->pose = r.waypoints[0];
+  EXPECT_EQ(message(r).rfind("waypoints", 0), 0u) << message(r);
+  r = requestFrom(movingState(), "interpolating", "screw");
+  r.waypoints.clear();
+  EXPECT_EQ(message(r).rfind("waypoints", 0), 0u) << message(r);
+}
+
+}  // namespace
+}  // namespace se3_interpolation
