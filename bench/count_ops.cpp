@@ -6,6 +6,7 @@
 //
 // The inputs are the deterministic tables of bench_fixtures.h, cycled with the loop index;
 // everything an operation needs is built before the loop, identically for every N.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -180,11 +181,25 @@ std::vector<std::pair<std::string, Runner>> curveOperations(const std::string& g
     const double span = curve->endTime() - t0;
     return repeat(n, [&curve, t0, span](std::size_t i) { return si::kinematicsAt(*curve, t0 + span * t[i]); });
   };
+  // The natural interpolating solve through N + 2 waypoints (of the same 2002 or more, built for
+  // every N): its difference over N is the cost per waypoint (the solve is linear in N).
+  auto solve = [](std::size_t n) {
+    const std::vector<Pose3> all = se3_bench::makeWaypoints(std::max<std::size_t>(n, 2000) + 2);
+    const std::vector<Pose3> waypoints(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n + 2));
+    std::vector<double> times(n + 2);
+    for (std::size_t i = 0; i < times.size(); ++i)
+      times[i] = static_cast<double>(i);
+    const se3_bench::Twist6 zero = se3_bench::Twist6::Zero();
+    const auto curve =
+        si::solveC2Spline<G>(waypoints, times, si::EndCondition::kNatural, zero, zero);
+    return curve->startRates()[n / 2].sum();
+  };
   return { { g + "_bezier_point", bezier },
            { g + "_bezier_point_jet", bezier_jet },
            { g + "_bspline_point", bspline },
            { g + "_bspline_point_jet", bspline_jet },
-           { g + "_sample_interpolating", sample } };
+           { g + "_sample_interpolating", sample },
+           { g + "_solve_per_waypoint", solve } };
 }
 
 /// The same cubic curves with Eigen slerp + lerp (the peer of the double-geodesic points).

@@ -9,7 +9,7 @@
 #        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt
 # The driver is built with g++ -O2 -DNDEBUG (default x86-64 flags, no catkin) into
 # $SE3_WS/bench; counts depend on the compiler, whose version the results file records.
-# A run takes about 2 minutes on an idle core (38 callgrind runs), so run_tests.sh does not call it.
+# A run takes about 2 minutes on an idle core (42 callgrind runs), so run_tests.sh does not call it.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 

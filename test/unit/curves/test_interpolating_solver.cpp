@@ -1,0 +1,130 @@
+// curves/interpolating_solver.h: the solve allocates a fixed number of buffers, whatever the
+// number of waypoints and of Newton iterations (issue 17: no heap allocation per iteration or
+// per waypoint for the SE(3) geometries, whose frames are the identity), and the double
+// geodesic's rotation-only transition derivatives agree with the generic 21-jet ones.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <random>
+
+#include "se3_interpolation/curves/interpolating_spline.h"
+#include "test_utils.h"
+
+namespace
+{
+std::atomic<long> g_allocations{ 0 };
+}  // namespace
+
+// Counting replacements of the global allocation functions (this test binary only).
+void* operator new(std::size_t size)
+{
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size))
+    return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept
+{
+  std::free(p);
+}
+void operator delete(void* p, std::size_t /*size*/) noexcept
+{
+  std::free(p);
+}
+
+using namespace se3_interpolation;
+
+namespace
+{
+/// A random walk of rotation steps 0.2 … `max_angle` rad and translations ~ N(0, 0.5²).
+std::vector<Pose<double>> walk(std::size_t n, double max_angle, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0.2, max_angle);
+  std::normal_distribution<double> nd(0.0, 0.5);
+  std::vector<Pose<double>> x{ test::randomPose(rng) };
+  for (std::size_t i = 1; i < n; ++i)
+    x.push_back(x.back() * Pose<double>(so3Exp<double>(Eigen::Vector3d(angle(rng) * test::randomUnitVector<3>(rng))),
+                                        Eigen::Vector3d(nd(rng), nd(rng), nd(rng))));
+  return x;
+}
+
+template <class G>
+long solveAllocations(std::size_t n, double max_angle, EndCondition condition)
+{
+  const std::vector<Pose<double>> x = walk(n, max_angle, 7);
+  std::vector<double> t(n);
+  for (std::size_t i = 0; i < n; ++i)
+    t[i] = 0.5 * static_cast<double>(i) + 0.1 * static_cast<double>(i % 3);
+  const Vector6<double> v0 = Vector6<double>::Constant(0.1), v1 = Vector6<double>::Constant(-0.2);
+  const long before = g_allocations.load();
+  const auto curve = solveC2Spline<G>(x, t, condition, v0, v1);
+  const long after = g_allocations.load();
+  EXPECT_EQ(curve->startRates().size(), n - 1);
+  return after - before;
+}
+}  // namespace
+
+template <class G>
+class InterpolatingSolver : public ::testing::Test
+{
+};
+using Se3Geometries = ::testing::Types<DoubleGeodesicSe3, ScrewSe3>;
+TYPED_TEST_SUITE(InterpolatingSolver, Se3Geometries);
+
+// 20 and 2000 waypoints, rotation steps up to 0.4 and up to 2 rad: the same number of
+// allocations, natural and clamped. The previous solve made about 75 per waypoint.
+TYPED_TEST(InterpolatingSolver, AllocationsDoNotGrowWithWaypointsOrIterations)
+{
+  for (const EndCondition condition : { EndCondition::kNatural, EndCondition::kClamped })
+  {
+    const long small = solveAllocations<TypeParam>(20, 0.4, condition);
+    const long large = solveAllocations<TypeParam>(2000, 0.4, condition);
+    const long hard = solveAllocations<TypeParam>(2000, 2.0, condition);
+    EXPECT_EQ(small, large);
+    EXPECT_EQ(small, hard);
+    EXPECT_LT(small, 40);
+  }
+}
+
+// The double geodesic's D and Q from the rotation's 6 jets (and D = I, Q = 0 on the
+// translation) against chart_cubic.h's transitionDerivatives over all 6 coordinates (21 jets),
+// at hard rotation steps: 1e-12 rad, 1, 3 rad and π − 1e-6.
+TEST(InterpolatingSolverDerivatives, DoubleGeodesicRotationBlockMatchesTheFullJetComputation)
+{
+  std::mt19937 rng(3);
+  const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(6, 6);
+  for (const double angle : { 1e-12, 1.0, 3.0, M_PI - 1e-6 })
+  {
+    const Pose<double> x0 = test::randomPose(rng);
+    const Pose<double> x1 = x0 * Pose<double>(so3Exp<double>(Eigen::Vector3d(angle * test::randomUnitVector<3>(rng))),
+                                              Eigen::Vector3d(0.3, -1.0, 2.0));
+    const Vector6<double> log = DoubleGeodesicSe3::log(x0, x1);
+    const TransitionDerivatives full = transitionDerivatives<DoubleGeodesicSe3>(x0, x1, log, identity, identity);
+    Eigen::Matrix3d d;
+    Eigen::Matrix<double, 3, 9> q;
+    detail::unitFrameTransition<So3, 3>(x0.q, x1.q, Eigen::Vector3d(log.head<3>()), &d, &q);
+    const Eigen::Matrix3d rotation = full.jacobian.topLeftCorner(3, 3);
+    const Eigen::Matrix3d translation = full.jacobian.bottomRightCorner(3, 3);
+    EXPECT_LT((rotation - d).cwiseAbs().maxCoeff(), 1e-12) << angle;
+    EXPECT_LT((translation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT(full.jacobian.topRightCorner(3, 3).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT(full.jacobian.bottomLeftCorner(3, 3).cwiseAbs().maxCoeff(), 1e-12);
+    for (int j = 0; j < 6; ++j)
+      for (int k = 0; k < 6; ++k)
+      {
+        const Eigen::VectorXd column = full.quadratic.col(j * 6 + k);
+        if (j < 3 && k < 3)
+        {
+          EXPECT_LT((column.head<3>() - q.col(j * 3 + k)).cwiseAbs().maxCoeff(), 1e-10) << angle << " " << j << k;
+          EXPECT_LT(column.tail<3>().cwiseAbs().maxCoeff(), 1e-12);
+        }
+        else
+        {
+          EXPECT_LT(column.cwiseAbs().maxCoeff(), 1e-12) << angle << " " << j << k;
+        }
+      }
+  }
+}
