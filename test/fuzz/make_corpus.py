@@ -166,6 +166,7 @@ def c2_solve(space, points, start, steps, clamped=False, velocities=((0,) * 6, (
             e.small(c)
         if space == 2:
             e.byte(1 if project else 0)
+    e.byte(1)  # the fuzz target's Newton budget (kFuzzIterations)
     e.byte(len(evaluations))
     for u in evaluations:
         e.byte(round(u * 255))
