@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "bench_fixtures.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace
 {

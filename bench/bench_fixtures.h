@@ -17,10 +17,10 @@
 #include <memory>
 #include <vector>
 
-#include "se3_interpolation/bspline.h"
-#include "se3_interpolation/interpolating_spline.h"
-#include "se3_interpolation/kinematics.h"
-#include "se3_interpolation/polynomial_curves.h"
+#include "se3_interpolation/curves/bspline.h"
+#include "se3_interpolation/curves/interpolating_spline.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/curves/bezier.h"
 
 namespace se3_bench
 {

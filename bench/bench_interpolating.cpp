@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "se3_interpolation/interpolating_spline.h"
+#include "se3_interpolation/curves/interpolating_spline.h"
 
 namespace
 {

@@ -13,8 +13,8 @@
 #include <random>
 #include <vector>
 
-#include "se3_interpolation/curve_factory.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/curve_factory.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/timing/time_optimal.h"
 
 namespace

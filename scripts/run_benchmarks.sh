@@ -24,19 +24,22 @@ MIN_TIME=${SE3_BENCH_MIN_TIME:-0.3}
 OUT="$SE3_WS/bench"
 mkdir -p "$OUT"
 
+# The core's sources, from the list every build reads (src/core_sources.txt).
+mapfile -t core_sources < <(grep -v '^#' "$SE3_ROOT/src/core_sources.txt" | sed "s|^|$SE3_ROOT/|")
+
 # Builds $1 from bench/$1.cpp + the core sources unless it is up to date for these flags.
 build() {
   local name=$1
   shift
   local bin="$OUT/$name" stamp="$OUT/$name.flags"
   if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS" ] &&
-    [ -z "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" "$SE3_ROOT/src/core" -newer "$bin" -type f | head -n 1)" ]; then
+    [ -z "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" "$SE3_ROOT/src" -newer "$bin" -type f | head -n 1)" ]; then
     return 0
   fi
   echo "building $bin ($CXX -std=c++17 $CXXFLAGS)" >&2
   # shellcheck disable=SC2086
   "$CXX" -std=c++17 $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/$name.cpp" \
-    "$SE3_ROOT"/src/core/*.cpp -o "$bin" "$@" -lbenchmark -lpthread
+    "${core_sources[@]}" -o "$bin" "$@" -lbenchmark -lpthread
   echo "$CXX $CXXFLAGS" >"$stamp"
 }
 

@@ -51,7 +51,7 @@ rm -rf "$results"
 mkdir -p "$results"
 passed=0
 failed=0
-for source in "$SE3_ROOT"/test/unit/test_*.cpp; do
+for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' | sort); do
   name=$(basename "$source" .cpp)
   log="$results/$name.log"
   xml="$results/$name.xml"

@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner.h"
-#include "se3_interpolation/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/sphere_planner.h"
 #include "yaml_request.h"
 
 namespace

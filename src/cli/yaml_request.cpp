@@ -2,7 +2,7 @@
 
 #include <set>
 
-#include "se3_interpolation/validation.h"
+#include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {

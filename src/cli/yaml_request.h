@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner.h"
-#include "se3_interpolation/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/sphere_planner.h"
 
 namespace se3_interpolation
 {

@@ -12,7 +12,7 @@
 
 #include "se3_interpolation/GenerationStatus.h"
 #include "se3_interpolation/ros/conversions.h"
-#include "se3_interpolation/validation.h"
+#include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {

@@ -6,7 +6,7 @@
 #include <functional>
 
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/validation.h"
+#include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {

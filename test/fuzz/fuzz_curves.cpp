@@ -8,8 +8,8 @@
 // Expected: an InterpolationError, or finite unit poses and finite derivatives. Input format:
 // fuzz_common.h (corpus shared with fuzz_generate).
 #include "fuzz_common.h"
-#include "se3_interpolation/curve_factory.h"
-#include "se3_interpolation/kinematics.h"
+#include "se3_interpolation/planner/curve_factory.h"
+#include "se3_interpolation/analysis/kinematics.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;

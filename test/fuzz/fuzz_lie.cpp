@@ -3,7 +3,7 @@
 // -q). Expected: finite unit results, exp(log) returning the rotation, the geodesic's ends at
 // its endpoints, or a NonUniqueGeodesicError at angle pi; anything else is a finding.
 #include "fuzz_common.h"
-#include "se3_interpolation/geometry.h"
+#include "se3_interpolation/geometry/geometry.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;

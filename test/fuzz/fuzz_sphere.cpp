@@ -3,7 +3,7 @@
 // waypoints and 32 samples. Expected: an InterpolationError, or samples on the unit sphere with
 // finite velocities and accelerations tangent to it. Input format: fuzz_common.h's reader.
 #include "fuzz_common.h"
-#include "se3_interpolation/sphere_planner.h"
+#include "se3_interpolation/planner/sphere_planner.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;

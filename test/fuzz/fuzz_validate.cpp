@@ -4,8 +4,8 @@
 // known degree, sample_count != 1 and a finite, positive work estimate. Input format:
 // fuzz_common.h (the same as fuzz_generate, so the corpora are shared).
 #include "fuzz_common.h"
-#include "se3_interpolation/validation.h"
-#include "se3_interpolation/work_estimate.h"
+#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/planner/work_estimate.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;

@@ -4,8 +4,8 @@
 #include <random>
 #include <vector>
 
-#include "se3_interpolation/kinematics.h"
-#include "se3_interpolation/lie_groups.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/math/lie_groups.h"
 
 namespace se3_interpolation
 {

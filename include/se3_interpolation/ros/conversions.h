@@ -9,7 +9,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "se3_interpolation/GenerateTrajectory.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {

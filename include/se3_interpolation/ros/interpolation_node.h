@@ -37,7 +37,7 @@
 #include <mutex>
 
 #include "se3_interpolation/GenerateTrajectory.h"
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/ros/node_parameters.h"
 
 namespace se3_interpolation

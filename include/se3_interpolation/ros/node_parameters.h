@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "se3_interpolation/planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {

@@ -61,9 +61,9 @@
 #include <memory>
 #include <vector>
 
-#include "se3_interpolation/curve.h"
-#include "se3_interpolation/kinematics.h"
-#include "se3_interpolation/sphere.h"
+#include "se3_interpolation/curves/curve.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/geometry/sphere.h"
 
 namespace se3_interpolation
 {

@@ -1,0 +1,421 @@
+// Pobegailo's blending polynomials and C^n blended splines in any geometry of the core.
+//
+// Seed 002 (Pobegailo, "Construction of spline curves on smooth manifolds by action of Lie
+// groups"), with the OCR/typesetting errors corrected as noted below.
+//
+// 1. Blending polynomials (§3, §4). For n ≥ 1, Bézier polynomials of degree 2n + 1 with the
+//    control values c_j (j = 0 … 2n + 1), b_{d,j}(u) = C(d, j) (1 − u)^{d−j} u^j:
+//      w_{1,n}(u) = Σ_{i=1}^{n+1} b_{2n+1,n+i}(u) (n+i)/(2n+1)     (eq. 3.1): c_j = j/(2n+1) for j > n, else 0
+//      w_{2,n}(u) = Σ_{i=1}^{n}   b_{2n+1,i}(u)   i/(2n+1)         (eq. 4.1): c_j = j/(2n+1) for j ≤ n, else 0
+//    Boundary values: w_1(0) = 0, w_1(1) = 1, w_1^{(m)}(0) = 0, w_1'(1) = 1, w_1^{(m)}(1) = 0 (m = 2 … n)
+//    (eqs. 3.2–3.5); w_2(0) = w_2(1) = 0, w_2'(0) = 1, w_2^{(m)}(0) = 0 (m = 2 … n), w_2^{(m)}(1) = 0
+//    (eqs. 4.2–4.5). Each minimises J_n(f) = ∫_0^1 |f^{(n+1)}(u)|² du under its own boundary
+//    conditions. Since the control values of u itself are j/(2n+1), w_{1,n}(u) + w_{2,n}(u) = u.
+//
+// 2. Blending (§5–6, eqs. 5.1 and 6.4). Two curves through p with displacements g_1(u), g_2(u)
+//    (g_j(0) = e) are blended by q(u) = g_1(w_{1,n}(u)) g_2(w_{2,n}(u)) p: q follows g_2 p to order
+//    n at u = 0 and g_1 p to order n at u = 1, because g_1(w_1(u)) = e + O(u^{n+1}) and
+//    g_2(w_2(u)) = e + O((1 − u)^{n+1}).
+//
+// 3. Splines (§7). For waypoints x_0 … x_{N−1} at times t_0 < … < t_{N−1}, let C_k be a curve
+//    through x_k, x_{k+1}, x_{k+2} at their times (k = 0 … N − 3). On [t_i, t_{i+1}],
+//    u = (t − t_i)/h_i, h_i = t_{i+1} − t_i, τ_j = t_i + h_i w_{j,n}(u):
+//      segment 0:               C_0(t)
+//      segment i (1 … N − 3):   the motion of C_i from x_i = C_i(t_i) to C_i(τ_1), applied to C_{i−1}(τ_2)
+//      segment N − 2:           C_{N−3}(t)
+//    (N = 2: the geodesic; N = 3: C_0 on the whole domain.) Both neighbours of t_{i+1} follow
+//    C_i to order n there, so the spline is C^n at every waypoint with n = `continuity`, and
+//    generally not C^{n+1}. The pieces are analytic.
+//
+// The three-point curves C_k and their motions, per geometry:
+//  - Sphere S^m (Pobegailo's own example, §7 and Fig. 3): C_k is the circle through the three
+//    points (the sphere cut by their affine plane), the orbit of the one-parameter subgroup
+//    exp(θ J) of SO(m+1) that rotates the circle's plane about its centre. Its angle θ(t) is the
+//    quadratic through the three points' angles at their times; the motion is exp((θ(τ) − θ(t_k)) J),
+//    so segment i is exactly Pobegailo's exp(w_1 φ_{i,1} J_i) exp(w_2 φ_{i,2} J_{i−1}) x_i whenever
+//    the times satisfy his knot rule (then θ is linear in t: the circles are traversed at constant
+//    speed, as in the paper). For other times the quadratic angle keeps every circle on its three
+//    points at their times, which is what C^n needs. If two of the three points coincide (a dwell)
+//    the circle is not defined; the great circle through the distinct points is used instead, with
+//    the same quadratic angle.
+//  - Lie groups (ScrewSe3, DoubleGeodesicSe3 = SO(3) × R³, So3) and Euclidean R^n: no one-parameter
+//    subgroup coset passes through three generic points, so C_k is the quadratic in the normal
+//    coordinates centred at the middle point: C_k(t) = exp(x_{k+1}, ℓ_0(t) log(x_{k+1}, x_k)
+//    + ℓ_2(t) log(x_{k+1}, x_{k+2})), ℓ_j the Lagrange basis of the three times. It is the Lagrange
+//    parabola in R^n and the one-parameter subgroup itself when the three points lie on one at
+//    proportional times (the analogue of the circle's constant speed); it is invariant under left
+//    (and for the bi-invariant screw metric, right) translations; and it is smooth for all t (one
+//    exponential, no logarithm of moving points). The motion is left multiplication by C_k(τ) x_k⁻¹,
+//    so segment i is C_i(τ_1) ⋆ x_i⁻¹ ⋆ C_{i−1}(τ_2) = exp(C_i(τ_1), log(x_i, C_{i−1}(τ_2))) — eq. 5.1
+//    in the group itself. In R^n: C_i(τ_1) − x_i + C_{i−1}(τ_2).
+//
+// Why Pobegailo's product rather than a pointwise geodesic blend exp(C_{i−1}, s(u) log(C_{i−1}, C_i)):
+// it is the paper's construction (the polynomials w_{1,n}, w_{2,n} exist for it; the pointwise blend
+// would need the "smoothstep" w_{1,n}(u) + w_{2,n}(1 − u) instead), and on S² it reproduces the
+// paper's circle splines exactly.
+//
+// Locality: waypoint x_j enters C_{j−2}, C_{j−1}, C_j only, so moving it changes at most the four
+// segments in [t_{j−2}, t_{j+2}] (fewer at the ends); the rest of the curve is bit-identical.
+//
+// Corrections to the seed text (OCR or typesetting):
+//  - §4: the printed w_{2,2}(u) = (1 − u)²u³ + 4(1 − u)u⁴ has w'(0) = 0; eq. 4.1 gives
+//    w_{2,2}(u) = (1 − u)⁴u + 4(1 − u)³u². The derivation after eq. 4.3 is at u = 0, not u = 1.
+//  - §5: "g_1(w_{2,n}(u)) and g_2(w_{1,n}(u))" should read g_1(w_{1,n}(u)) and g_2(w_{2,n}(u)), and
+//    g(0) = g_1(0) g_2(0).
+//  - §3 proof: |(g − w_{1,n})^{(n)}|² should be the (n + 1)-th derivative.
+//  - §7 knot rule: with segment i on [t_i, t_{i+1}], equal angular speed on the circle shared by
+//    q_{i−1,1} and q_{i,2} gives t_{i+1} = t_i + (φ_{i,2}/φ_{i−1,1})(t_i − t_{i−1}); the printed
+//    φ_{i+1,2}/φ_{i,1} is shifted by one index.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/curves/curve.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/curves/bezier.h"
+
+namespace se3_interpolation
+{
+/// A Bézier polynomial Σ_j c_j b_{d,j}(u) of degree d = 2n + 1 with Pobegailo's control values.
+class BlendingPolynomial
+{
+public:
+  /// w_{1,n} (eq. 3.1): increases from 0 to 1; flat to order n at 0, unit slope to order n at 1.
+  static BlendingPolynomial increasing(int n) { return BlendingPolynomial(n, true); }
+  /// w_{2,n} (eq. 4.1): unit slope to order n at 0, flat zero to order n at 1.
+  static BlendingPolynomial decreasing(int n) { return BlendingPolynomial(n, false); }
+
+  int order() const { return n_; }
+  int degree() const { return 2 * n_ + 1; }
+  /// The control value c_j (j = 0 … 2n + 1).
+  double controlValue(int j) const { return control_[static_cast<std::size_t>(j)]; }
+
+  /// The polynomial at u (double or Jet), summed in the Bernstein basis.
+  template <class S>
+  S operator()(const S& u) const
+  {
+    const int d = degree();
+    const S v = S(1.0) - u;
+    std::vector<S> up(static_cast<std::size_t>(d) + 1), vp(static_cast<std::size_t>(d) + 1);
+    up[0] = S(1.0);
+    vp[0] = S(1.0);
+    for (std::size_t j = 1; j <= static_cast<std::size_t>(d); ++j)
+    {
+      up[j] = up[j - 1] * u;
+      vp[j] = vp[j - 1] * v;
+    }
+    S sum(0.0);
+    for (std::size_t j = 0; j <= static_cast<std::size_t>(d); ++j)
+      if (weight_[j] != 0.0)
+        sum += S(weight_[j]) * up[j] * vp[static_cast<std::size_t>(d) - j];
+    return sum;
+  }
+
+private:
+  BlendingPolynomial(int n, bool increasing) : n_(n)
+  {
+    if (n < 1)
+      throw InvalidInputError("continuity: " + std::to_string(n) + " must be >= 1");
+    const int d = 2 * n + 1;
+    control_.assign(static_cast<std::size_t>(d) + 1, 0.0);
+    weight_.assign(static_cast<std::size_t>(d) + 1, 0.0);
+    double binomial = 1.0;  // C(d, j)
+    for (int j = 0; j <= d; ++j)
+    {
+      if (j > 0)
+        binomial = binomial * (d - j + 1) / j;
+      const bool used = increasing ? j > n : (j >= 1 && j <= n);
+      control_[static_cast<std::size_t>(j)] = used ? static_cast<double>(j) / d : 0.0;
+      weight_[static_cast<std::size_t>(j)] = binomial * control_[static_cast<std::size_t>(j)];
+    }
+  }
+
+  int n_;
+  std::vector<double> control_;
+  std::vector<double> weight_;  ///< C(d, j) c_j
+};
+
+/// w_{1,n}(u), eq. 3.1.
+template <class S>
+S blendingW1(int n, const S& u)
+{
+  return BlendingPolynomial::increasing(n)(u);
+}
+
+/// w_{2,n}(u), eq. 4.1.
+template <class S>
+S blendingW2(int n, const S& u)
+{
+  return BlendingPolynomial::decreasing(n)(u);
+}
+
+namespace detail
+{
+/// G::log(p[i], p[j]); an antipodal pair throws NonUniqueGeodesicError naming both points.
+template <class G>
+typename G::template Tangent<double> namedLog(const std::vector<typename G::template Point<double>>& p,
+                                              std::size_t i, std::size_t j, const std::string& label)
+{
+  try
+  {
+    return G::log(p[i], p[j]);
+  }
+  catch (const NonUniqueGeodesicError& e)
+  {
+    const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    throw NonUniqueGeodesicError(label + "[" + std::to_string(lo) + "] and " + label + "[" + std::to_string(hi) +
+                                 "]: " + e.what());
+  }
+}
+
+/// Lagrange basis values ℓ_a(t), ℓ_c(t) of the outer nodes of (ta, tb, tc) (ℓ_b is not needed).
+template <class S>
+void outerLagrangeBasis(double ta, double tb, double tc, const S& t, S* la, S* lc)
+{
+  *la = (t - S(tb)) * (t - S(tc)) * S(1.0 / ((ta - tb) * (ta - tc)));
+  *lc = (t - S(ta)) * (t - S(tb)) * S(1.0 / ((tc - ta) * (tc - tb)));
+}
+}  // namespace detail
+
+/// The curve through three points a, b, c at times ta < tb < tc, with the motion that carries
+/// its first point along it (see the file comment). Generic version: Lie groups and R^n,
+/// C(t) = exp(b, ℓ_a(t) log(b, a) + ℓ_c(t) log(b, c)); motion y ↦ exp(C(t), log(a, y)).
+template <class G>
+class ThreePointCurve
+{
+public:
+  template <class S>
+  using PointT = typename G::template Point<S>;
+  using Point = PointT<double>;
+  using Tangent = typename G::template Tangent<double>;
+
+  /// log_ba = G::log(b, a), log_bc = G::log(b, c) (computed by the caller, which names the points).
+  ThreePointCurve(const Point& a, const Point& b, double ta, double tb, double tc, const Tangent& log_ba,
+                  const Tangent& log_bc)
+    : a_(a), b_(b), ta_(ta), tb_(tb), tc_(tc), log_ba_(log_ba), log_bc_(log_bc)
+  {
+  }
+
+  template <class S>
+  PointT<S> at(const S& t) const
+  {
+    S la, lc;
+    detail::outerLagrangeBasis(ta_, tb_, tc_, t, &la, &lc);
+    using TangentS = typename G::template Tangent<S>;
+    const TangentS v = TangentS(log_ba_.template cast<S>() * la) + TangentS(log_bc_.template cast<S>() * lc);
+    return G::exp(G::template cast<S>(b_), v);
+  }
+
+  /// The motion from a = C(ta) to C(t), applied to y: C(t) ⋆ a⁻¹ ⋆ y.
+  template <class S>
+  PointT<S> carry(const S& t, const PointT<S>& y) const
+  {
+    return G::exp(at(t), G::log(G::template cast<S>(a_), y));
+  }
+
+private:
+  Point a_;
+  Point b_;
+  double ta_, tb_, tc_;
+  Tangent log_ba_;
+  Tangent log_bc_;
+};
+
+/// On S^m: the circle through a, b, c, traversed by the rotation exp(θ(t) J) of SO(m+1) about
+/// its centre, θ(t) quadratic with θ(tb) = 0 (see the file comment).
+template <>
+class ThreePointCurve<Sphere>
+{
+public:
+  template <class S>
+  using PointT = Sphere::Point<S>;
+  using Point = PointT<double>;
+  using Tangent = Sphere::Tangent<double>;
+
+  /// Below this distance two points on the unit sphere count as the same point.
+  static constexpr double kCoincident = 1e-12;
+
+  ThreePointCurve(const Point& a, const Point& b, const Point& c, double ta, double tb, double tc)
+    : b_(b), ta_(ta), tb_(tb), tc_(tc)
+  {
+    const double two_pi = 6.283185307179586476925286766559;
+    const Eigen::VectorXd dab = a - b, dcb = c - b;
+    if (dab.norm() > kCoincident && dcb.norm() > kCoincident && (a - c).norm() > kCoincident)
+    {
+      // The affine plane through the three points: orthonormal directions f1, f2; its foot
+      // point o (the circle's centre) is the projection of the sphere's centre 0.
+      const Eigen::VectorXd f1 = dab.normalized();
+      const Eigen::VectorXd f2 = (dcb - dcb.dot(f1) * f1).normalized();
+      const Eigen::VectorXd o = b - b.dot(f1) * f1 - b.dot(f2) * f2;
+      u_ = (b - o).normalized();
+      v_ = -u_.dot(f2) * f1 + u_.dot(f1) * f2;  // u rotated by a right angle in the plane
+      auto angle = [&](const Eigen::VectorXd& x) {
+        const double phi = std::atan2((x - o).dot(v_), (x - o).dot(u_));
+        return phi < 0.0 ? phi + two_pi : phi;
+      };
+      double angle_a = angle(a);
+      double angle_c = angle(c);
+      if (angle_c > angle_a)  // orient the circle so that b → c comes before reaching a
+      {
+        v_ = -v_;
+        angle_a = two_pi - angle_a;
+        angle_c = two_pi - angle_c;
+      }
+      theta_a_ = angle_a - two_pi;
+      theta_c_ = angle_c;
+    }
+    else
+    {
+      // A dwell (two points equal): the great circle through b and the other distinct point.
+      u_ = b;
+      const Eigen::VectorXd& other = dab.norm() >= dcb.norm() ? a : c;
+      const Eigen::VectorXd w = other - other.dot(b) * b;
+      v_ = w.norm() > kCoincident ? Eigen::VectorXd(w.normalized()) : Eigen::VectorXd(Eigen::VectorXd::Zero(b.size()));
+      theta_a_ = std::atan2(a.dot(v_), a.dot(u_));
+      theta_c_ = std::atan2(c.dot(v_), c.dot(u_));
+      if (v_.isZero())
+        u_.setZero();
+    }
+  }
+
+  /// The angle θ(t): θ(ta) = θ_a < 0 < θ(tc) = θ_c on a proper circle, θ(tb) = 0.
+  template <class S>
+  S angle(const S& t) const
+  {
+    S la, lc;
+    detail::outerLagrangeBasis(ta_, tb_, tc_, t, &la, &lc);
+    return S(theta_a_) * la + S(theta_c_) * lc;
+  }
+
+  template <class S>
+  PointT<S> at(const S& t) const
+  {
+    return rotate(angle(t), PointT<S>(b_.template cast<S>()));
+  }
+
+  /// exp((θ(t) − θ(ta)) J) y: the rotation carrying a = C(ta) to C(t), applied to y.
+  template <class S>
+  PointT<S> carry(const S& t, const PointT<S>& y) const
+  {
+    return rotate(S(angle(t) - S(theta_a_)), y);
+  }
+
+  double angleAtFirst() const { return theta_a_; }
+  double angleAtLast() const { return theta_c_; }
+
+private:
+  /// exp(φ J) y = y + sin φ J y + (1 − cos φ) J² y with J = v uᵀ − u vᵀ.
+  template <class S>
+  PointT<S> rotate(const S& phi, const PointT<S>& y) const
+  {
+    using std::sin;
+    S s, c;
+    sincos(phi, &s, &c);
+    const S half = sin(S(phi * 0.5));
+    const S one_minus_cos = S(2.0) * half * half;
+    const PointT<S> u = u_.template cast<S>();
+    const PointT<S> v = v_.template cast<S>();
+    const S yu = u.dot(y);
+    const S yv = v.dot(y);
+    return y + PointT<S>(v * S(s * yu) - u * S(s * yv)) - PointT<S>(u * S(one_minus_cos * yu) + v * S(one_minus_cos * yv));
+  }
+
+  Point b_;
+  double ta_, tb_, tc_;
+  Eigen::VectorXd u_, v_;  ///< orthonormal basis of the circle's plane, u along b − centre (zero: b = a = c)
+  double theta_a_ = 0.0;
+  double theta_c_ = 0.0;
+};
+
+namespace detail
+{
+template <class G>
+ThreePointCurve<G> makeThreePointCurve(const std::vector<typename G::template Point<double>>& x,
+                                       const std::vector<double>& t, std::size_t k, const std::string& label)
+{
+  return ThreePointCurve<G>(x[k], x[k + 1], t[k], t[k + 1], t[k + 2], namedLog<G>(x, k + 1, k, label),
+                            namedLog<G>(x, k + 1, k + 2, label));
+}
+
+template <>
+inline ThreePointCurve<Sphere> makeThreePointCurve<Sphere>(const std::vector<Sphere::Point<double>>& x,
+                                                           const std::vector<double>& t, std::size_t k,
+                                                           const std::string& /*label*/)
+{
+  return ThreePointCurve<Sphere>(x[k], x[k + 1], x[k + 2], t[k], t[k + 1], t[k + 2]);
+}
+}  // namespace detail
+
+/// `blended`: Pobegailo's C^n spline through every waypoint at its time (see the file comment).
+template <class G>
+class BlendedSpline final : public CurveBase<G, BlendedSpline<G>>
+{
+public:
+  template <class S>
+  using PointT = typename G::template Point<S>;
+  using Point = PointT<double>;
+
+  /// Throws InvalidInputError for fewer than 2 points, mismatched or non-increasing times or
+  /// continuity < 1, and NonUniqueGeodesicError naming `label[i]` and `label[i+1]` when two
+  /// consecutive points are antipodal.
+  BlendedSpline(std::vector<Point> points, std::vector<double> times, int continuity,
+                const std::string& label = "waypoints")
+    : points_(std::move(points))
+    , times_(std::move(times))
+    , w1_(BlendingPolynomial::increasing(continuity))
+    , w2_(BlendingPolynomial::decreasing(continuity))
+  {
+    if (points_.size() < 2)
+      throw InvalidInputError(label + ": " + std::to_string(points_.size()) + " given; at least 2 are needed");
+    if (times_.size() != points_.size())
+      throw InvalidInputError("times: " + std::to_string(times_.size()) + " given for " +
+                              std::to_string(points_.size()) + " " + label);
+    for (std::size_t i = 1; i < times_.size(); ++i)
+      if (!(times_[i] > times_[i - 1]))
+        throw InvalidInputError("times[" + std::to_string(i) + "]: must be after times[" + std::to_string(i - 1) +
+                                "]");
+    logs_ = polygonLogs<G>(points_, label);
+    for (std::size_t k = 0; k + 2 < points_.size(); ++k)
+      curves_.push_back(detail::makeThreePointCurve<G>(points_, times_, k, label));
+  }
+
+  template <class S>
+  PointT<S> evaluate(const S& t, Side side) const
+  {
+    const std::size_t n = points_.size();
+    const std::size_t i = findInterval(times_, valueOf(t), side);
+    if (n == 2)
+      return geodesicFromLog<G>(points_[0], logs_[0], S((t - S(times_[0])) * S(1.0 / (times_[1] - times_[0]))));
+    if (i == 0)
+      return curves_.front().at(t);
+    if (i == n - 2)
+      return curves_.back().at(t);
+    const double h = times_[i + 1] - times_[i];
+    const S u = (t - S(times_[i])) * S(1.0 / h);
+    const S tau1 = S(times_[i]) + S(h) * w1_(u);
+    const S tau2 = S(times_[i]) + S(h) * w2_(u);
+    return curves_[i].carry(tau1, curves_[i - 1].at(tau2));
+  }
+
+  double startTime() const override { return times_.front(); }
+  double endTime() const override { return times_.back(); }
+  std::vector<double> breakpoints() const override { return times_; }
+  std::vector<Point> controlPoints() const override { return points_; }
+
+  int continuity() const { return w1_.order(); }
+  /// C_k, the three-point curve through points k, k+1, k+2 (k = 0 … N − 3).
+  const ThreePointCurve<G>& threePointCurve(std::size_t k) const { return curves_.at(k); }
+
+private:
+  std::vector<Point> points_;
+  std::vector<double> times_;
+  BlendingPolynomial w1_;
+  BlendingPolynomial w2_;
+  std::vector<typename G::template Tangent<double>> logs_;
+  std::vector<ThreePointCurve<G>> curves_;
+};
+
+}  // namespace se3_interpolation

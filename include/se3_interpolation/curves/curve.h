@@ -1,0 +1,135 @@
+// The curve interface shared by every construction, and time reparameterisation.
+//
+// A Curve<G> is a map t ↦ G::Point<double> on [startTime(), endTime()] (seconds).
+// Concrete curves implement one template `evaluate<S>(const S& t, Side side)`; CurveBase
+// turns it into the virtual interface: value(t) in double, and jet(t) in second-order
+// Taylor arithmetic, whose coefficients are the exact first and second time
+// derivatives (see jet.h). `side` picks the one-sided limit at a breakpoint (a knot or
+// waypoint time where a derivative may jump); elsewhere it has no effect.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/math/jet.h"
+
+namespace se3_interpolation
+{
+/// Scratch space for the recursions: on the stack up to N elements (cubic curves need 4),
+/// on the heap beyond; so evaluating a curve of degree ≤ 3 allocates nothing.
+template <class T, std::size_t N = 4>
+class ScratchBuffer
+{
+public:
+  explicit ScratchBuffer(std::size_t size)
+  {
+    if (size > N)
+      heap_.resize(size);
+    data_ = size > N ? heap_.data() : stack_.data();
+  }
+  ScratchBuffer(const ScratchBuffer&) = delete;
+  ScratchBuffer& operator=(const ScratchBuffer&) = delete;
+  T& operator[](std::size_t i) { return data_[i]; }
+
+private:
+  std::array<T, N> stack_;
+  std::vector<T> heap_;
+  T* data_ = nullptr;
+};
+
+/// Which one-sided limit to take at a breakpoint.
+enum class Side
+{
+  kLeft,
+  kRight
+};
+
+template <class G>
+class Curve
+{
+public:
+  using Point = typename G::template Point<double>;
+  using Jet2Point = typename G::template Point<Jet<2>>;
+
+  virtual ~Curve() = default;
+  virtual Point value(double t) const = 0;
+  /// The curve at a second-order jet of time: value, velocity and acceleration.
+  virtual Jet2Point jet(const Jet<2>& t, Side side = Side::kRight) const = 0;
+  virtual double startTime() const = 0;
+  virtual double endTime() const = 0;
+  /// Sorted times, ends included, between which the curve is analytic.
+  virtual std::vector<double> breakpoints() const = 0;
+  /// The control polygon (for display); waypoints for interpolating constructions.
+  virtual std::vector<Point> controlPoints() const = 0;
+};
+
+/// CRTP adapter: Derived provides `template <class S> Point<S> evaluate(const S& t, Side) const`.
+template <class G, class Derived>
+class CurveBase : public Curve<G>
+{
+public:
+  using typename Curve<G>::Point;
+  using typename Curve<G>::Jet2Point;
+
+  Point value(double t) const final { return self().template evaluate<double>(t, Side::kRight); }
+  Jet2Point jet(const Jet<2>& t, Side side) const final { return self().template evaluate<Jet<2>>(t, side); }
+
+private:
+  const Derived& self() const { return static_cast<const Derived&>(*this); }
+};
+
+/// Index i of the interval [b_i, b_{i+1}] of sorted breakpoints b containing t.
+/// At an interior breakpoint, Side::kLeft gives the interval ending there. Times
+/// outside [b_0, b_last] give the first or last interval (extrapolation).
+inline std::size_t findInterval(const std::vector<double>& b, double t, Side side)
+{
+  const std::size_t last = b.size() - 2;
+  auto it = side == Side::kRight ? std::upper_bound(b.begin(), b.end(), t) : std::lower_bound(b.begin(), b.end(), t);
+  const std::ptrdiff_t i = (it - b.begin()) - 1;
+  if (i < 0)
+    return 0;
+  return std::min(static_cast<std::size_t>(i), last);
+}
+
+/// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
+/// so velocities scale by 1/k and accelerations by 1/k² (SPEC, Timing).
+template <class G>
+class TimeScaledCurve final : public Curve<G>
+{
+public:
+  using typename Curve<G>::Point;
+  using typename Curve<G>::Jet2Point;
+
+  TimeScaledCurve(std::shared_ptr<const Curve<G>> base, double scale)
+    : base_(std::move(base)), t0_(base_->startTime()), scale_(scale)
+  {
+  }
+
+  Point value(double t) const override { return base_->value(baseTime(t)); }
+  Jet2Point jet(const Jet<2>& t, Side side) const override
+  {
+    return base_->jet(Jet<2>(t0_) + (t - Jet<2>(t0_)) / Jet<2>(scale_), side);
+  }
+  double startTime() const override { return t0_; }
+  double endTime() const override { return t0_ + (base_->endTime() - t0_) * scale_; }
+  std::vector<double> breakpoints() const override
+  {
+    std::vector<double> b = base_->breakpoints();
+    for (double& x : b)
+      x = t0_ + (x - t0_) * scale_;
+    return b;
+  }
+  std::vector<Point> controlPoints() const override { return base_->controlPoints(); }
+
+private:
+  double baseTime(double t) const { return t0_ + (t - t0_) / scale_; }
+
+  std::shared_ptr<const Curve<G>> base_;
+  double t0_;
+  double scale_;
+};
+
+}  // namespace se3_interpolation

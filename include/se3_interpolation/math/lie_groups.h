@@ -1,0 +1,341 @@
+// Closed-form exponential and logarithm maps of SO(3) (unit quaternions) and SE(3).
+//
+// Conventions (as Sophus):
+//  - A rotation is a unit quaternion q = (w, x, y, z); q and −q are the same rotation.
+//    A rotation vector ω ∈ R³ (rad) has angle θ = |ω| and Exp(ω) = (cos θ/2, sin(θ/2) ω/θ).
+//  - A pose world_T_body = (q, p): x_world = R(q) x_body + p.
+//  - A twist ξ = (ω, v) ∈ R⁶, rotation first; Exp(ξ) = (Exp(ω), V(ω) v) with
+//    V(ω) = I + (1 − cos θ)/θ² [ω]× + (θ − sin θ)/θ³ [ω]×² (thesis ch. 5, screw motion).
+//
+// Accuracy: every coefficient that cancels for small θ (A, B, C below) switches to its
+// Taylor series in θ² for θ < 0.2, with enough terms that the truncation is below one
+// ulp; above 0.2 the direct formulas lose at most ~1e-14 relative. The logarithm works
+// with atan2 on the quaternion, so it stays accurate up to θ = π − 1e-9 and beyond.
+// All functions are templates over the scalar (double or Jet<K>), so derivatives of
+// any order flow through them exactly.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/math/jet.h"
+
+namespace se3_interpolation
+{
+template <class S>
+using Vector3 = Eigen::Matrix<S, 3, 1>;
+template <class S>
+using Vector6 = Eigen::Matrix<S, 6, 1>;
+template <class S>
+using Quaternion = Eigen::Quaternion<S, Eigen::DontAlign>;
+
+/// Below this θ² the small-angle series are used (θ < 0.2 rad).
+constexpr double kSeriesThetaSquared = 0.04;
+/// |w| of a normalised relative quaternion at or below this is "exactly π"
+/// (angle within 2e-15 rad of π: indistinguishable from π in double precision).
+constexpr double kAntipodalTolerance = 1e-15;
+
+namespace detail
+{
+template <class S, std::size_t N>
+S horner(const S& x, const double (&c)[N])
+{
+  S r(c[N - 1]);
+  for (std::size_t i = N - 1; i-- > 0;)
+    r = r * x + S(c[i]);
+  return r;
+}
+
+/// sin(θ/2)/θ and cos(θ/2) from θ².
+template <class S>
+void halfAngle(const S& theta2, S* sin_half_over_theta, S* cos_half)
+{
+  using std::sqrt;
+  if (valueOf(theta2) < kSeriesThetaSquared)
+  {
+    static constexpr double ks[] = { 1.0 / 2, -1.0 / 48, 1.0 / 3840, -1.0 / 645120, 1.0 / 185794560,
+                                     -1.0 / 81749606400.0 };
+    static constexpr double kc[] = { 1.0, -1.0 / 8, 1.0 / 384, -1.0 / 46080, 1.0 / 10321920, -1.0 / 3715891200.0 };
+    *sin_half_over_theta = horner(theta2, ks);
+    *cos_half = horner(theta2, kc);
+    return;
+  }
+  const S theta = sqrt(theta2);
+  S s, c;
+  sincos(S(theta / 2.0), &s, &c);
+  *sin_half_over_theta = s / theta;
+  *cos_half = c;
+}
+
+/// B(θ) = (θ − sin θ)/θ³.
+template <class S>
+S screwB(const S& theta2)
+{
+  using std::sin;
+  using std::sqrt;
+  if (valueOf(theta2) < kSeriesThetaSquared)
+  {
+    static constexpr double k[] = { 1.0 / 6,          -1.0 / 120,          1.0 / 5040,
+                                    -1.0 / 362880,    1.0 / 39916800,      -1.0 / 6227020800.0,
+                                    1.0 / 1307674368000.0 };
+    return horner(theta2, k);
+  }
+  const S theta = sqrt(theta2);
+  return (theta - sin(theta)) / (theta2 * theta);
+}
+
+/// B(θ) from θ², k = sin(θ/2)/θ and c = cos(θ/2), reusing them: sin θ/θ = 2kc.
+template <class S>
+S screwB(const S& theta2, const S& k, const S& c)
+{
+  if (valueOf(theta2) < kSeriesThetaSquared)
+    return screwB(theta2);
+  return (S(1.0) - 2.0 * k * c) / theta2;
+}
+
+/// C(θ) = (1 − (θ/2) cot(θ/2))/θ², the coefficient of [ω]×² in V(ω)⁻¹.
+template <class S>
+S screwC(const S& theta2)
+{
+  using std::sqrt;
+  if (valueOf(theta2) < kSeriesThetaSquared)
+  {
+    static constexpr double k[] = { 1.0 / 12,         1.0 / 720,          1.0 / 30240,
+                                    1.0 / 1209600,    1.0 / 47900160,     691.0 / 1307674368000.0,
+                                    1.0 / 74724249600.0 };
+    return horner(theta2, k);
+  }
+  const S half = sqrt(theta2) / 2.0;
+  S s, c;
+  sincos(half, &s, &c);
+  return (S(1.0) - half * c / s) / theta2;
+}
+
+/// 2 atan2(n, w)/n from n² (w ≥ 0 assumed): the factor taking a quaternion's
+/// vector part to its rotation vector.
+template <class S>
+S logFactor(const S& n2, const S& w)
+{
+  using std::atan2;
+  using std::sqrt;
+  if (valueOf(n2) < 0.01)
+  {
+    // atan(x)/x = Σ (−1)^j x^{2j}/(2j+1), x = n/w, x² ≤ 0.0102.
+    static constexpr double k[] = { 1.0,        -1.0 / 3,  1.0 / 5,  -1.0 / 7, 1.0 / 9,
+                                    -1.0 / 11, 1.0 / 13, -1.0 / 15, 1.0 / 17 };
+    return S(2.0) * horner(S(n2 / (w * w)), k) / w;
+  }
+  const S n = sqrt(n2);
+  return S(2.0) * atan2(n, w) / n;
+}
+}  // namespace detail
+
+/// Exp: R³ → SO(3) as a unit quaternion.
+template <class S>
+Quaternion<S> so3Exp(const Vector3<S>& omega)
+{
+  const S theta2 = omega.squaredNorm();
+  S k, c;
+  detail::halfAngle(theta2, &k, &c);
+  return Quaternion<S>(c, k * omega.x(), k * omega.y(), k * omega.z());
+}
+
+/// Log: SO(3) → R³, the rotation vector of angle in [0, π]. The quaternion must be
+/// unit; its sign does not matter. Throws NonUniqueGeodesicError at angle π.
+template <class S>
+Vector3<S> so3Log(const Quaternion<S>& q)
+{
+  S w = q.w();
+  Vector3<S> v = q.vec();
+  if (valueOf(w) < 0.0)
+  {
+    w = -w;
+    v = -v;
+  }
+  if (valueOf(w) <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  return v * detail::logFactor(S(v.squaredNorm()), w);
+}
+
+/// Below this |sin φ| (φ half the relative angle) the slerp weights are λ and 1 − λ: the
+/// neglected terms are O(φ²) < 1e-300, and sin(λφ) is kept away from subnormals.
+constexpr double kSlerpTinySine = 1e-150;
+
+/// The SO(3) geodesic step q_a Exp(λ Log(q_a* q_b)) in slerp form, without the Log → Exp round
+/// trip: with cos φ = ⟨q_a, q_b⟩ (q_b's sign chosen so that it is ≥ 0) and sin φ = |q_b − cos φ q_a|
+/// (φ = θ/2, θ the relative rotation angle),
+///   q(λ) = (cos λφ − cos φ · s) q_a + s q_b,   s = sin(λφ)/sin φ
+/// (Shoemake's slerp, rewritten so that only sin(λφ) and cos(λφ) are needed: one atan and one
+/// sincos, neither of which has an errno wrapper in glibc). φ = atan(sin φ / cos φ) is accurate
+/// at both ends: near 0 both terms are exact to rounding (so s → λ with relative error of
+/// order ε), near θ = π the quotient is large and atan flat. sin φ carries the same cancellation
+/// as the quaternion product q_a* q_b of the Log path (absolute error of order ε; none when q_a
+/// is the identity). Defined for every real λ (extrapolation). Throws NonUniqueGeodesicError at
+/// θ = π (as so3Log).
+inline Quaternion<double> so3Slerp(const Quaternion<double>& qa, const Quaternion<double>& qb, double lambda)
+{
+  double w = qa.coeffs().dot(qb.coeffs());
+  Eigen::Vector4d b = qb.coeffs();
+  if (w < 0.0)
+  {
+    w = -w;
+    b = -b;
+  }
+  if (w <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  const Eigen::Vector4d a = qa.coeffs();
+  const double n = (b - w * a).norm();  // sin φ
+  double s = lambda;
+  double c = 1.0;
+  if (n >= kSlerpTinySine)
+  {
+    const double phi = std::atan(n / w);
+    double sl;
+    sincos(lambda * phi, &sl, &c);
+    s = sl / n;
+  }
+  Quaternion<double> r;
+  r.coeffs() = (c - w * s) * a + s * b;
+  return r;
+}
+
+/// At or above this sin²φ (sin φ ≥ 0.025, θ ≥ 0.05 rad) so3SlerpJet runs the slerp weights in
+/// jets. The derivatives of sin φ = |q_b − cos φ q_a| and of s = sin(λφ)/sin φ amplify rounding
+/// by about 1/sin φ (measured: disagreement with the Log → Exp jet path 1e-15/θ, 7e-14 at
+/// θ = 0.05), so below it the caller takes the Log → Exp path with its series.
+constexpr double kSlerpJetMinSine2 = 6.25e-4;
+
+/// so3Slerp at quaternions and parameter given as jets (the levels ≥ 2 of de Casteljau / de Boor
+/// when derivatives are sampled): the same weights in jet arithmetic, without the two
+/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, when
+/// sin²φ < kSlerpJetMinSine2. Throws NonUniqueGeodesicError at θ = π.
+template <int K>
+bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
+                 Quaternion<Jet<K>>* out)
+{
+  using J = Jet<K>;
+  J w = qa.w() * qb.w() + qa.x() * qb.x() + qa.y() * qb.y() + qa.z() * qb.z();
+  const double sign = w.value() < 0.0 ? -1.0 : 1.0;
+  w = w * sign;
+  if (w.value() <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  const J dw = qb.w() * sign - w * qa.w();
+  const J dx = qb.x() * sign - w * qa.x();
+  const J dy = qb.y() * sign - w * qa.y();
+  const J dz = qb.z() * sign - w * qa.z();
+  const J n2 = dw * dw + dx * dx + dy * dy + dz * dz;  // sin² φ
+  if (n2.value() < kSlerpJetMinSine2)
+    return false;
+  const J n = sqrt(n2);
+  J sl, c;
+  sincos(J(lambda * atan2(n, w)), &sl, &c);
+  const J s = sl / n;
+  const J ka = c - w * s;
+  const J kb = s * sign;
+  *out = Quaternion<J>(ka * qa.w() + kb * qb.w(), ka * qa.x() + kb * qb.x(), ka * qa.y() + kb * qb.y(),
+                       ka * qa.z() + kb * qb.z());
+  return true;
+}
+
+/// Rotation angle θ ∈ [0, π] of a unit quaternion (sign-independent).
+inline double rotationAngle(const Quaternion<double>& q)
+{
+  return 2.0 * std::atan2(q.vec().norm(), std::abs(q.w()));
+}
+
+/// A rigid transformation world_T_body = (q, p). Composition a * b = (q_a q_b, R_a p_b + p_a).
+template <class S>
+struct Pose
+{
+  Quaternion<S> q = Quaternion<S>::Identity();
+  Vector3<S> p = Vector3<S>::Zero();
+
+  Pose() = default;
+  Pose(const Quaternion<S>& rotation, const Vector3<S>& translation) : q(rotation), p(translation) {}
+
+  static Pose Identity() { return Pose(); }
+
+  Pose operator*(const Pose& o) const { return Pose(q * o.q, q * o.p + p); }
+  /// this⁻¹ · o without forming the inverse: (q* q_o, q* (p_o − p)).
+  Pose inverseTimes(const Pose& o) const
+  {
+    const Quaternion<S> qi = q.conjugate();
+    return Pose(qi * o.q, qi * Vector3<S>(o.p - p));
+  }
+  Pose inverse() const
+  {
+    const Quaternion<S> qi = q.conjugate();
+    return Pose(qi, -(qi * p));
+  }
+  template <class T>
+  Pose<T> cast() const
+  {
+    return Pose<T>(Quaternion<T>(T(q.w()), T(q.x()), T(q.y()), T(q.z())),
+                   Vector3<T>(T(p.x()), T(p.y()), T(p.z())));
+  }
+};
+
+/// V(ω) v (left Jacobian of SO(3) applied to v).
+template <class S>
+Vector3<S> screwV(const Vector3<S>& omega, const Vector3<S>& v)
+{
+  const S theta2 = omega.squaredNorm();
+  S k, c;
+  detail::halfAngle(theta2, &k, &c);
+  const S a = 2.0 * k * k;  // (1 − cos θ)/θ²
+  const S b = detail::screwB(theta2, k, c);
+  const Vector3<S> wv = omega.cross(v);
+  return v + a * wv + b * omega.cross(wv);
+}
+
+/// Exp: se(3) → SE(3), twist ξ = (ω, v).
+template <class S>
+Pose<S> se3Exp(const Vector6<S>& xi)
+{
+  const Vector3<S> omega = xi.template head<3>();
+  const Vector3<S> v = xi.template tail<3>();
+  const S theta2 = omega.squaredNorm();
+  S k, c;
+  detail::halfAngle(theta2, &k, &c);
+  const S a = 2.0 * k * k;
+  const S b = detail::screwB(theta2, k, c);
+  const Vector3<S> wv = omega.cross(v);
+  return Pose<S>(Quaternion<S>(c, k * omega.x(), k * omega.y(), k * omega.z()), v + a * wv + b * omega.cross(wv));
+}
+
+/// Log: SE(3) → se(3), twist (ω, v) with |ω| ≤ π. Throws at rotation angle π.
+/// V(ω)⁻¹'s coefficient C(θ) reuses the quaternion: (θ/2) cot(θ/2) = (θ/2) w/|vec(q)|.
+template <class S>
+Vector6<S> se3Log(const Pose<S>& g)
+{
+  S w = g.q.w();
+  Vector3<S> v = g.q.vec();
+  if (valueOf(w) < 0.0)
+  {
+    w = -w;
+    v = -v;
+  }
+  if (valueOf(w) <= kAntipodalTolerance)
+    throw NonUniqueGeodesicError("the rotation angle is pi: the shortest rotation is not unique");
+  const S f = detail::logFactor(S(v.squaredNorm()), w);  // θ/|vec(q)|
+  const Vector3<S> omega = v * f;
+  const S theta2 = omega.squaredNorm();
+  const S c = valueOf(theta2) < kSeriesThetaSquared ? detail::screwC(theta2) : S((1.0 - 0.5 * f * w) / theta2);
+  const Vector3<S> wp = omega.cross(g.p);
+  Vector6<S> xi;
+  xi.template head<3>() = omega;
+  xi.template tail<3>() = g.p - 0.5 * wp + c * omega.cross(wp);
+  return xi;
+}
+
+/// [ω]× as a matrix (for tests and Jacobians).
+template <class S>
+Eigen::Matrix<S, 3, 3> hat(const Vector3<S>& w)
+{
+  Eigen::Matrix<S, 3, 3> m;
+  m << S(0), -w.z(), w.y(), w.z(), S(0), -w.x(), -w.y(), w.x(), S(0);
+  return m;
+}
+
+}  // namespace se3_interpolation

@@ -1,0 +1,80 @@
+// Bounded work per request (issue 15, deliverable 2): the cost of a request is estimated from
+// its fields before anything is computed, and refused above PlannerLimits::max_work (node
+// parameter ~max_work) with a LimitExceededError naming the field that makes it expensive.
+//
+// Unit: one geodesic step of a curve evaluation on second-order jets (the value and its first
+// two time derivatives), i.e. one exp/log pair of the geometry; calibrated on one core of the
+// development machine at about kSecondsPerWorkUnit (README "Bounded work").
+//
+// The planner evaluates the curve (kinematics.h, measureCurve) at
+//   P (2 + 8 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
+// (P analytic pieces, 8 nodes, 4 golden-section searches of 2 + at most 60 evaluations), then
+// once per sample. An evaluation costs, in geodesic steps,
+//   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
+//   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2
+//   with d = N - 1 (de Casteljau over all N points); bspline m (m + 1) / 2 (de Boor, degree m).
+// Building the curve costs about kConstructionUnitsPerWaypoint per waypoint (times, logs, the
+// C^2 solve's sweeps). The figures' effort is thus linear in the pieces; what grows as N^2 is
+// the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/planner/planner.h"
+
+namespace se3_interpolation
+{
+/// Seconds per work unit on one core of the development machine (-O2, the machine shared with
+/// other jobs): 0.25 ... 1.1 us over every curve family, N = 2 ... 20000 and up to 200000
+/// samples; 8e-7 s is the typical value. PlannerLimits::max_work's default 1.25e6 is 1 s of it.
+constexpr double kSecondsPerWorkUnit = 8e-7;
+/// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
+constexpr double kConstructionUnitsPerWaypoint = 10.0;
+
+/// The estimate of one request: curve evaluations for the figures, per-evaluation cost,
+/// samples, and their total in work units.
+struct WorkEstimate
+{
+  double pieces = 0.0;
+  double evaluation_cost = 0.0;       ///< geodesic steps per evaluation
+  double figure_evaluations = 0.0;    ///< evaluations of measureCurve
+  double samples = 0.0;
+  double total = 0.0;                 ///< work units
+};
+
+/// What the estimate needs of a request, pose or sphere: the curve, its size, the sampling.
+struct WorkShape
+{
+  CurveType curve = CurveType::kPiecewiseGeodesic;
+  std::size_t waypoints = 0;
+  int degree = 3;  ///< bspline degree
+  std::vector<double> sample_times;
+  double sample_period = 0.0;
+  std::uint32_t sample_count = 100;
+};
+
+WorkShape workShape(const ValidatedRequest& r);
+
+/// Geodesic steps of one evaluation of the curve `r` asks for.
+double evaluationCost(const WorkShape& r);
+double evaluationCost(const ValidatedRequest& r);
+
+/// The estimate for `r` with `samples` samples (the sample count as far as it is known).
+WorkEstimate estimateWork(const WorkShape& r, double samples);
+WorkEstimate estimateWork(const ValidatedRequest& r, double samples);
+
+/// The samples `r` will take before any stretch: sample_times' size, sample_count, or the
+/// periods within `span` (the waypoint times' span).
+double expectedSamples(const WorkShape& r, double span);
+double expectedSamples(const ValidatedRequest& r, double span);
+
+/// Throws LimitExceededError naming the dominant field (waypoints for bezier, degree for
+/// bspline, the sampling field when samples dominate, else waypoints) if `w.total` exceeds
+/// limits.max_work.
+void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits);
+void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits);
+
+}  // namespace se3_interpolation

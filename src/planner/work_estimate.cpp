@@ -1,0 +1,141 @@
+#include "se3_interpolation/planner/work_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/planner/validation.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+/// measureCurve's constants (kinematics.h): 8 Gauss-Legendre nodes, 64 subintervals shared by
+/// the pieces (at least 4 each), 4 golden-section searches of 2 + at most 60 evaluations.
+constexpr double kGaussNodes = 8.0;
+constexpr double kSubintervals = 64.0;
+constexpr double kMinSubintervals = 4.0;
+constexpr double kGoldenEvaluations = 4.0 * (2.0 + 60.0);
+
+double analyticPieces(const WorkShape& r)
+{
+  const double n = static_cast<double>(r.waypoints);
+  switch (r.curve)
+  {
+    case CurveType::kBezier:
+      return 1.0;
+    case CurveType::kBspline:
+      return std::max(1.0, n - static_cast<double>(r.degree));
+    default:
+      return std::max(1.0, n - 1.0);
+  }
+}
+
+std::string samplingField(const WorkShape& r)
+{
+  if (!r.sample_times.empty())
+    return "sample_times";
+  return r.sample_period > 0.0 ? "sample_period" : "sample_count";
+}
+}  // namespace
+
+WorkShape workShape(const ValidatedRequest& r)
+{
+  WorkShape w;
+  w.curve = r.curve;
+  w.waypoints = r.waypoints.size();
+  w.degree = r.degree;
+  w.sample_times = r.sample_times;
+  w.sample_period = r.sample_period;
+  w.sample_count = r.sample_count;
+  return w;
+}
+
+double evaluationCost(const ValidatedRequest& r)
+{
+  return evaluationCost(workShape(r));
+}
+
+double expectedSamples(const ValidatedRequest& r, double span)
+{
+  return expectedSamples(workShape(r), span);
+}
+
+WorkEstimate estimateWork(const ValidatedRequest& r, double samples)
+{
+  return estimateWork(workShape(r), samples);
+}
+
+void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits)
+{
+  requireWorkWithin(w, workShape(r), limits);
+}
+
+double evaluationCost(const WorkShape& r)
+{
+  switch (r.curve)
+  {
+    case CurveType::kPiecewiseGeodesic:
+      return 1.0;
+    case CurveType::kBezier:
+    {
+      const double d = static_cast<double>(r.waypoints) - 1.0;
+      return std::max(1.0, d * (d + 1.0) / 2.0);
+    }
+    case CurveType::kBspline:
+    {
+      const double m = static_cast<double>(r.degree);
+      return std::max(1.0, m * (m + 1.0) / 2.0);
+    }
+    case CurveType::kInterpolating:
+    case CurveType::kHermite:
+      return 6.0;
+    case CurveType::kBlended:
+      return 2.0;
+  }
+  return 1.0;
+}
+
+double expectedSamples(const WorkShape& r, double span)
+{
+  if (!r.sample_times.empty())
+    return static_cast<double>(r.sample_times.size());
+  if (r.sample_period > 0.0)
+    return std::floor(span / r.sample_period) + 2.0;
+  return static_cast<double>(r.sample_count);
+}
+
+WorkEstimate estimateWork(const WorkShape& r, double samples)
+{
+  WorkEstimate w;
+  w.pieces = analyticPieces(r);
+  w.evaluation_cost = evaluationCost(r);
+  const double sub = std::max(kMinSubintervals, std::floor(kSubintervals / w.pieces));
+  w.figure_evaluations = w.pieces * (2.0 + kGaussNodes * sub) + kGoldenEvaluations;
+  w.samples = samples;
+  w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost +
+            kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);
+  return w;
+}
+
+void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits)
+{
+  if (w.total <= limits.max_work)
+    return;
+  const std::string n = std::to_string(r.waypoints);
+  std::string what;
+  if (w.samples > w.figure_evaluations)
+    what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
+  else if (r.curve == CurveType::kBezier)
+    what = "waypoints: " + n + " waypoints make a bezier of degree " + std::to_string(r.waypoints - 1);
+  else if (r.curve == CurveType::kBspline)
+    what = "degree: " + std::to_string(r.degree) + " for curve 'bspline' with " + n + " waypoints";
+  else
+    what = "waypoints: " + n + " waypoints for curve '" + toString(r.curve) + "'";
+  throw LimitExceededError(what + " cost about " + formatNumber(std::round(w.total)) + " units of work (" +
+                           formatNumber(w.figure_evaluations + w.samples) + " curve evaluations of " +
+                           formatNumber(w.evaluation_cost) + " geodesic steps each); the limit (~max_work) is " +
+                           formatNumber(limits.max_work));
+}
+
+}  // namespace se3_interpolation

@@ -1,0 +1,234 @@
+// SO(3)/SE(3) exp and log against independent references (Eigen's AngleAxis and the
+// matrix exponential of unsupported/MatrixFunctions), random samples and hard points.
+#include <gtest/gtest.h>
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include <random>
+
+#include "se3_interpolation/math/lie_groups.h"
+#include "test_utils.h"
+
+using namespace se3_interpolation;
+using se3_interpolation::test::randomUnitVector;
+
+namespace
+{
+Eigen::Matrix4d twistMatrix(const Vector6<double>& xi)
+{
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m.topLeftCorner<3, 3>() = hat<double>(xi.head<3>());
+  m.topRightCorner<3, 1>() = xi.tail<3>();
+  return m;
+}
+
+Eigen::Matrix4d poseMatrix(const Pose<double>& g)
+{
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = g.q.toRotationMatrix();
+  m.topRightCorner<3, 1>() = g.p;
+  return m;
+}
+
+/// Angles that stress the closed forms: exact zero, tiny, series switch-over, near π.
+const double kHardAngles[] = { 0.0, 1e-300, 1e-12, 1e-8, 1e-4, 0.19999999, 0.2, 0.20000001, 1.0, 3.0,
+                               M_PI - 1e-6, M_PI - 1e-9 };
+}  // namespace
+
+TEST(So3, ExpMatchesAngleAxis)
+{
+  std::mt19937 rng(1);
+  for (int i = 0; i < 10000; ++i)
+  {
+    const Eigen::Vector3d axis = randomUnitVector<3>(rng);
+    const double angle = std::uniform_real_distribution<double>(0.0, M_PI)(rng);
+    const Eigen::Quaterniond ref(Eigen::AngleAxisd(angle, axis));
+    const Quaternion<double> q = so3Exp<double>(angle * axis);
+    EXPECT_LT((q.coeffs() - ref.coeffs()).norm(), 1e-15);
+  }
+}
+
+TEST(So3, LogExpRoundTripRandom)
+{
+  std::mt19937 rng(2);
+  for (int i = 0; i < 10000; ++i)
+  {
+    const double angle = std::uniform_real_distribution<double>(0.0, M_PI - 1e-6)(rng);
+    const Eigen::Vector3d w = angle * randomUnitVector<3>(rng);
+    const Eigen::Vector3d back = so3Log(so3Exp<double>(w));
+    EXPECT_LE((back - w).norm(), 1e-14 * std::max(1.0, w.norm())) << w.transpose();
+  }
+}
+
+TEST(So3, HardPointsRelativeAccuracy)
+{
+  std::mt19937 rng(3);
+  for (double angle : kHardAngles)
+    for (int k = 0; k < 20; ++k)
+    {
+      const Eigen::Vector3d axis = randomUnitVector<3>(rng);
+      // Reference quaternion built from the half angle directly (no cancellation anywhere).
+      const Quaternion<double> q(std::cos(angle / 2), std::sin(angle / 2) * axis.x(), std::sin(angle / 2) * axis.y(),
+                                 std::sin(angle / 2) * axis.z());
+      const Eigen::Vector3d w = so3Log(q);
+      EXPECT_LE((w - angle * axis).norm(), 1e-12 * angle + 1e-300) << "angle " << angle;
+      const Quaternion<double> back = so3Exp<double>(w);
+      EXPECT_LE((back.coeffs() - q.coeffs()).norm(), 1e-15) << "angle " << angle;  // a few ulps
+    }
+}
+
+TEST(So3, SignOfQuaternionDoesNotMatter)
+{
+  std::mt19937 rng(4);
+  for (double angle : kHardAngles)
+  {
+    const Eigen::Vector3d axis = randomUnitVector<3>(rng);
+    const Quaternion<double> q = so3Exp<double>(angle * axis);
+    const Quaternion<double> neg(-q.w(), -q.x(), -q.y(), -q.z());
+    EXPECT_EQ(so3Log(q), so3Log(neg)) << angle;
+  }
+}
+
+TEST(So3, ExactlyPiIsNotUnique)
+{
+  EXPECT_THROW(so3Log(Quaternion<double>(0.0, 1.0, 0.0, 0.0)), NonUniqueGeodesicError);
+  EXPECT_THROW(so3Log(Quaternion<double>(-0.0, 0.0, 0.6, 0.8)), NonUniqueGeodesicError);
+  EXPECT_NO_THROW(so3Log(so3Exp<double>(Eigen::Vector3d(M_PI - 1e-9, 0, 0))));
+}
+
+TEST(Se3, ExpMatchesMatrixExponential)
+{
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int i = 0; i < 2000; ++i)
+  {
+    const double angle = i < 200 ? kHardAngles[i % 12] : std::uniform_real_distribution<double>(0.0, M_PI)(rng);
+    Vector6<double> xi;
+    xi << angle * randomUnitVector<3>(rng), n(rng), n(rng), n(rng);
+    const Eigen::Matrix4d ref = twistMatrix(xi).exp();
+    const Eigen::Matrix4d got = poseMatrix(se3Exp<double>(xi));
+    EXPECT_LT((ref - got).norm(), 1e-13) << xi.transpose();
+  }
+}
+
+TEST(Se3, LogExpRoundTripRandomAndHardPoints)
+{
+  std::mt19937 rng(6);
+  std::normal_distribution<double> n(0.0, 2.0);
+  for (int i = 0; i < 10000; ++i)
+  {
+    const double angle = i < 1200 ? kHardAngles[i % 12] : std::uniform_real_distribution<double>(0.0, M_PI - 1e-6)(rng);
+    Vector6<double> xi;
+    xi << angle * randomUnitVector<3>(rng), n(rng), n(rng), n(rng);
+    const Vector6<double> back = se3Log(se3Exp<double>(xi));
+    // The translation part's conditioning grows like 1/(π − θ) near π.
+    const double cond = 1.0 / std::max(1e-3, M_PI - angle);
+    EXPECT_LE((back - xi).norm(), 1e-14 * cond * std::max(1.0, xi.norm())) << xi.transpose();
+  }
+}
+
+TEST(Se3, LogMatchesMatrixLogarithm)
+{
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int i = 0; i < 500; ++i)
+  {
+    const Pose<double> g(so3Exp<double>(std::uniform_real_distribution<double>(0.0, 3.0)(rng) * randomUnitVector<3>(rng)),
+                         Eigen::Vector3d(n(rng), n(rng), n(rng)));
+    const Eigen::Matrix4d ref = poseMatrix(g).log();
+    const Eigen::Matrix4d got = twistMatrix(se3Log(g));
+    EXPECT_LT((ref - got).norm(), 1e-12);
+  }
+}
+
+TEST(Se3, PoseCompositionAndInverse)
+{
+  std::mt19937 rng(8);
+  for (int i = 0; i < 100; ++i)
+  {
+    const Pose<double> a = test::randomPose(rng);
+    const Pose<double> b = test::randomPose(rng);
+    EXPECT_LT((poseMatrix(a * b) - poseMatrix(a) * poseMatrix(b)).norm(), 1e-14);
+    EXPECT_LT((poseMatrix(a.inverse()) - poseMatrix(a).inverse()).norm(), 1e-13);
+  }
+}
+
+namespace
+{
+/// Interpolation parameters for the slerp tests: the ends, inside, and extrapolation.
+const double kLambdas[] = { 0.0, 1e-3, 0.25, 0.5, 0.9, 1.0, -0.4, 1.6 };
+
+/// q_a (q_a* q_b)^λ in long double through the relative quaternion and atan2 (the Log/Exp form,
+/// not the slerp weights of so3Slerp).
+Eigen::Vector4d slerpLongDouble(const Quaternion<double>& qa, const Quaternion<double>& qb, double lambda)
+{
+  using L = long double;
+  const Eigen::Quaternion<L> a(L(qa.w()), L(qa.x()), L(qa.y()), L(qa.z()));
+  Eigen::Quaternion<L> rel = a.conjugate() * Eigen::Quaternion<L>(L(qb.w()), L(qb.x()), L(qb.y()), L(qb.z()));
+  if (rel.w() < 0)
+    rel.coeffs() = -rel.coeffs();
+  const L n = rel.vec().norm();
+  const L phi = std::atan2(n, rel.w());
+  Eigen::Quaternion<L> power(std::cos(L(lambda) * phi), 0, 0, 0);
+  power.vec() = n > 0 ? Eigen::Matrix<L, 3, 1>(rel.vec() * (std::sin(L(lambda) * phi) / n))
+                      : Eigen::Matrix<L, 3, 1>(rel.vec() * L(lambda));
+  return (a * power).coeffs().cast<double>();
+}
+}  // namespace
+
+TEST(So3Slerp, FromIdentityRelativeAccuracyAtHardAngles)
+{
+  std::mt19937 rng(21);
+  for (double angle : kHardAngles)
+    for (int k = 0; k < 10; ++k)
+    {
+      const Eigen::Vector3d axis = randomUnitVector<3>(rng);
+      const Quaternion<double> b(std::cos(angle / 2), std::sin(angle / 2) * axis.x(), std::sin(angle / 2) * axis.y(),
+                                 std::sin(angle / 2) * axis.z());
+      for (double lambda : kLambdas)
+      {
+        // (cos(λθ/2), sin(λθ/2) axis): the closed form of the power of a rotation about one axis.
+        const double half = lambda * angle / 2;
+        const Eigen::Vector3d vec = std::sin(half) * axis;
+        for (const double sign : { 1.0, -1.0 })
+        {
+          Quaternion<double> bs;
+          bs.coeffs() = sign * b.coeffs();
+          const Quaternion<double> r = so3Slerp(Quaternion<double>::Identity(), bs, lambda);
+          EXPECT_LE((r.vec() - vec).norm(), 1e-12 * vec.norm() + 1e-300) << "angle " << angle << " lambda " << lambda;
+          EXPECT_LE(std::abs(r.w() - std::cos(half)), 2e-16) << "angle " << angle << " lambda " << lambda;
+        }
+      }
+    }
+}
+
+TEST(So3Slerp, MatchesLongDoubleAndLogExpPath)
+{
+  std::mt19937 rng(22);
+  for (double angle : kHardAngles)
+    for (int k = 0; k < 10; ++k)
+    {
+      const Quaternion<double> a = so3Exp<double>(std::uniform_real_distribution<double>(0.0, 3.1)(rng) *
+                                                  randomUnitVector<3>(rng));
+      const Quaternion<double> b = a * so3Exp<double>(angle * randomUnitVector<3>(rng));
+      for (double lambda : kLambdas)
+      {
+        const Quaternion<double> r = so3Slerp(a, b, lambda);
+        // The quaternion's components are of order 1: a few ulps absolute (the cancellation in
+        // q_a* q_b is the inputs' condition, shared by every method).
+        EXPECT_LE((r.coeffs() - slerpLongDouble(a, b, lambda)).norm(), 2e-15)
+            << "angle " << angle << " lambda " << lambda;
+        const Quaternion<double> generic =
+            a * so3Exp<double>(Eigen::Vector3d(so3Log(Quaternion<double>(a.conjugate() * b)) * lambda));
+        EXPECT_LE(rotationAngle(Quaternion<double>(generic.conjugate() * r)), 1e-14)
+            << "angle " << angle << " lambda " << lambda;
+      }
+    }
+}
+
+TEST(So3Slerp, ExactlyPiIsNotUnique)
+{
+  const Quaternion<double> a = so3Exp<double>(Eigen::Vector3d(0.3, -0.2, 0.5));
+  const Quaternion<double> b = a * Quaternion<double>(0.0, 0.0, 1.0, 0.0);
+  EXPECT_THROW(so3Slerp(a, b, 0.5), NonUniqueGeodesicError);
+}

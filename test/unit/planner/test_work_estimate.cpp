@@ -1,0 +1,178 @@
+// Bounded work per request (issue 15, deliverable 2): the estimate bounds the evaluations the
+// figures really make (counted through a wrapper curve), and expensive requests are refused
+// before computing, naming the field that makes them expensive.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "se3_interpolation/planner/curve_factory.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/planner/work_estimate.h"
+#include "test_utils.h"
+
+using namespace se3_interpolation;
+
+namespace
+{
+/// Forwards to a curve and counts its evaluations.
+template <class G>
+class CountingCurve final : public Curve<G>
+{
+public:
+  using typename Curve<G>::Point;
+  using typename Curve<G>::Jet2Point;
+  explicit CountingCurve(std::shared_ptr<const Curve<G>> base) : base_(std::move(base)) {}
+  Point value(double t) const override
+  {
+    ++count;
+    return base_->value(t);
+  }
+  Jet2Point jet(const Jet<2>& t, Side side) const override
+  {
+    ++count;
+    return base_->jet(t, side);
+  }
+  double startTime() const override { return base_->startTime(); }
+  double endTime() const override { return base_->endTime(); }
+  std::vector<double> breakpoints() const override { return base_->breakpoints(); }
+  std::vector<Point> controlPoints() const override { return base_->controlPoints(); }
+  mutable std::atomic<long> count{ 0 };
+
+private:
+  std::shared_ptr<const Curve<G>> base_;
+};
+
+TrajectoryRequest polygonRequest(std::size_t n, const char* curve)
+{
+  std::mt19937 rng(15);
+  TrajectoryRequest r;
+  r.waypoints = test::randomPolygon(rng, n, 0.5);
+  r.curve = curve;
+  return r;
+}
+
+std::string limitErrorOf(const TrajectoryRequest& r, const PlannerLimits& limits)
+{
+  try
+  {
+    generateTrajectory(r, limits);
+  }
+  catch (const LimitExceededError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+bool startsWith(const std::string& s, const std::string& prefix)
+{
+  return s.compare(0, prefix.size(), prefix) == 0;
+}
+}  // namespace
+
+// The figures' evaluations, counted: at least the quadrature's P (2 + 8 s) and at most the
+// estimate (which adds the golden-section searches' 4 (2 + 60)), for every family and piece count.
+TEST(WorkEstimate, BoundsTheEvaluationsOfTheFigures)
+{
+  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    for (std::size_t n : { 3u, 9u, 40u, 200u })
+    {
+      if (std::string(curve) == "bezier" && n > 40)
+        continue;
+      const ValidatedRequest v = validateRequest(polygonRequest(n, curve), PlannerLimits());
+      const std::vector<double> times = waypointTimes(v);
+      auto counting = std::make_shared<CountingCurve<DoubleGeodesicSe3>>(makeCurve<DoubleGeodesicSe3>(v, times));
+      measureCurve(*counting, 1.0);
+      const WorkEstimate w = estimateWork(v, 0.0);
+      const double pieces = static_cast<double>(counting->breakpoints().size() - 1);
+      EXPECT_EQ(w.pieces, pieces) << curve << " " << n;
+      const double sub = std::max(4.0, std::floor(64.0 / pieces));
+      EXPECT_GE(static_cast<double>(counting->count), pieces * (2.0 + 8.0 * sub)) << curve << " " << n;
+      EXPECT_LE(static_cast<double>(counting->count), w.figure_evaluations) << curve << " " << n;
+    }
+}
+
+// Per evaluation, a Bezier's de Casteljau runs d (d + 1) / 2 geodesic steps and de Boor
+// m (m + 1) / 2; the others a fixed number.
+TEST(WorkEstimate, EvaluationCostPerFamily)
+{
+  ValidatedRequest v;
+  v.waypoints.resize(11);
+  v.curve = CurveType::kBezier;
+  EXPECT_EQ(evaluationCost(v), 55.0);
+  v.curve = CurveType::kBspline;
+  v.degree = 4;
+  EXPECT_EQ(evaluationCost(v), 10.0);
+  v.curve = CurveType::kPiecewiseGeodesic;
+  EXPECT_EQ(evaluationCost(v), 1.0);
+}
+
+// Row 2: the requests of the report are refused up front, naming the field.
+TEST(WorkEstimate, ExpensiveRequestsAreRefusedNamingTheField)
+{
+  const std::string bezier = limitErrorOf(polygonRequest(250, "bezier"), PlannerLimits());
+  EXPECT_TRUE(startsWith(bezier, "waypoints: 250 waypoints make a bezier of degree 249")) << bezier;
+  EXPECT_NE(bezier.find("(~max_work)"), std::string::npos) << bezier;
+
+  TrajectoryRequest bspline = polygonRequest(1000, "bspline");
+  bspline.degree = 255;
+  const std::string degree = limitErrorOf(bspline, PlannerLimits());
+  EXPECT_TRUE(startsWith(degree, "degree: 255 for curve 'bspline' with 1000 waypoints")) << degree;
+
+  PlannerLimits small;
+  small.max_work = 1e5;
+  TrajectoryRequest samples = polygonRequest(2, "piecewise_geodesic");
+  samples.sample_count = 150000;
+  EXPECT_TRUE(startsWith(limitErrorOf(samples, small), "sample_count: 150000 samples"));
+
+  // A stretch multiplies a sample_period's samples: refused after timing, before sampling.
+  // Straight line of 2 m in 2 s with sample_period 1 ms: 2001 samples, about 2.8e3 units;
+  // max_linear_velocity 0.1 m/s stretches it x10 to 20001 samples, about 2.1e4 units.
+  TrajectoryRequest period;
+  period.waypoints = { Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(0, 0, 0)),
+                       Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(1, 0, 0)),
+                       Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(2, 0, 0)) };
+  period.times = { 0.0, 1.0, 2.0 };
+  period.curve = "piecewise_geodesic";
+  period.sample_period = 1e-3;
+  PlannerLimits medium;
+  medium.max_work = 1e4;
+  EXPECT_EQ(generateTrajectory(period, medium).samples.size(), 2001u);
+  period.max_linear_velocity = 0.1;
+  EXPECT_TRUE(startsWith(limitErrorOf(period, medium), "sample_period: 20001 samples"));
+
+  // Within the default: accepted.
+  EXPECT_EQ(limitErrorOf(polygonRequest(40, "bezier"), PlannerLimits()), "");
+  EXPECT_EQ(limitErrorOf(polygonRequest(20000, "piecewise_geodesic"), PlannerLimits()), "");
+}
+
+// The sphere planner (CLI --space sphere) is bounded the same way.
+TEST(WorkEstimate, SphereRequestsAreBoundedToo)
+{
+  SphereRequest r;
+  for (int i = 0; i < 250; ++i)
+  {
+    const double a = 0.01 * i;
+    r.waypoints.push_back(Eigen::Vector3d(std::cos(a), std::sin(a), 0.0));
+  }
+  r.curve = "bezier";
+  std::string e;
+  try
+  {
+    generateSphereTrajectory(r, PlannerLimits());
+  }
+  catch (const LimitExceededError& x)
+  {
+    e = x.what();
+  }
+  EXPECT_TRUE(startsWith(e, "waypoints: 250 waypoints make a bezier of degree 249")) << e;
+  r.waypoints.resize(20);
+  EXPECT_EQ(generateSphereTrajectory(r, PlannerLimits()).samples.size(), 100u);
+}
