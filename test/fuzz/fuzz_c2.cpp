@@ -12,10 +12,10 @@
 // end-condition byte, the clamped velocities, a Newton-budget byte, then the evaluation times.
 // test/fuzz/make_corpus.py writes the seeds (test/fuzz/corpus_c2/).
 #include "fuzz_common.h"
-#include "se3_interpolation/interpolating_spline.h"
-#include "se3_interpolation/kinematics.h"
-#include "se3_interpolation/se3_velocity.h"
-#include "se3_interpolation/sphere.h"
+#include "se3_interpolation/curves/interpolating_spline.h"
+#include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/sphere.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;
