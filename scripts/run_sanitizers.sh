@@ -4,7 +4,7 @@
 # (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer targets, each
 # over a copy of its seed corpus: every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves,
 # fuzz_c2, fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
-# ${SE3_FUZZ_MAX_SECONDS:-150} s each (a target that reaches fewer inputs in that time FAILS, so
+# ${SE3_FUZZ_MAX_SECONDS:-200} s each (a target that reaches fewer inputs in that time FAILS, so
 # that the README's "each per-layer target sees 1e5 inputs per CI run" stays true), and the
 # whole-request target fuzz_generate, much slower per input, for ${SE3_FUZZ_SECONDS:-30} s. Each
 # run's input count and rate are printed. The last line is `sanitizers: N passed, N failed` (the
@@ -16,7 +16,7 @@ se3_install_deps
 build="$SE3_WS/sanitize"
 results="$build/test_results"
 fuzz_runs=${SE3_FUZZ_RUNS:-100000}
-fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-150}
+fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-200}
 fuzz_seconds=${SE3_FUZZ_SECONDS:-30}
 mkdir -p "$build"
 echo "sanitized build (clang++, ASan + UBSan) in $build"

@@ -3,7 +3,7 @@
 // second-order jet at decoded times in the curve's span, without the figures or sampling. The
 // family is the request's `curve` (decode()'s name byte selects it). The C^2 solve of
 // `interpolating` with end_condition natural or clamped, a path-following Newton iteration
-// about twenty times slower per input than any other family, is fuzz_c2's: here those requests
+// about ten times slower per input than the other families, is fuzz_c2's: here those requests
 // stop after validation (end_condition start, the forward construction, is built here).
 // Expected: an InterpolationError, or finite unit poses and finite derivatives. Input format:
 // fuzz_common.h (corpus shared with fuzz_generate).
