@@ -279,7 +279,7 @@ void registerGeometry(const std::string& g)
                                  r.sample_count = static_cast<std::uint32_t>(state.range(0));
                                  for (auto _ : state)
                                  {
-                                   si::TrajectoryResult result = si::generateTrajectory(r, si::PlannerLimits());
+                                   si::TrajectoryResult result = si::generate(r, si::PlannerLimits());
                                    benchmark::DoNotOptimize(result.samples.data());
                                  }
                                  state.SetItemsProcessed(state.iterations() * state.range(0));

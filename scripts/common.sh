@@ -9,10 +9,13 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.bash" --env-only
 
 # The one list of Debian packages: everything the README's commands use. The runtime ones are
 # declared in package.xml too (exec_depend). rosbash gives rosrun (only a recommendation of
-# ros-core); tf2-tools gives tf2_ros/static_transform_publisher and tf2_tools/echo.py.
+# ros-core); tf2-tools gives tf2_ros/static_transform_publisher and tf2_tools/echo.py; the
+# dynamic_reconfigure and nodelet packages give the run-time parameter server (and dynparam) and the
+# nodelet manager.
 SE3_APT_PACKAGES=(
   build-essential cmake ros-core-dev rosbash tf2-tools libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
-  libeigen3-dev libnav-msgs-dev libvisualization-msgs-dev libtrajectory-msgs-dev libstd-srvs-dev
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libnodeletlib-dev libnodeletlib-tools
+  pluginlib-dev libeigen3-dev libnav-msgs-dev libvisualization-msgs-dev libtrajectory-msgs-dev libstd-srvs-dev
   python3-rospy python3-rostest python3-rosservice python3-rostopic python3-geometry-msgs python3-nav-msgs
   python3-visualization-msgs python3-std-srvs python3-trajectory-msgs python3-tf2-ros
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml

@@ -6,6 +6,9 @@
 // request field and index, e.g. "waypoints[3].orientation: ...".
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -46,5 +49,52 @@ class LimitExceededError : public InterpolationError
 public:
   using InterpolationError::InterpolationError;
 };
+
+// --- Message helpers: the one spelling of an indexed field, a number and quoted user text ----
+
+/// "field[i]".
+inline std::string indexedField(const std::string& field, std::size_t i)
+{
+  return field + "[" + std::to_string(i) + "]";
+}
+
+/// A number with 17 significant digits (round-trips).
+inline std::string formatNumber(double x)
+{
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+/// At most this many characters of user text are quoted in an error message, so that no
+/// message or log line carries an unbounded string (issue 15, rows 3, 5, 17).
+constexpr std::size_t kMaxQuotedLength = 40;
+
+/// `text` for an error message (named apart from std::quoted, which argument-dependent lookup
+/// would pick for a non-const std::string): at most kMaxQuotedLength characters in single quotes, control
+/// and non-ASCII bytes as \xHH, and "... (N characters)" when cut.
+inline std::string quotedText(const std::string& text)
+{
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out = "'";
+  const std::size_t n = std::min(text.size(), kMaxQuotedLength);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c >= 0x7F)
+    {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 0xF];
+    }
+    else
+      out += static_cast<char>(c);
+  }
+  out += "'";
+  if (text.size() > n)
+    out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
 
 }  // namespace se3_interpolation

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "se3_interpolation/planner/planner.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
 namespace
@@ -137,17 +137,17 @@ void printWaypointTimes(const std::vector<double>& times)
 
 void printSphereFigures(const se3_interpolation::SphereResult& r)
 {
-  std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.length
-            << "\nmax_speed: " << r.max_speed << "\nmax_acceleration: " << r.max_acceleration
-            << "\nenergy: " << r.energy << "\n";
+  std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.rotation_length
+            << "\nmax_speed: " << r.figures.max_angular_speed
+            << "\nmax_acceleration: " << r.figures.max_angular_acceleration << "\nenergy: " << r.figures.energy << "\n";
   printWaypointTimes(r.waypoint_times);
 }
 
 void printFigures(const se3_interpolation::TrajectoryResult& r)
 {
-  std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.length
-            << "\nrotation_length: " << r.rotation_length << "\nmax_linear_speed: " << r.max_linear_speed
-            << "\nmax_angular_speed: " << r.max_angular_speed << "\nenergy: " << r.energy << "\n";
+  std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.length
+            << "\nrotation_length: " << r.figures.rotation_length << "\nmax_linear_speed: " << r.figures.max_linear_speed
+            << "\nmax_angular_speed: " << r.figures.max_angular_speed << "\nenergy: " << r.figures.energy << "\n";
   printWaypointTimes(r.waypoint_times);
 }
 
@@ -269,14 +269,14 @@ int main(int argc, char** argv)
     if (args.space == "sphere")
     {
       const se3_interpolation::SphereResult result =
-          se3_interpolation::generateSphereTrajectory(se3_interpolation::cli::sphereRequestFromYaml(root), {});
+          se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), {});
       csv = sphereCsv(result);
       printSphereFigures(result);
     }
     else
     {
       const se3_interpolation::TrajectoryResult result =
-          se3_interpolation::generateTrajectory(se3_interpolation::cli::requestFromYaml(root), args.limits);
+          se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(root), args.limits);
       csv = poseCsv(result);
       printFigures(result);
     }

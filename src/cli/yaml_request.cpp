@@ -10,11 +10,6 @@ namespace cli
 {
 namespace
 {
-std::string at(const std::string& field, std::size_t i)
-{
-  return field + "[" + std::to_string(i) + "]";
-}
-
 double toDouble(const YAML::Node& node, const std::string& field)
 {
   if (!node.IsScalar())
@@ -73,7 +68,7 @@ std::vector<double> toDoubles(const YAML::Node& node, const std::string& field)
     throw InvalidInputError(field + ": expected a list of numbers");
   std::vector<double> v;
   for (std::size_t i = 0; i < node.size(); ++i)
-    v.push_back(toDouble(node[i], at(field, i)));
+    v.push_back(toDouble(node[i], indexedField(field, i)));
   return v;
 }
 
@@ -157,6 +152,10 @@ void readCommonFields(const YAML::Node& root, Request* r)
 {
   if (!root || root.IsNull())
     throw InvalidInputError("request: the YAML document is empty");
+  // The service looks these up with tf2; the command-line tool has no TF.
+  if (root.IsMap() && root["waypoint_frames"])
+    throw InvalidInputError("waypoint_frames: the command-line tool has no TF to look frames up in; give their "
+                            "poses in waypoints (the node's ~generate service takes waypoint_frames)");
   requireKeys(root, "",
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
@@ -213,7 +212,7 @@ std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const s
     throw InvalidInputError(field + ": expected a list of vectors");
   std::vector<std::vector<double>> out;
   for (std::size_t i = 0; i < node.size(); ++i)
-    out.push_back(toDoubles(node[i], at(field, i)));
+    out.push_back(toDoubles(node[i], indexedField(field, i)));
   return out;
 }
 
@@ -241,7 +240,7 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
                             "{header: {frame_id: ..}, poses: [...]} as in the service)");
   for (std::size_t i = 0; i < poses.size(); ++i)
-    r.waypoints.push_back(toPose(poses[i], at("waypoints", i)));
+    r.waypoints.push_back(toPose(poses[i], indexedField("waypoints", i)));
   if (root["start_velocity"])
     r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])
@@ -254,7 +253,7 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     if (!v.IsSequence())
       throw InvalidInputError("velocities: expected a list of twists");
     for (std::size_t i = 0; i < v.size(); ++i)
-      r.velocities.push_back(toTwist(v[i], at("velocities", i)));
+      r.velocities.push_back(toTwist(v[i], indexedField("velocities", i)));
   }
   return r;
 }

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "se3_interpolation/planner/planner.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {

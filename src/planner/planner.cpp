@@ -2,14 +2,13 @@
 
 #include <cmath>
 #include <memory>
-#include <sstream>
+#include <type_traits>
 
-#include "se3_interpolation/curves/bspline.h"
+#include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/planner/curve_factory.h"
-#include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
+#include "se3_interpolation/timing/time_optimal.h"
 
 namespace se3_interpolation
 {
@@ -17,7 +16,8 @@ namespace
 {
 /// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
 /// speeds scale by 1/k and accelerations by 1/k². `cause` receives the binding bound's field.
-double stretchFactor(const ValidatedRequest& r, const CurveFigures& f, std::string* cause)
+template <class Space>
+double stretchFactor(const BasicValidatedRequest<Space>& r, const CurveFigures& f, std::string* cause)
 {
   double k = 1.0;
   auto bind = [&k, cause](double candidate, const char* field) {
@@ -42,16 +42,68 @@ double stretchFactor(const ValidatedRequest& r, const CurveFigures& f, std::stri
   return k;
 }
 
+/// The chord distance between consecutive waypoints (SPEC, Timing).
+double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
+{
+  const double dtheta = rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
+  return std::sqrt((b.p - a.p).squaredNorm() + dtheta * dtheta);
+}
+
+/// On the sphere: the great-circle angle.
+double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*rotation_scale*/)
+{
+  return Sphere::log<double>(a, b).norm();
+}
+
+/// One sample of a pose curve; quaternions sign-continuous with `previous` (the first w ≥ 0).
 template <class G>
-TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
+TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySample* previous)
+{
+  const Kinematics k = kinematicsAt(curve, t);
+  TrajectorySample s{ t, k.pose, k.velocity, k.acceleration };
+  const Quaternion<double> before = previous ? previous->pose.q : Quaternion<double>(1.0, 0.0, 0.0, 0.0);
+  if (s.pose.q.coeffs().dot(before.coeffs()) < 0.0)
+    s.pose.q.coeffs() = -s.pose.q.coeffs();
+  return s;
+}
+
+SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* /*previous*/)
+{
+  const SphereKinematics k = kinematicsAt(curve, t);
+  return SphereSample{ t, k.point, k.velocity, k.acceleration };
+}
+
+bool allFinite(const TrajectorySample& s)
+{
+  return s.pose.p.allFinite() && s.pose.q.coeffs().allFinite() && s.velocity.linear.allFinite() &&
+         s.velocity.angular.allFinite() && s.acceleration.linear.allFinite() && s.acceleration.angular.allFinite();
+}
+
+bool allFinite(const SphereSample& s)
+{
+  return s.point.allFinite() && s.velocity.allFinite() && s.acceleration.allFinite();
+}
+
+/// The bounds' field names for an error about the span they stretch the motion to.
+template <class Space>
+const char* boundFields()
+{
+  return std::is_same_v<Space, SphereSpace> ? "max_angular_velocity or max_angular_acceleration"
+                                            : "max_linear_velocity, max_angular_velocity or their accelerations";
+}
+
+template <class Space, class G>
+BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits)
 {
   const std::vector<double> times = waypointTimes(r);
   // Bounded work: refused from the fields alone, before the curve is built or measured.
-  requireWorkWithin(estimateWork(r, expectedSamples(r, times.back() - times.front())), r, limits);
+  const WorkShape shape = workShape(r);
+  requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
   std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
-  TrajectoryResult out;
-  if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
-    out.blend_radii = blended->radii();
+  BasicResult<Space> out;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
+      out.blend_radii = blended->radii();
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
 
   out.waypoint_times = times;
@@ -63,8 +115,7 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
     auto timed = timing::makeTimeOptimalCurve<G>(curve, bounds);
     out.time_scale = timed->profile().stretch;
     // Tiny bounds give a long motion: every time must still fit ros::Duration.
-    validateTimeSpan(timed->startTime(), timed->endTime(),
-                     "max_linear_velocity, max_angular_velocity or their accelerations");
+    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<Space>());
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
@@ -88,41 +139,35 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
                      curve->startTime() + (curve->endTime() - curve->startTime()) * out.time_scale, cause);
     for (double& t : out.waypoint_times)
       t = curve->startTime() + (t - curve->startTime()) * out.time_scale;
-  }
-  if (r.timing == Timing::kStretch && out.time_scale > 1.0)
-  {
-    const double k = out.time_scale;
-    curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
-    fig.max_linear_speed /= k;
-    fig.max_angular_speed /= k;
-    fig.max_linear_acceleration /= k * k;
-    fig.max_angular_acceleration /= k * k;
-    fig.energy /= k * k * k;
+    if (out.time_scale > 1.0)
+    {
+      const double k = out.time_scale;
+      curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
+      fig.max_linear_speed /= k;
+      fig.max_angular_speed /= k;
+      fig.max_linear_acceleration /= k * k;
+      fig.max_angular_acceleration /= k * k;
+      fig.energy /= k * k * k;
+    }
   }
   out.start_time = curve->startTime();
   out.duration = curve->endTime() - curve->startTime();
-  out.length = fig.length;
-  out.rotation_length = fig.rotation_length;
-  out.max_linear_speed = fig.max_linear_speed;
-  out.max_angular_speed = fig.max_angular_speed;
-  out.max_linear_acceleration = fig.max_linear_acceleration;
-  out.max_angular_acceleration = fig.max_angular_acceleration;
-  out.energy = fig.energy;
+  out.figures = fig;
   out.waypoints = r.waypoints;
   out.control_points = curve->controlPoints();
-  out.pose_at = [curve](double t) { return curve->value(t); };
+  out.point_at = [curve](double t) { return curve->value(t); };
   // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
   // response as ∞ or NaN.
   const std::pair<const char*, double> figures[] = {
     { "time_scale", out.time_scale },
     { "duration", out.duration },
-    { "length", out.length },
-    { "rotation_length", out.rotation_length },
-    { "max_linear_speed", out.max_linear_speed },
-    { "max_angular_speed", out.max_angular_speed },
-    { "max_linear_acceleration", out.max_linear_acceleration },
-    { "max_angular_acceleration", out.max_angular_acceleration },
-    { "energy", out.energy },
+    { "length", fig.length },
+    { "rotation_length", fig.rotation_length },
+    { "max_linear_speed", fig.max_linear_speed },
+    { "max_angular_speed", fig.max_angular_speed },
+    { "max_linear_acceleration", fig.max_linear_acceleration },
+    { "max_angular_acceleration", fig.max_angular_acceleration },
+    { "energy", fig.energy },
   };
   for (const auto& f : figures)
     if (!std::isfinite(f.second))
@@ -131,38 +176,38 @@ TrajectoryResult run(const ValidatedRequest& r, const PlannerLimits& limits)
                                "max_* bounds)");
   for (std::size_t i = 0; i < out.waypoint_times.size(); ++i)
     if (!std::isfinite(out.waypoint_times[i]))
-      throw InterpolationError("waypoints[" + std::to_string(i) + "]: its stretched time is " +
+      throw InterpolationError(indexedField("waypoints", i) + ": its stretched time is " +
                                formatNumber(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
 
-  const std::vector<double> ts =
-      sampleTimes(Sampling{ r.sample_times, r.sample_period, r.sample_count }, curve->startTime(), curve->endTime(), limits);
+  const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
   // Again with the final sample count (a stretch lengthens a sample_period's sampling).
-  requireWorkWithin(estimateWork(r, static_cast<double>(ts.size())), r, limits);
-  out.samples.resize(ts.size());
-  Quaternion<double> previous(1.0, 0.0, 0.0, 0.0);
+  requireWorkWithin(estimateWork(shape, static_cast<double>(ts.size())), shape, limits);
+  out.samples.reserve(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
   {
-    const Kinematics k = kinematicsAt(*curve, ts[i]);
-    TrajectorySample& s = out.samples[i];
-    s.time = ts[i];
-    s.pose = k.pose;
-    // Sign-continuous quaternions, the first with w ≥ 0.
-    if (s.pose.q.coeffs().dot(previous.coeffs()) < 0.0)
-      s.pose.q.coeffs() = -s.pose.q.coeffs();
-    previous = s.pose.q;
-    s.velocity = k.velocity;
-    s.acceleration = k.acceleration;
-    for (double x : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.w(), s.velocity.linear.norm(),
-                      s.velocity.angular.norm(), s.acceleration.linear.norm(), s.acceleration.angular.norm() })
-      if (!std::isfinite(x))
-        throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
-                                 " s (the input is too close to a singular configuration)");
+    out.samples.push_back(sampleAt(*curve, ts[i], i > 0 ? &out.samples.back() : nullptr));
+    if (!allFinite(out.samples.back()))
+      throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
+                               " s (the input is too close to a singular configuration)");
   }
   return out;
 }
+
+TrajectoryResult dispatch(const ValidatedRequest& r, const PlannerLimits& limits)
+{
+  if (r.geometry == GeometryType::kScrew)
+    return run<PoseSpace, ScrewSe3>(r, limits);
+  return run<PoseSpace, DoubleGeodesicSe3>(r, limits);
+}
+
+SphereResult dispatch(const ValidatedSphereRequest& r, const PlannerLimits& limits)
+{
+  return run<SphereSpace, Sphere>(r, limits);
+}
 }  // namespace
 
-std::vector<double> waypointTimes(const ValidatedRequest& r)
+template <class Space>
+std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& r)
 {
   if (!r.times.empty())
     return r.times;
@@ -170,10 +215,7 @@ std::vector<double> waypointTimes(const ValidatedRequest& r)
   std::vector<double> cumulative(n, 0.0);
   for (std::size_t i = 1; i < n; ++i)
   {
-    const Pose<double>& a = r.waypoints[i - 1];
-    const Pose<double>& b = r.waypoints[i];
-    const double dtheta = r.rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
-    const double d = std::sqrt((b.p - a.p).squaredNorm() + dtheta * dtheta);
+    const double d = chordStep(r.waypoints[i - 1], r.waypoints[i], r.rotation_scale);
     double step = 1.0;
     if (r.parameterization == Parameterization::kChord)
       step = d;
@@ -188,17 +230,20 @@ std::vector<double> waypointTimes(const ValidatedRequest& r)
   times.back() = total;
   for (std::size_t i = 1; i < n; ++i)
     if (!(times[i] > times[i - 1]))
-      throw InvalidInputError("waypoints[" + std::to_string(i - 1) + "] and waypoints[" + std::to_string(i) +
-                              "]: too close to be spaced apart in time; give explicit times");
+      throw InvalidInputError(indexedField("waypoints", i - 1) + " and " + indexedField("waypoints", i) +
+                              ": too close to be spaced apart in time; give explicit times");
   return times;
 }
 
-TrajectoryResult generateTrajectory(const TrajectoryRequest& request, const PlannerLimits& limits)
+template <class Space>
+BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits)
 {
-  const ValidatedRequest r = validateRequest(request, limits);
-  if (r.geometry == GeometryType::kScrew)
-    return run<ScrewSe3>(r, limits);
-  return run<DoubleGeodesicSe3>(r, limits);
+  return dispatch(validateRequest(request, limits), limits);
 }
+
+template std::vector<double> waypointTimes<PoseSpace>(const ValidatedRequest&);
+template std::vector<double> waypointTimes<SphereSpace>(const ValidatedSphereRequest&);
+template TrajectoryResult generate<PoseSpace>(const TrajectoryRequest&, const PlannerLimits&);
+template SphereResult generate<SphereSpace>(const SphereRequest&, const PlannerLimits&);
 
 }  // namespace se3_interpolation

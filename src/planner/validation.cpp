@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <sstream>
+#include <cstdio>
 
+#include "se3_interpolation/curves/bezier.h"
+#include "se3_interpolation/curves/blended_spline.h"
 #include "se3_interpolation/curves/bspline.h"
-#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
@@ -12,16 +14,6 @@ namespace se3_interpolation
 namespace
 {
 using se3_interpolation::requireFinite;  // the scalar overload, beside the vector ones below
-
-std::string indexed(const std::string& field, std::size_t i)
-{
-  return indexedField(field, i);
-}
-
-std::string number(double x)
-{
-  return formatNumber(x);
-}
 
 /// A step of at least 1 ns keeps rounded nanoseconds distinct; the margin absorbs the
 /// rounding of t0 + (t1 - t0) i / (n - 1) near 1 ns spacing.
@@ -33,10 +25,11 @@ void requireResolvable(const std::vector<double>& ts, const std::string& field)
   for (std::size_t i = 1; i < ts.size(); ++i)
     if (!(ts[i] - ts[i - 1] >= kResolvableStep))
       throw InvalidInputError(field + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) + " are " +
-                              number(ts[i] - ts[i - 1]) + " s apart, below the 1 ns resolution of time_from_start" +
+                              formatNumber(ts[i] - ts[i - 1]) + " s apart, below the 1 ns resolution of time_from_start" +
                               " (fewer samples or a longer duration)");
 }
 
+/// A position or twist part: components named .x, .y, .z.
 void requireFinite(const Eigen::Vector3d& v, const std::string& field)
 {
   static const char* kAxis[] = { ".x", ".y", ".z" };
@@ -44,10 +37,24 @@ void requireFinite(const Eigen::Vector3d& v, const std::string& field)
     requireFinite(v[i], field + kAxis[i]);
 }
 
-void requireFinite(const Twist& t, const std::string& field)
+/// A vector of R^{m+1} (sphere points and tangents): components named [j].
+void requireFinite(const Eigen::VectorXd& v, const std::string& field)
 {
-  requireFinite(t.linear, field + ".linear");
-  requireFinite(t.angular, field + ".angular");
+  for (Eigen::Index j = 0; j < v.size(); ++j)
+    requireFinite(v[j], indexedField(field, static_cast<std::size_t>(j)));
+}
+
+/// A norm within [kMinUnitNorm, kMaxUnitNorm], else InvalidInputError naming `field`;
+/// `what` says what the unit object is ("quaternion x, y, z, w" or "vector").
+void requireUnitNorm(double norm, const std::string& field, const std::string& prefix, const char* what)
+{
+  if (!(norm >= kMinUnitNorm && norm <= kMaxUnitNorm))
+  {
+    char range[64];
+    std::snprintf(range, sizeof(range), "[%g, %g]", kMinUnitNorm, kMaxUnitNorm);
+    throw InvalidInputError(field + ": " + prefix + "norm " + formatNumber(norm) + " is outside " + range +
+                            " (expected a unit " + what + ")");
+  }
 }
 
 Quaternion<double> validQuaternion(const Quaternion<double>& q, const std::string& field)
@@ -57,74 +64,126 @@ Quaternion<double> validQuaternion(const Quaternion<double>& q, const std::strin
   for (int i = 0; i < 4; ++i)
     requireFinite(c[i], field + kName[i]);
   const double n = std::sqrt(q.coeffs().squaredNorm());
-  if (!(n >= 0.99 && n <= 1.01))
-    throw InvalidInputError(field + ": quaternion norm " + number(n) +
-                            " is outside [0.99, 1.01] (expected a unit quaternion x, y, z, w)");
+  requireUnitNorm(n, field, "quaternion ", "quaternion x, y, z, w");
   return Quaternion<double>(q.coeffs() / n);
 }
 
-template <class E>
-E parseName(const std::string& value, const std::string& field, const std::vector<std::pair<const char*, E>>& names,
-            E default_value)
+/// A field without meaning in the space must stay 0.
+void requireUnused(double x, const std::string& field, const std::string& instead)
 {
-  if (value.empty())
-    return default_value;
-  std::string known;
-  for (const auto& n : names)
+  if (x != 0.0)
+    throw InvalidInputError(field + ": not used on the sphere" + instead);
+}
+
+// --- The space-dependent rules: one overload per space ------------------------------------
+
+std::vector<Pose<double>> validWaypoints(const std::vector<Pose<double>>& raw)
+{
+  std::vector<Pose<double>> out;
+  out.reserve(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    out.push_back(validatePose(raw[i], indexedField("waypoints", i)));
+  return out;
+}
+
+/// Unit vectors of R^{m+1}, m >= 2, all of the dimension of waypoints[0].
+std::vector<Eigen::VectorXd> validWaypoints(const std::vector<Eigen::VectorXd>& raw)
+{
+  const Eigen::Index dim = raw[0].size();
+  if (dim < 3)
+    throw InvalidInputError("waypoints[0]: has " + std::to_string(dim) +
+                            " components; a point of the sphere S^m in R^{m+1}, m >= 2, needs at least 3");
+  std::vector<Eigen::VectorXd> out;
+  out.reserve(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i)
   {
-    if (value == n.first)
-      return n.second;
-    known += (known.empty() ? "" : ", ") + std::string(n.first);
+    const std::string field = indexedField("waypoints", i);
+    if (raw[i].size() != dim)
+      throw InvalidInputError(field + ": has " + std::to_string(raw[i].size()) + " components; waypoints[0] has " +
+                              std::to_string(dim) + " (all waypoints need the same dimension)");
+    requireFinite(raw[i], field);
+    const double n = raw[i].norm();
+    requireUnitNorm(n, field, "", "vector");
+    out.push_back(raw[i] / n);
   }
-  throw InvalidInputError(field + ": unknown value '" + value + "' (expected one of: " + known + ")");
+  return out;
 }
 
-const std::vector<std::pair<const char*, CurveType>> kCurves = {
-  { "piecewise_geodesic", CurveType::kPiecewiseGeodesic },
-  { "bezier", CurveType::kBezier },
-  { "bspline", CurveType::kBspline },
-  { "interpolating", CurveType::kInterpolating },
-  { "hermite", CurveType::kHermite },
-  { "blended", CurveType::kBlended },
-};
-const std::vector<std::pair<const char*, GeometryType>> kGeometries = {
-  { "double_geodesic", GeometryType::kDoubleGeodesic },
-  { "screw", GeometryType::kScrew },
-};
-const std::vector<std::pair<const char*, Timing>> kTimings = {
-  { "stretch", Timing::kStretch },
-  { "time_optimal", Timing::kTimeOptimal },
-};
+/// A twist: finite.
+Twist validVelocity(const Twist& raw, const Pose<double>& /*at*/, const std::string& field)
+{
+  requireFinite(raw.linear, field + ".linear");
+  requireFinite(raw.angular, field + ".angular");
+  return raw;
+}
+
+/// A tangent vector at x (empty = zero), projected onto T_x S^m.
+Eigen::VectorXd validVelocity(const Eigen::VectorXd& raw, const Eigen::VectorXd& x, const std::string& field)
+{
+  if (raw.size() == 0)
+    return Eigen::VectorXd::Zero(x.size());
+  if (raw.size() != x.size())
+    throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; expected " +
+                            std::to_string(x.size()) + " (a tangent vector of R^" + std::to_string(x.size()) + ")");
+  requireFinite(raw, field);
+  const double normal = raw.dot(x);
+  if (std::abs(normal) > kMaxNormalFraction * raw.norm())
+    throw InvalidInputError(field + ": is not tangent to the sphere at its waypoint (normal component " +
+                            formatNumber(normal) + " of a vector of length " + formatNumber(raw.norm()) + ")");
+  return raw - normal * x;
+}
+
+bool identical(const Pose<double>& a, const Pose<double>& b)
+{
+  return a.p == b.p && a.q.angularDistance(b.q) == 0.0;
+}
+
+bool identical(const Eigen::VectorXd& a, const Eigen::VectorXd& b)
+{
+  return a == b;
+}
+
+/// Consecutive poses whose relative rotation is exactly π: the geodesic is not unique.
+void requireUniqueGeodesics(const std::vector<Pose<double>>& x)
+{
+  for (std::size_t i = 0; i + 1 < x.size(); ++i)
+    if (std::abs(x[i].q.coeffs().dot(x[i + 1].q.coeffs())) <= kAntipodalTolerance)
+      throw NonUniqueGeodesicError(indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1) +
+                                   ": the relative rotation is exactly pi, so the geodesic between them is not unique");
+}
+
+/// Antipodal consecutive sphere points: NonUniqueGeodesicError naming both.
+void requireUniqueGeodesics(const std::vector<Eigen::VectorXd>& x)
+{
+  polygonLogs<Sphere>(x, "waypoints");
+}
+
+/// The fields only poses have: geometry, rotation_scale, blend_radius.
+void validateSpaceFields(const TrajectoryRequest& r, ValidatedRequest* v)
+{
+  v->geometry = parseName(r.geometry, "geometry", RequestDefaults::kGeometry);
+  requireFiniteNonNegative(r.rotation_scale, "rotation_scale");
+  v->rotation_scale = r.rotation_scale == 0.0 ? RequestDefaults::kRotationScale : r.rotation_scale;
+  requireFiniteNonNegative(r.blend_radius, "blend_radius");
+  if (r.blend_radius > 0.0 && v->curve != CurveType::kPiecewiseGeodesic)
+    throw InvalidInputError("blend_radius: only used by curve 'piecewise_geodesic' (curve is '" +
+                            std::string(toString(v->curve)) + "')");
+  v->blend_radius = r.blend_radius;
+}
+
+/// On the sphere (one metric, angular motion) those fields and the linear bounds must be unset.
+void validateSpaceFields(const SphereRequest& r, ValidatedSphereRequest* v)
+{
+  if (!r.geometry.empty())
+    throw InvalidInputError("geometry: not used on the sphere (its metric is the round one); leave it empty");
+  requireUnused(r.rotation_scale, "rotation_scale", " (chord spacing uses the great-circle angle)");
+  requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
+  requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
+                "; bound the acceleration with max_angular_acceleration (rad/s^2)");
+  requireUnused(r.blend_radius, "blend_radius", " (corner blends are for poses)");
+  v->rotation_scale = 1.0;
+}
 }  // namespace
-
-const char* toString(Timing t)
-{
-  for (const auto& n : kTimings)
-    if (n.second == t)
-      return n.first;
-  return "";
-}
-
-Timing parseTiming(const std::string& name)
-{
-  return parseName(name, "timing", kTimings, Timing::kStretch);
-}
-
-const char* toString(CurveType c)
-{
-  for (const auto& n : kCurves)
-    if (n.second == c)
-      return n.first;
-  return "";
-}
-
-const char* toString(GeometryType g)
-{
-  for (const auto& n : kGeometries)
-    if (n.second == g)
-      return n.first;
-  return "";
-}
 
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
 {
@@ -132,89 +191,68 @@ Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
   return Pose<double>(validQuaternion(raw.q, field + ".orientation"), raw.p);
 }
 
-ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits& limits)
+template <class Space>
+BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const PlannerLimits& limits)
 {
-  ValidatedRequest v;
+  BasicValidatedRequest<Space> v;
   const std::size_t n = r.waypoints.size();
   if (n < 2)
     throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least 2 are needed");
   if (n > limits.max_waypoints)
     throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (~max_waypoints) is " +
                              std::to_string(limits.max_waypoints));
-  v.waypoints.reserve(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    v.waypoints.push_back(validatePose(r.waypoints[i], indexed("waypoints", i)));
-  }
+  v.waypoints = validWaypoints(r.waypoints);
 
-  v.curve = parseName(r.curve, "curve", kCurves, CurveType::kInterpolating);
-  v.geometry = parseName(r.geometry, "geometry", kGeometries, GeometryType::kDoubleGeodesic);
-  v.end_condition = parseName(r.end_condition, "end_condition",
-                              { { "natural", EndCondition::kNatural },
-                                { "clamped", EndCondition::kClamped },
-                                { "start", EndCondition::kStart } },
-                              EndCondition::kNatural);
-  v.parameterization = parseName(r.parameterization, "parameterization",
-                                 { { "chord", Parameterization::kChord },
-                                   { "uniform", Parameterization::kUniform },
-                                   { "centripetal", Parameterization::kCentripetal } },
-                                 Parameterization::kChord);
+  v.curve = parseName(r.curve, "curve", RequestDefaults::kCurve);
+  v.end_condition = parseName(r.end_condition, "end_condition", RequestDefaults::kEndCondition);
+  v.parameterization = parseName(r.parameterization, "parameterization", RequestDefaults::kParameterization);
+  validateSpaceFields(r, &v);
 
   validateTimes(r.times, n);
-  if (!r.times.empty())
-  {
-    v.times = r.times;
-  }
-  else
-  {
+  v.times = r.times;
+  if (r.times.empty())
     for (std::size_t i = 0; i + 1 < n; ++i)
-      if (r.waypoints[i].p == r.waypoints[i + 1].p && v.waypoints[i].q.angularDistance(v.waypoints[i + 1].q) == 0.0)
-        throw InvalidInputError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
+      if (identical(v.waypoints[i], v.waypoints[i + 1]))
+        throw InvalidInputError(indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1) +
                                 ": identical consecutive waypoints need explicit times (to dwell)");
-  }
-
-  // Exactly antipodal rotations: the geodesic joining two consecutive points is not unique.
-  for (std::size_t i = 0; i + 1 < n; ++i)
-    if (std::abs(v.waypoints[i].q.coeffs().dot(v.waypoints[i + 1].q.coeffs())) <= kAntipodalTolerance)
-      throw NonUniqueGeodesicError(indexed("waypoints", i) + " and " + indexed("waypoints", i + 1) +
-                                   ": the relative rotation is exactly pi, so the geodesic between them is not unique");
+  requireUniqueGeodesics(v.waypoints);
 
   if (r.degree < 0)
     throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
   const int max_degree = static_cast<int>(n) - 1;
-  v.degree = r.degree == 0 ? std::min(3, max_degree) : r.degree;
+  v.degree = r.degree == 0 ? std::min(RequestDefaults::kDegree, max_degree) : r.degree;
   if (v.curve == CurveType::kBspline && v.degree > max_degree)
     throw InvalidInputError("degree: " + std::to_string(v.degree) + " is too high for " + std::to_string(n) +
                             " waypoints (at most " + std::to_string(max_degree) + ")");
   if (!r.knots.empty())
   {
     if (v.curve != CurveType::kBspline)
-      throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" +
-                              std::string(toString(v.curve)) + "')");
+      throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" + std::string(toString(v.curve)) +
+                              "')");
     validateKnots(r.knots, n, v.degree);
     for (std::size_t i = 0; i < r.knots.size(); ++i)
-      requireRosDuration(r.knots[i], indexed("knots", i));
+      requireRosDuration(r.knots[i], indexedField("knots", i));
     v.knots = r.knots;
   }
-  if (r.continuity < 0 || r.continuity > 8)
-    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... 8");
-  v.continuity = r.continuity == 0 ? 2 : r.continuity;
+  if (r.continuity < 0 || r.continuity > kMaxBlendingContinuity)
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... " +
+                            std::to_string(kMaxBlendingContinuity));
+  v.continuity = r.continuity == 0 ? RequestDefaults::kContinuity : r.continuity;
 
-  requireFinite(r.start_velocity, "start_velocity");
-  requireFinite(r.end_velocity, "end_velocity");
-  requireFinite(r.start_acceleration, "start_acceleration");
-  v.start_velocity = r.start_velocity;
-  v.end_velocity = r.end_velocity;
-  v.start_acceleration = r.start_acceleration;
+  v.start_velocity = validVelocity(r.start_velocity, v.waypoints.front(), "start_velocity");
+  v.end_velocity = validVelocity(r.end_velocity, v.waypoints.back(), "end_velocity");
+  v.start_acceleration = validVelocity(r.start_acceleration, v.waypoints.front(), "start_acceleration");
   if (!r.velocities.empty() && r.velocities.size() != n)
     throw InvalidInputError("velocities: " + std::to_string(r.velocities.size()) + " given for " + std::to_string(n) +
                             " waypoints (give one per waypoint, or none)");
   for (std::size_t i = 0; i < r.velocities.size(); ++i)
-    requireFinite(r.velocities[i], indexed("velocities", i));
-  v.velocities = r.velocities;
+  {
+    if constexpr (std::is_same_v<typename Space::Velocity, Eigen::VectorXd>)
+      if (r.velocities[i].size() == 0)
+        throw InvalidInputError(indexedField("velocities", i) + ": is empty (expected a tangent vector)");
+    v.velocities.push_back(validVelocity(r.velocities[i], v.waypoints[i], indexedField("velocities", i)));
+  }
 
-  requireFiniteNonNegative(r.rotation_scale, "rotation_scale");
-  v.rotation_scale = r.rotation_scale == 0.0 ? 1.0 : r.rotation_scale;
   requireFiniteNonNegative(r.duration, "duration");
   requireRosDuration(r.duration, "duration");
   v.duration = r.duration;
@@ -226,33 +264,14 @@ ValidatedRequest validateRequest(const TrajectoryRequest& r, const PlannerLimits
   v.max_angular_velocity = r.max_angular_velocity;
   v.max_linear_acceleration = r.max_linear_acceleration;
   v.max_angular_acceleration = r.max_angular_acceleration;
-  v.timing = parseTiming(r.timing);
+  v.timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
 
-  requireFiniteNonNegative(r.blend_radius, "blend_radius");
-  if (r.blend_radius > 0.0 && v.curve != CurveType::kPiecewiseGeodesic)
-    throw InvalidInputError("blend_radius: only used by curve 'piecewise_geodesic' (curve is '" +
-                            std::string(toString(v.curve)) + "')");
-  v.blend_radius = r.blend_radius;
-
-  const Sampling sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
-  v.sample_times = sampling.sample_times;
-  v.sample_period = sampling.sample_period;
-  v.sample_count = sampling.sample_count;
+  v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   return v;
 }
 
-std::string indexedField(const std::string& field, std::size_t i)
-{
-  return field + "[" + std::to_string(i) + "]";
-}
-
-std::string formatNumber(double x)
-{
-  std::ostringstream s;
-  s.precision(17);
-  s << x;
-  return s.str();
-}
+template ValidatedRequest validateRequest<PoseSpace>(const TrajectoryRequest&, const PlannerLimits&);
+template ValidatedSphereRequest validateRequest<SphereSpace>(const SphereRequest&, const PlannerLimits&);
 
 void requireFinite(double x, const std::string& field)
 {
@@ -296,45 +315,22 @@ void validateStampedSpan(double stamp, double start_time, double end_time, const
                             " s (unsigned 32-bit seconds)");
 }
 
-std::string quoted(const std::string& text)
-{
-  static const char* kHex = "0123456789ABCDEF";
-  std::string out = "'";
-  const std::size_t n = std::min(text.size(), kMaxQuotedLength);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 || c >= 0x7F)
-    {
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 0xF];
-    }
-    else
-      out += static_cast<char>(c);
-  }
-  out += "'";
-  if (text.size() > n)
-    out += "... (" + std::to_string(text.size()) + " characters)";
-  return out;
-}
-
 void validateFrameId(const std::string& id, const std::string& field)
 {
   if (id.empty())
     throw InvalidInputError(field + ": is empty");
   if (id.size() > kMaxFrameIdLength)
-    throw InvalidInputError(field + ": " + quoted(id) + " is longer than " + std::to_string(kMaxFrameIdLength) +
+    throw InvalidInputError(field + ": " + quotedText(id) + " is longer than " + std::to_string(kMaxFrameIdLength) +
                             " characters");
   if (id.front() == '/')
-    throw InvalidInputError(field + ": " + quoted(id) + " starts with '/' (tf2 frame ids have no leading slash)");
+    throw InvalidInputError(field + ": " + quotedText(id) + " starts with '/' (tf2 frame ids have no leading slash)");
   for (std::size_t i = 0; i < id.size(); ++i)
   {
     const unsigned char c = static_cast<unsigned char>(id[i]);
     if (c < 0x20 || c == 0x7F)
-      throw InvalidInputError(field + ": " + quoted(id) + " contains a control character at " + std::to_string(i));
+      throw InvalidInputError(field + ": " + quotedText(id) + " contains a control character at " + std::to_string(i));
     if (std::isspace(c))
-      throw InvalidInputError(field + ": " + quoted(id) + " contains white space at " + std::to_string(i));
+      throw InvalidInputError(field + ": " + quotedText(id) + " contains white space at " + std::to_string(i));
   }
 }
 
@@ -342,18 +338,9 @@ void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
 {
   if (times.empty())
     return;
-  if (times.size() != num_waypoints)
-    throw InvalidInputError("times: " + std::to_string(times.size()) + " given for " + std::to_string(num_waypoints) +
-                            " waypoints (give one time per waypoint, or none)");
+  requireIncreasingTimes(times, num_waypoints);
   for (std::size_t i = 0; i < times.size(); ++i)
-  {
-    requireFinite(times[i], indexedField("times", i));
     requireRosDuration(times[i], indexedField("times", i));
-    if (i > 0 && !(times[i] > times[i - 1]))
-      throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is not after times[" +
-                              std::to_string(i - 1) + "] = " + formatNumber(times[i - 1]) +
-                              " (times must be strictly increasing)");
-  }
 }
 
 Sampling validateSampling(const std::vector<double>& sample_times, double sample_period, std::uint32_t sample_count,
@@ -379,7 +366,7 @@ Sampling validateSampling(const std::vector<double>& sample_times, double sample
   Sampling s;
   s.sample_times = sample_times;
   s.sample_period = sample_period;
-  s.sample_count = sample_count == 0 ? 100 : sample_count;
+  s.sample_count = sample_count == 0 ? RequestDefaults::kSampleCount : sample_count;
   if (sample_times.empty() && sample_period == 0.0 && s.sample_count > limits.max_samples)
     throw LimitExceededError("sample_count: " + std::to_string(s.sample_count) +
                              " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));

@@ -3,19 +3,20 @@
 #include <algorithm>
 #include <cmath>
 
+#include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-/// measureCurve's constants (kinematics.h): 8 Gauss-Legendre nodes, 64 subintervals shared by
-/// the pieces (at least 4 each), 4 golden-section searches of 2 + at most 60 evaluations.
-constexpr double kGaussNodes = 8.0;
-constexpr double kSubintervals = 64.0;
-constexpr double kMinSubintervals = 4.0;
-constexpr double kGoldenEvaluations = 4.0 * (2.0 + 60.0);
+/// measureCurve's effort (analysis/figures.h): its Gauss-Legendre nodes on subintervalsPerPiece
+/// subintervals, and one golden-section search per peak rate of 2 + at most kGoldenMaxIterations
+/// evaluations.
+constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size());
+constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
 
 double analyticPieces(const WorkShape& r)
 {
@@ -38,38 +39,6 @@ std::string samplingField(const WorkShape& r)
   return r.sample_period > 0.0 ? "sample_period" : "sample_count";
 }
 }  // namespace
-
-WorkShape workShape(const ValidatedRequest& r)
-{
-  WorkShape w;
-  w.curve = r.curve;
-  w.waypoints = r.waypoints.size();
-  w.degree = r.degree;
-  w.sample_times = r.sample_times;
-  w.sample_period = r.sample_period;
-  w.sample_count = r.sample_count;
-  return w;
-}
-
-double evaluationCost(const ValidatedRequest& r)
-{
-  return evaluationCost(workShape(r));
-}
-
-double expectedSamples(const ValidatedRequest& r, double span)
-{
-  return expectedSamples(workShape(r), span);
-}
-
-WorkEstimate estimateWork(const ValidatedRequest& r, double samples)
-{
-  return estimateWork(workShape(r), samples);
-}
-
-void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits)
-{
-  requireWorkWithin(w, workShape(r), limits);
-}
 
 double evaluationCost(const WorkShape& r)
 {
@@ -110,8 +79,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   WorkEstimate w;
   w.pieces = analyticPieces(r);
   w.evaluation_cost = evaluationCost(r);
-  const double sub = std::max(kMinSubintervals, std::floor(kSubintervals / w.pieces));
-  w.figure_evaluations = w.pieces * (2.0 + kGaussNodes * sub) + kGoldenEvaluations;
+  const double sub = static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(w.pieces)));
+  w.figure_evaluations = w.pieces * (2.0 + kNodesPerSubinterval * sub) + kGoldenEvaluations;
   w.samples = samples;
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost +
             kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);

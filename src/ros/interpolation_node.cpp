@@ -27,6 +27,29 @@ std::string bounded(const char* what)
   const std::string m(what);
   return m.size() <= kMaxMessageLength ? m : m.substr(0, kMaxMessageLength) + "... (truncated)";
 }
+
+/// The trajectory time at `now` of a trajectory stamped `stamp` spanning [t0, t0 + d]: wrapped
+/// into the span when looping, else clamped to it (held at the ends).
+double playbackTime(const ros::Time& stamp, double t0, double d, const ros::Time& now, bool loop)
+{
+  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
+  double t = static_cast<double>(static_cast<std::int64_t>(now.toNSec()) - static_cast<std::int64_t>(stamp.toNSec())) *
+             1e-9;
+  if (loop && d > 0.0)
+  {
+    double u = std::fmod(t - t0, d);
+    if (u < 0.0)
+      u += d;
+    return t0 + u;
+  }
+  return std::min(std::max(t, t0), t0 + d);
+}
+
+/// tf2 ignores one leading '/' in frame ids: so does the collision check.
+std::string withoutLeadingSlash(const std::string& frame)
+{
+  return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+}
 }  // namespace
 
 InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
@@ -63,6 +86,16 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   tf_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &tf_queue_);
   tf_spinner_->start();
 
+  if (params_.publish_tf)
+    tf_watch_sub_ = tf_nh.subscribe("/tf", 100, &InterpolationNode::tfWatchCallback, this);
+
+  // Started from the validated start-up values, so that a refused ~curve is not read back.
+  reconfigure_server_ =
+      std::make_unique<dynamic_reconfigure::Server<InterpolationNodeConfig>>(reconfigure_mutex_, private_nh_);
+  reconfigure_server_->updateConfig(currentConfig());
+  reconfigure_server_->setCallback(
+      [this](InterpolationNodeConfig& config, std::uint32_t level) { reconfigure(config, level); });
+
   if (params_.master_check_period > 0.0)
   {
     ros::NodeHandle watchdog_nh(private_nh_);
@@ -85,6 +118,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
 
 InterpolationNode::~InterpolationNode()
 {
+  reconfigure_server_.reset();
   if (watchdog_spinner_)
     watchdog_spinner_->stop();
   tf_spinner_->stop();
@@ -105,7 +139,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   {
     std::vector<geometry_msgs::Pose> poses;
     std::string frame;
-    if (req.waypoints.poses.empty())
+    if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
     {
       std::lock_guard<std::mutex> lock(buffer_mutex_);
       poses = buffer_;
@@ -121,34 +155,24 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       frame = req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id;
     }
     validateFrameId(frame, "waypoints.header.frame_id");
+    if (!req.waypoint_frames.empty())
+    {
+      if (poses.size() + req.waypoint_frames.size() > params_.limits.max_waypoints)
+        throw LimitExceededError("waypoints: " + std::to_string(poses.size()) + " poses and " +
+                                 std::to_string(req.waypoint_frames.size()) +
+                                 " waypoint_frames given; the limit (~max_waypoints) is " +
+                                 std::to_string(params_.limits.max_waypoints));
+      const std::vector<geometry_msgs::Pose> taught = lookUpWaypointFrames(req.waypoint_frames, frame);
+      poses.insert(poses.end(), taught.begin(), taught.end());
+    }
     const std::string child = req.child_frame_id.empty() ? params_.child_frame_id : req.child_frame_id;
     validateFrameId(child, "child_frame_id");
     if (child == frame)
-      throw InvalidInputError("child_frame_id: " + quoted(child) + " is also the waypoints' frame");
+      throw InvalidInputError("child_frame_id: " + quotedText(child) + " is also the waypoints' frame");
 
     TrajectoryRequest r = fromRequestMsg(req, poses);
-    if (r.curve.empty())
-      r.curve = params_.curve;
-    // The node's default radius applies to the curve that uses it only (never an error elsewhere).
-    if (r.blend_radius == 0.0 && r.curve == "piecewise_geodesic")
-      r.blend_radius = params_.blend_radius;
-    if (r.geometry.empty())
-      r.geometry = params_.geometry;
-    if (r.parameterization.empty())
-      r.parameterization = params_.parameterization;
-    if (r.timing.empty())
-      r.timing = params_.timing;
-    for (auto bound : { std::make_pair(&r.max_linear_velocity, params_.max_linear_velocity),
-                        std::make_pair(&r.max_angular_velocity, params_.max_angular_velocity),
-                        std::make_pair(&r.max_linear_acceleration, params_.max_linear_acceleration),
-                        std::make_pair(&r.max_angular_acceleration, params_.max_angular_acceleration) })
-      if (*bound.first == 0.0)
-        *bound.first = bound.second;
-    if (r.duration == 0.0)
-      r.duration = params_.duration;
-    if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)
-      r.sample_count = static_cast<std::uint32_t>(params_.sample_count);
-    const TrajectoryResult result = generateTrajectory(r, params_.limits);
+    applyRequestDefaults(&r);
+    const TrajectoryResult result = generate(r, params_.limits);
 
     std_msgs::Header header;
     header.frame_id = frame;
@@ -193,6 +217,65 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   }
 }
 
+void InterpolationNode::applyRequestDefaults(TrajectoryRequest* request) const
+{
+  TrajectoryRequest& r = *request;
+  std::lock_guard<std::mutex> lock(params_mutex_);
+  if (r.curve.empty())
+    r.curve = params_.curve;
+  // The node's default radius applies to the curve that uses it only (never an error elsewhere).
+  if (r.blend_radius == 0.0 && r.curve == "piecewise_geodesic")
+    r.blend_radius = params_.blend_radius;
+  if (r.geometry.empty())
+    r.geometry = params_.geometry;
+  if (r.parameterization.empty())
+    r.parameterization = params_.parameterization;
+  if (r.timing.empty())
+    r.timing = params_.timing;
+  for (auto bound : { std::make_pair(&r.max_linear_velocity, params_.max_linear_velocity),
+                      std::make_pair(&r.max_angular_velocity, params_.max_angular_velocity),
+                      std::make_pair(&r.max_linear_acceleration, params_.max_linear_acceleration),
+                      std::make_pair(&r.max_angular_acceleration, params_.max_angular_acceleration) })
+    if (*bound.first == 0.0)
+      *bound.first = bound.second;
+  if (r.duration == 0.0)
+    r.duration = params_.duration;
+  if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)
+    r.sample_count = static_cast<std::uint32_t>(params_.sample_count);
+}
+
+std::vector<geometry_msgs::Pose> InterpolationNode::lookUpWaypointFrames(const std::vector<std::string>& frames,
+                                                                         const std::string& target)
+{
+  std::vector<geometry_msgs::Pose> poses;
+  poses.reserve(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+  {
+    const std::string field = indexedField("waypoint_frames", i);
+    validateFrameId(frames[i], field);
+    geometry_msgs::TransformStamped t;
+    try
+    {
+      // The latest transform; tf2's listener thread fills the buffer while this one waits.
+      t = tf_buffer_.lookupTransform(target, frames[i], ros::Time(0), ros::Duration(params_.tf_timeout));
+    }
+    catch (const tf2::TransformException& e)
+    {
+      std::ostringstream why;
+      why << field << ": no transform from " << quotedText(frames[i]) << " to " << quotedText(target) << " within ~tf_timeout = "
+          << params_.tf_timeout << " s (tf2: " << bounded(e.what()) << ")";
+      throw InvalidInputError(why.str());
+    }
+    geometry_msgs::Pose p;
+    p.position.x = t.transform.translation.x;
+    p.position.y = t.transform.translation.y;
+    p.position.z = t.transform.translation.z;
+    p.orientation = t.transform.rotation;
+    poses.push_back(p);
+  }
+  return poses;
+}
+
 void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res,
                                 const std_msgs::Header& header, const std::string& child_frame_id)
 {
@@ -202,7 +285,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
   markers_pub_.publish(toMarkerArray(result, result.waypoints, header, params_.marker_axes, params_.axis_length));
 
   auto playback = std::make_shared<Playback>();
-  playback->pose_at = result.pose_at;
+  playback->point_at = result.point_at;
   playback->stamp = header.stamp;
   playback->start_time = result.start_time;
   playback->duration = result.duration;
@@ -223,7 +306,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
     geometry_msgs::TransformStamped ts;
     ts.header = header;
     ts.child_frame_id = child_frame_id + "_" + std::to_string(k);
-    ts.transform = toTransformMsg(result.pose_at(t));
+    ts.transform = toTransformMsg(result.point_at(t));
     frames.transforms.push_back(ts);
   }
   tf_static_pub_.publish(frames);
@@ -239,11 +322,14 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
   status.source = source;
   // The request's strings may be anything (a refused 10 MB name): the latched status carries
   // them only when they are short names, else their quoted prefix (issue 15, rows 3, 5).
-  auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quoted(text); };
-  status.curve = bounded(req.curve.empty() ? params_.curve : req.curve);
-  status.geometry = bounded(req.geometry.empty() ? params_.geometry : req.geometry);
-  status.timing = bounded(req.timing.empty() ? params_.timing : req.timing);
-  if (req.waypoints.poses.empty())
+  auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quotedText(text); };
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    status.curve = bounded(req.curve.empty() ? params_.curve : req.curve);
+    status.geometry = bounded(req.geometry.empty() ? params_.geometry : req.geometry);
+    status.timing = bounded(req.timing.empty() ? params_.timing : req.timing);
+  }
+  if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
   {
     std::lock_guard<std::mutex> lock(buffer_mutex_);
     status.header.frame_id = buffer_frame_;
@@ -253,7 +339,7 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
   {
     status.header.frame_id =
         bounded(req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id);
-    status.waypoint_count = static_cast<std::uint32_t>(req.waypoints.poses.size());
+    status.waypoint_count = static_cast<std::uint32_t>(req.waypoints.poses.size() + req.waypoint_frames.size());
   }
   status.duration = res.duration;
   status.length = res.length;
@@ -267,14 +353,51 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
 bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_srvs::Trigger::Response& res)
 {
   std::size_t n = 0;
+  std::string frame;
   {
     std::lock_guard<std::mutex> lock(buffer_mutex_);
     n = buffer_.size();
     buffer_.clear();
+    frame = buffer_frame_;
+  }
+  {
+    std::lock_guard<std::mutex> publishing(publish_mutex_);
+    holdPlayback();
+    nav_msgs::Path empty;
+    empty.header.stamp = ros::Time::now();
+    empty.header.frame_id = frame;
+    path_pub_.publish(empty);
+    visualization_msgs::MarkerArray deletion;
+    visualization_msgs::Marker all;
+    all.header = empty.header;
+    all.action = visualization_msgs::Marker::DELETEALL;
+    deletion.markers.push_back(all);
+    markers_pub_.publish(deletion);
   }
   res.success = true;
-  res.message = "cleared " + std::to_string(n) + " waypoints";
+  res.message = "cleared " + std::to_string(n) + " waypoints; playback stopped, path and markers cleared";
   return true;
+}
+
+void InterpolationNode::holdPlayback()
+{
+  std::lock_guard<std::mutex> lock(playback_mutex_);
+  if (!playback_)
+    return;
+  const ros::Time now = ros::Time::now();
+  bool loop = false;
+  {
+    std::lock_guard<std::mutex> params_lock(params_mutex_);
+    loop = params_.loop;
+  }
+  const Pose<double> held = playback_->point_at(
+      playbackTime(playback_->stamp, playback_->start_time, playback_->duration, now, loop));
+  auto hold = std::make_shared<Playback>(*playback_);
+  hold->point_at = [held](double) { return held; };
+  hold->stamp = now;
+  hold->start_time = 0.0;
+  hold->duration = 0.0;
+  playback_ = hold;
 }
 
 void InterpolationNode::noticeDrops(const std::string& publisher, std::uint32_t seq)
@@ -284,7 +407,7 @@ void InterpolationNode::noticeDrops(const std::string& publisher, std::uint32_t 
   {
     dropped_waypoints_ += seq - it->second - 1;
     // Throttled: a flood of drops must not become a flood of log lines.
-    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quoted(publisher)
+    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quotedText(publisher)
                                                 << " were dropped (header.seq jumped from " << it->second << " to "
                                                 << seq << "; " << dropped_waypoints_
                                                 << " dropped in all); raise ~waypoint_queue_size ("
@@ -399,30 +522,122 @@ void InterpolationNode::broadcastMovingFrame()
   const ros::Time now = ros::Time::now();
   if (now <= last_tf_stamp_)
     return;  // TF stamps never repeat or go backwards
-  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
-  double t = static_cast<double>(static_cast<std::int64_t>(now.toNSec()) -
-                                 static_cast<std::int64_t>(playback->stamp.toNSec())) *
-             1e-9;
-  const double t0 = playback->start_time;
-  const double d = playback->duration;
-  if (params_.loop && d > 0.0)
+  bool loop = false;
   {
-    double u = std::fmod(t - t0, d);
-    if (u < 0.0)
-      u += d;
-    t = t0 + u;
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    loop = params_.loop;
   }
-  else
-  {
-    t = std::min(std::max(t, t0), t0 + d);
-  }
+  const double t = playbackTime(playback->stamp, playback->start_time, playback->duration, now, loop);
   geometry_msgs::TransformStamped ts;
   ts.header.stamp = now;
   ts.header.frame_id = playback->frame_id;
   ts.child_frame_id = playback->child_frame_id;
-  ts.transform = toTransformMsg(playback->pose_at(t));
+  ts.transform = toTransformMsg(playback->point_at(t));
   tf_broadcaster_.sendTransform(ts);
   last_tf_stamp_ = now;
+}
+
+void InterpolationNode::tfWatchCallback(const ros::MessageEvent<const tf2_msgs::TFMessage>& event)
+{
+  const std::string& publisher = event.getPublisherName();  // the connection header's callerid
+  if (publisher == ros::this_node::getName())
+    return;  // our own broadcasts (also under a nodelet manager: its name is ours)
+  std::shared_ptr<const Playback> playback;
+  {
+    std::lock_guard<std::mutex> lock(playback_mutex_);
+    playback = playback_;
+  }
+  // const: a non-const std::string would pick std::quoted by argument-dependent lookup.
+  const std::string child = playback ? playback->child_frame_id : params_.child_frame_id;
+  for (const auto& t : event.getMessage()->transforms)
+  {
+    if (withoutLeadingSlash(t.child_frame_id) != child)
+      continue;
+    // Throttled: a colliding publisher at 50 Hz must not become 50 log lines a second.
+    ROS_WARN_STREAM_THROTTLE(5.0, "TF collision: " << quotedText(publisher) << " also publishes this node's moving frame "
+                                                   << quotedText(child) << " (parent " << quotedText(t.header.frame_id)
+                                                   << ") on /tf; give each instance its own ~child_frame_id "
+                                                      "(launch argument child_frame_id)");
+    return;
+  }
+}
+
+InterpolationNodeConfig InterpolationNode::currentConfig() const
+{
+  std::lock_guard<std::mutex> lock(params_mutex_);
+  InterpolationNodeConfig c = InterpolationNodeConfig::__getDefault__();
+  c.curve = params_.curve;
+  c.geometry = params_.geometry;
+  c.parameterization = params_.parameterization;
+  c.timing = params_.timing;
+  c.max_linear_velocity = params_.max_linear_velocity;
+  c.max_angular_velocity = params_.max_angular_velocity;
+  c.max_linear_acceleration = params_.max_linear_acceleration;
+  c.max_angular_acceleration = params_.max_angular_acceleration;
+  c.duration = params_.duration;
+  c.sample_count = params_.sample_count;
+  c.blend_radius = params_.blend_radius;
+  c.loop = params_.loop;
+  c.tf_rate = params_.tf_rate;
+  return c;
+}
+
+void InterpolationNode::reconfigure(InterpolationNodeConfig& config, std::uint32_t /*level*/)
+{
+  const InterpolationNodeConfig old = currentConfig();
+  // A refused value is warned and replaced by the old one, which the server then publishes.
+  auto text = [](std::string* value, const std::string& previous, const char* name) {
+    if (*value == previous)
+      return;
+    const std::string why = stringParameterError(name, *value);
+    if (why.empty())
+      return;
+    ROS_WARN_STREAM("dynamic_reconfigure: " << why << "; keeping " << quotedText(previous));
+    *value = previous;
+  };
+  auto number = [](auto* value, auto previous, const char* name) {
+    if (*value == previous)
+      return;
+    const std::string why = numberParameterError(name, static_cast<double>(*value));
+    if (why.empty())
+      return;
+    ROS_WARN_STREAM("dynamic_reconfigure: " << why << "; keeping " << previous);
+    *value = previous;
+  };
+  text(&config.curve, old.curve, "curve");
+  text(&config.geometry, old.geometry, "geometry");
+  text(&config.parameterization, old.parameterization, "parameterization");
+  text(&config.timing, old.timing, "timing");
+  number(&config.max_linear_velocity, old.max_linear_velocity, "max_linear_velocity");
+  number(&config.max_angular_velocity, old.max_angular_velocity, "max_angular_velocity");
+  number(&config.max_linear_acceleration, old.max_linear_acceleration, "max_linear_acceleration");
+  number(&config.max_angular_acceleration, old.max_angular_acceleration, "max_angular_acceleration");
+  number(&config.duration, old.duration, "duration");
+  number(&config.sample_count, old.sample_count, "sample_count");
+  number(&config.blend_radius, old.blend_radius, "blend_radius");
+  number(&config.tf_rate, old.tf_rate, "tf_rate");
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params_.curve = config.curve;
+    params_.geometry = config.geometry;
+    params_.parameterization = config.parameterization;
+    params_.timing = config.timing;
+    params_.max_linear_velocity = config.max_linear_velocity;
+    params_.max_angular_velocity = config.max_angular_velocity;
+    params_.max_linear_acceleration = config.max_linear_acceleration;
+    params_.max_angular_acceleration = config.max_angular_acceleration;
+    params_.duration = config.duration;
+    params_.sample_count = config.sample_count;
+    params_.blend_radius = config.blend_radius;
+    params_.loop = config.loop;
+    params_.tf_rate = config.tf_rate;
+  }
+  if (config.tf_rate != old.tf_rate)
+    tf_timer_.setPeriod(ros::Duration(1.0 / config.tf_rate));
+  ROS_INFO_STREAM("dynamic_reconfigure: curve " << config.curve << ", geometry " << config.geometry
+                                                << ", parameterization " << config.parameterization << ", timing "
+                                                << config.timing << ", loop " << (config.loop ? "on" : "off")
+                                                << ", tf_rate " << config.tf_rate << " Hz");
 }
 
 void InterpolationNode::watchdogCallback(const ros::TimerEvent& /*event*/)

@@ -347,6 +347,9 @@ TEST(Cli, ServiceSpellingRefusals)
       "start_velocity.linear.w: unknown field" },
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nvelocities: [{angular: [1, 2]}, {}]\n",
       "velocities[0].angular: expected 3 numbers" },
+    // A service field the CLI cannot serve (no TF): refused by name, not as an unknown field.
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nwaypoint_frames: [taught_1]\n",
+      "waypoint_frames: the command-line tool has no TF" },
   };
   const std::string out = testing::TempDir() + "spelling_must_not_exist.csv";
   for (const auto& c : cases)

@@ -15,7 +15,7 @@
 #include "se3_interpolation/curves/interpolating_spline.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/geometry/se3_velocity.h"
-#include "se3_interpolation/geometry/sphere.h"
+#include "se3_interpolation/analysis/sphere_kinematics.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;

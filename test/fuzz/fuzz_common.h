@@ -377,13 +377,13 @@ inline void checkResult(const TrajectoryResult& out, const PlannerLimits& limits
   checkFinite(out.start_time, "start_time");
   checkFinite(out.duration, "duration");
   checkFinite(out.time_scale, "time_scale");
-  checkFinite(out.length, "length");
-  checkFinite(out.rotation_length, "rotation_length");
-  checkFinite(out.max_linear_speed, "max_linear_speed");
-  checkFinite(out.max_angular_speed, "max_angular_speed");
-  checkFinite(out.max_linear_acceleration, "max_linear_acceleration");
-  checkFinite(out.max_angular_acceleration, "max_angular_acceleration");
-  checkFinite(out.energy, "energy");
+  checkFinite(out.figures.length, "length");
+  checkFinite(out.figures.rotation_length, "rotation_length");
+  checkFinite(out.figures.max_linear_speed, "max_linear_speed");
+  checkFinite(out.figures.max_angular_speed, "max_angular_speed");
+  checkFinite(out.figures.max_linear_acceleration, "max_linear_acceleration");
+  checkFinite(out.figures.max_angular_acceleration, "max_angular_acceleration");
+  checkFinite(out.figures.energy, "energy");
   if (!(out.time_scale >= 1.0))
     fail("time_scale below 1");
   for (double t : out.waypoint_times)
@@ -401,10 +401,10 @@ inline void checkResult(const TrajectoryResult& out, const PlannerLimits& limits
     checkFinite(s.acceleration.linear, "samples.acceleration.linear");
     checkFinite(s.acceleration.angular, "samples.acceleration.angular");
   }
-  if (!out.pose_at)
-    fail("a successful result has no pose_at");
-  checkPose(out.pose_at(out.start_time), "pose_at(start_time)");
-  checkPose(out.pose_at(out.start_time + out.duration), "pose_at(end)");
+  if (!out.point_at)
+    fail("a successful result has no point_at");
+  checkPose(out.point_at(out.start_time), "point_at(start_time)");
+  checkPose(out.point_at(out.start_time + out.duration), "point_at(end)");
 }
 /// The planner limits of the request targets: a few waypoints and samples are enough to reach
 /// every branch (the limits' own checks included: decode() also draws counts beyond them), and

@@ -9,6 +9,8 @@
 // fuzz_common.h (corpus shared with fuzz_generate).
 #include "fuzz_common.h"
 #include "se3_interpolation/planner/curve_factory.h"
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/analysis/kinematics.h"
 
 using namespace se3_interpolation;

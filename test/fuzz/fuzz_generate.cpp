@@ -1,4 +1,4 @@
-// libFuzzer target: bytes -> TrajectoryRequest -> generateTrajectory (validation, timing,
+// libFuzzer target: bytes -> TrajectoryRequest -> generate (validation, timing,
 // curve, stretch, sampling): the whole request. The per-layer targets (fuzz_lie, fuzz_validate,
 // fuzz_curves, fuzz_sphere, fuzz_yaml) run the layers alone, much faster.
 //
@@ -15,6 +15,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 {
   return runRequestTarget("fuzz_generate", data, size,
                           [](const TrajectoryRequest& request, const PlannerLimits& limits, ByteReader&) {
-                            checkResult(generateTrajectory(request, limits), limits);
+                            checkResult(generate(request, limits), limits);
                           });
 }

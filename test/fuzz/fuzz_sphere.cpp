@@ -1,9 +1,9 @@
 // libFuzzer target, the sphere space S^m (m = 2 ... 4) end to end: bytes -> SphereRequest ->
-// generateSphereTrajectory (validation, curve, figures, timing, sampling) with up to 6
-// waypoints and 32 samples. Expected: an InterpolationError, or samples on the unit sphere with
+// generate (sphere space: validation, curve, figures, timing, sampling) with up to 6 waypoints
+// and 32 samples. Expected: an InterpolationError, or samples on the unit sphere with
 // finite velocities and accelerations tangent to it. Input format: fuzz_common.h's reader.
 #include "fuzz_common.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;
@@ -77,7 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   limits.max_waypoints = kMaxWaypoints;
   try
   {
-    const SphereResult out = generateSphereTrajectory(r, limits);
+    const SphereResult out = generate(r, limits);
     if (out.samples.empty() || out.samples.size() > limits.max_samples)
       fail("a successful sphere result has " + std::to_string(out.samples.size()) + " samples");
     for (const SphereSample& s : out.samples)
@@ -89,7 +89,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (std::abs(s.point.dot(s.velocity)) > 1e-6 * (1.0 + s.velocity.norm()))
         fail("a sample velocity not tangent to the sphere");
     }
-    for (double f : { out.duration, out.length, out.max_speed, out.max_acceleration, out.energy })
+    for (double f : { out.duration, out.figures.rotation_length, out.figures.max_angular_speed, out.figures.max_angular_acceleration, out.figures.energy })
       checkFinite(f, "sphere figures");
   }
   catch (const InterpolationError&)

@@ -4,6 +4,7 @@
 // known degree, sample_count != 1 and a finite, positive work estimate. Input format:
 // fuzz_common.h (the same as fuzz_generate, so the corpora are shared).
 #include "fuzz_common.h"
+#include "se3_interpolation/curves/blended_spline.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
 
@@ -25,14 +26,14 @@ void validate(const TrajectoryRequest& request, const PlannerLimits& limits, Byt
     if (std::abs(v.times[i]) > kRosDurationMaxSeconds || (i > 0 && !(v.times[i] > v.times[i - 1])))
       fail("validated times out of range or not increasing");
   }
-  if (v.degree < 1 || v.continuity < 1 || v.continuity > 8 || v.sample_count == 1)
+  if (v.degree < 1 || v.continuity < 1 || v.continuity > kMaxBlendingContinuity || v.sampling.sample_count == 1)
     fail("validated degree, continuity or sample_count out of range");
   if (!(std::abs(v.duration) <= kRosDurationMaxSeconds))
     fail("validated duration out of ROS's range");
-  const WorkEstimate w = estimateWork(v, expectedSamples(v, 1.0));
+  const WorkEstimate w = estimateWork(workShape(v), expectedSamples(workShape(v), 1.0));
   if (!std::isfinite(w.total) || !(w.total > 0.0))
     fail("work estimate not finite and positive");
-  requireWorkWithin(w, v, limits);
+  requireWorkWithin(w, workShape(v), limits);
 }
 }  // namespace
 

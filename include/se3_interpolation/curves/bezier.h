@@ -34,8 +34,7 @@ std::vector<typename G::template Tangent<double>> polygonLogs(const std::vector<
     }
     catch (const NonUniqueGeodesicError& e)
     {
-      throw NonUniqueGeodesicError(label + "[" + std::to_string(i) + "] and " + label + "[" + std::to_string(i + 1) +
-                                   "]: " + e.what());
+      throw NonUniqueGeodesicError(indexedField(label, i) + " and " + indexedField(label, i + 1) + ": " + e.what());
     }
   }
   return logs;

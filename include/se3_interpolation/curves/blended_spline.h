@@ -79,6 +79,10 @@
 
 namespace se3_interpolation
 {
+/// The highest `continuity` offered: the SPEC asks for C^1 ... C^4 at least; the blending
+/// polynomials' properties are tested for every n up to 8 (test_blended_spline).
+constexpr int kMaxBlendingContinuity = 8;
+
 /// A Bézier polynomial Σ_j c_j b_{d,j}(u) of degree d = 2n + 1 with Pobegailo's control values.
 class BlendingPolynomial
 {
@@ -166,8 +170,7 @@ typename G::template Tangent<double> namedLog(const std::vector<typename G::temp
   catch (const NonUniqueGeodesicError& e)
   {
     const std::size_t lo = std::min(i, j), hi = std::max(i, j);
-    throw NonUniqueGeodesicError(label + "[" + std::to_string(lo) + "] and " + label + "[" + std::to_string(hi) +
-                                 "]: " + e.what());
+    throw NonUniqueGeodesicError(indexedField(label, lo) + " and " + indexedField(label, hi) + ": " + e.what());
   }
 }
 
@@ -370,13 +373,7 @@ public:
   {
     if (points_.size() < 2)
       throw InvalidInputError(label + ": " + std::to_string(points_.size()) + " given; at least 2 are needed");
-    if (times_.size() != points_.size())
-      throw InvalidInputError("times: " + std::to_string(times_.size()) + " given for " +
-                              std::to_string(points_.size()) + " " + label);
-    for (std::size_t i = 1; i < times_.size(); ++i)
-      if (!(times_[i] > times_[i - 1]))
-        throw InvalidInputError("times[" + std::to_string(i) + "]: must be after times[" + std::to_string(i - 1) +
-                                "]");
+    requireIncreasingTimes(times_, points_.size());
     logs_ = polygonLogs<G>(points_, label);
     for (std::size_t k = 0; k + 2 < points_.size(); ++k)
       curves_.push_back(detail::makeThreePointCurve<G>(points_, times_, k, label));

@@ -58,9 +58,9 @@ inline void validateKnots(const std::vector<double>& knots, std::size_t num_poin
   for (std::size_t i = 0; i < knots.size(); ++i)
   {
     if (!std::isfinite(knots[i]))
-      throw InvalidInputError(field + "[" + std::to_string(i) + "]: is not finite");
+      throw InvalidInputError(indexedField(field, i) + ": is not finite");
     if (i > 0 && knots[i] < knots[i - 1])
-      throw InvalidInputError(field + "[" + std::to_string(i) + "]: knots must be non-decreasing (" +
+      throw InvalidInputError(indexedField(field, i) + ": knots must be non-decreasing (" +
                               std::to_string(knots[i]) + " < " + std::to_string(knots[i - 1]) + ")");
   }
   if (!(knots[m] < knots[num_points]))
@@ -74,7 +74,7 @@ inline void validateKnots(const std::vector<double>& knots, std::size_t num_poin
     const std::size_t mult = j - i;
     const bool interior = knots[i] > knots[m] && knots[i] < knots[num_points];
     if ((interior && mult > m) || mult > m + 1)
-      throw InvalidInputError(field + "[" + std::to_string(i) + "]: knot " + std::to_string(knots[i]) +
+      throw InvalidInputError(indexedField(field, i) + ": knot " + std::to_string(knots[i]) +
                               " has multiplicity " + std::to_string(mult) + "; at most " +
                               std::to_string(interior ? m : m + 1) + (interior ? " inside the domain" : ""));
     i = j;

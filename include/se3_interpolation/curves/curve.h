@@ -10,14 +10,34 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
+#include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/math/jet.h"
 
 namespace se3_interpolation
 {
+/// The rule of every curve through points at times (and of the request's `times`): one finite
+/// time per point, strictly increasing. Throws InvalidInputError naming `times` or times[i].
+inline void requireIncreasingTimes(const std::vector<double>& times, std::size_t num_points)
+{
+  if (times.size() != num_points)
+    throw InvalidInputError("times: " + std::to_string(times.size()) + " given for " + std::to_string(num_points) +
+                            " waypoints (give one time per waypoint, or none)");
+  for (std::size_t i = 0; i < times.size(); ++i)
+  {
+    if (!std::isfinite(times[i]))
+      throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is not a finite number");
+    if (i > 0 && !(times[i] > times[i - 1]))
+      throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is not after times[" +
+                              std::to_string(i - 1) + "] = " + formatNumber(times[i - 1]) +
+                              " (times must be strictly increasing)");
+  }
+}
+
 /// Scratch space for the recursions: on the stack up to N elements (cubic curves need 4),
 /// on the heap beyond; so evaluating a curve of degree ≤ 3 allocates nothing.
 template <class T, std::size_t N = 4>

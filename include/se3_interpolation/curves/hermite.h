@@ -52,11 +52,6 @@ inline bool allFinite(const Quaternion<double>& q)
   return q.coeffs().allFinite();
 }
 
-inline std::string indexedField(const std::string& field, std::size_t i)
-{
-  return field + "[" + std::to_string(i) + "]";
-}
-
 /// At least two points, one finite time per point, strictly increasing; all points with the
 /// same tangent dimension. Messages name `waypoints` / `times` and the index.
 template <class G>
@@ -65,17 +60,7 @@ Eigen::Index requireSplineData(const std::vector<typename G::template Point<doub
 {
   if (points.size() < 2)
     throw InvalidInputError("waypoints: " + std::to_string(points.size()) + " given; at least 2 are needed");
-  if (times.size() != points.size())
-    throw InvalidInputError("times: " + std::to_string(times.size()) + " given for " +
-                            std::to_string(points.size()) + " waypoints (one per waypoint)");
-  for (std::size_t i = 0; i < times.size(); ++i)
-  {
-    if (!std::isfinite(times[i]))
-      throw InvalidInputError(indexedField("times", i) + ": is not finite");
-    if (i > 0 && !(times[i] > times[i - 1]))
-      throw InvalidInputError(indexedField("times", i) + ": is not after times[" + std::to_string(i - 1) +
-                              "] (times must be strictly increasing)");
-  }
+  requireIncreasingTimes(times, points.size());
   const Eigen::Index dim = tangentDimension<G>(points[0]);
   for (std::size_t i = 1; i < points.size(); ++i)
     if (tangentDimension<G>(points[i]) != dim)
@@ -150,16 +135,16 @@ public:
       throw InvalidInputError(tangent_label + ": " + std::to_string(tangents_.size()) + " given for " +
                               std::to_string(points_.size()) + " waypoints (one per waypoint)");
     for (std::size_t i = 0; i < points_.size(); ++i)
-      detail::requireTangent<G>(points_[i], tangents_[i], dim, detail::indexedField(tangent_label, i));
+      detail::requireTangent<G>(points_[i], tangents_[i], dim, indexedField(tangent_label, i));
     polygonLogs<G>(points_, "waypoints");  // antipodal neighbours: an error naming both
     for (std::size_t i = 0; i + 1 < points_.size(); ++i)
     {
       const double h = times_[i + 1] - times_[i];
       std::vector<Point> b{ points_[i],
                             detail::controlPointFrom<G>(points_[i], Tangent(tangents_[i] * (h / 3.0)),
-                                                        detail::indexedField(tangent_label, i), i),
+                                                        indexedField(tangent_label, i), i),
                             detail::controlPointFrom<G>(points_[i + 1], Tangent(tangents_[i + 1] * (-h / 3.0)),
-                                                        detail::indexedField(tangent_label, i + 1), i),
+                                                        indexedField(tangent_label, i + 1), i),
                             points_[i + 1] };
       try
       {
@@ -167,8 +152,8 @@ public:
       }
       catch (const NonUniqueGeodesicError& e)
       {
-        throw NonUniqueGeodesicError(detail::indexedField(tangent_label, i) + " and " +
-                                     detail::indexedField(tangent_label, i + 1) +
+        throw NonUniqueGeodesicError(indexedField(tangent_label, i) + " and " +
+                                     indexedField(tangent_label, i + 1) +
                                      ": two control points of segment " + std::to_string(i) +
                                      " are antipodal, so the cubic is not defined (" + e.what() + ")");
       }

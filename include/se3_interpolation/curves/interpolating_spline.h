@@ -83,11 +83,18 @@
 #include "se3_interpolation/math/banded_lu.h"
 #include "se3_interpolation/curves/chart_cubic.h"
 #include "se3_interpolation/curves/hermite.h"
-#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/geometry/tangent_space.h"
 
 namespace se3_interpolation
 {
+/// The end conditions of the C² spline (request field `end_condition`).
+enum class EndCondition
+{
+  kNatural,  ///< "natural": zero acceleration at both ends
+  kClamped,  ///< "clamped": the given start and end velocities
+  kStart     ///< "start": the given start velocity and acceleration (Crouch Case 2)
+};
+
 /// Limits of the iterative solve (natural / clamped).
 struct SplineSolverOptions
 {
@@ -672,7 +679,7 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
     }
     if (!end[i].allFinite() || !v.allFinite() || !a.allFinite())
       throw ConvergenceError("curve 'interpolating' (end_condition 'start'): the velocity carried to " +
-                             detail::indexedField("waypoints", i + 1) +
+                             indexedField("waypoints", i + 1) +
                              " is not finite: the C^2 spline with these start data exists but its velocities leave "
                              "double range (the forward construction, Algorithm 7.4.1, amplifies the start data "
                              "from segment to segment: by 2 + sqrt3 in the abelian case, quadratically in the "

@@ -23,10 +23,17 @@
 #include <Eigen/Core>
 
 #include "se3_interpolation/geometry/geometry.h"
-#include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {
+/// A spatial twist or its time derivative: linear (m/s or m/s²) and angular (rad/s or rad/s²)
+/// parts, both in the waypoints' frame (Ṙ = [ω]× R).
+struct Twist
+{
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+};
+
 /// The conversions for one SE(3) geometry (specialised below).
 template <class G>
 struct Se3TangentConversion;

@@ -1,5 +1,5 @@
-// The validation building blocks shared by every planner (poses, spheres): field-naming
-// checks of numbers, time vectors and the sampling fields, and the sample times themselves.
+// Validation of a request, written once over the space (poses, spheres): one function per
+// rule, each naming the field and index, and the sample times themselves.
 // Every check throws an InterpolationError subclass whose message starts with the field and
 // index, e.g. "times[2]: 1 is not after times[1] = 1 (...)".
 #pragma once
@@ -8,14 +8,27 @@
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
-/// "field[i]".
-std::string indexedField(const std::string& field, std::size_t i);
-/// A number with 17 significant digits (round-trips).
-std::string formatNumber(double x);
+/// A unit quaternion or sphere point is accepted with a norm in [0.99, 1.01] (SPEC, "Service":
+/// room for values printed with few digits) and normalised.
+constexpr double kMinUnitNorm = 0.99;
+constexpr double kMaxUnitNorm = 1.01;
+/// A sphere tangent may have a normal component up to 1 % of its length (rounded input); more
+/// means the vector belongs to another point.
+constexpr double kMaxNormalFraction = 0.01;
+
+/// Checks every field of a request in space Space (PoseSpace or SphereSpace); throws
+/// InvalidInputError / NonUniqueGeodesicError / LimitExceededError naming the field and index.
+/// Nothing is computed for a rejected request.
+template <class Space>
+BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& request, const PlannerLimits& limits);
+
+/// A validated, normalised pose; throws InvalidInputError naming `field` (e.g. "waypoints[2]").
+Pose<double> validatePose(const Pose<double>& raw, const std::string& field);
+
 
 void requireFinite(double x, const std::string& field);
 void requireFiniteNonNegative(double x, const std::string& field);
@@ -49,12 +62,6 @@ void validateStampedSpan(double stamp, double start_time, double end_time, const
 /// tf2 frame ids are short names; longer ids are refused so that no message, log line or TF
 /// frame carries an unbounded string (issue 15, rows 3, 5, 17).
 constexpr std::size_t kMaxFrameIdLength = 256;
-/// At most this many characters of user text are quoted in an error message.
-constexpr std::size_t kMaxQuotedLength = 40;
-
-/// `text` for an error message: at most kMaxQuotedLength characters in single quotes, control
-/// and non-ASCII bytes as \xHH, and "... (N characters)" when cut.
-std::string quoted(const std::string& text);
 
 /// A tf2 frame id: non-empty, at most kMaxFrameIdLength characters, no leading '/', no white
 /// space or control characters. Throws InvalidInputError naming `field` (quoting a prefix).
@@ -62,14 +69,6 @@ void validateFrameId(const std::string& id, const std::string& field);
 
 /// `times` empty, or one finite, strictly increasing time per waypoint.
 void validateTimes(const std::vector<double>& times, std::size_t num_waypoints);
-
-/// The sampling fields after validation (`sample_count` defaulted to 100).
-struct Sampling
-{
-  std::vector<double> sample_times;
-  double sample_period = 0.0;
-  std::uint32_t sample_count = 100;
-};
 
 /// Checks sample_times (finite, non-decreasing), sample_period (finite, ≥ 0), sample_count
 /// (not 1) and the ~max_samples limit where it can be known before timing.

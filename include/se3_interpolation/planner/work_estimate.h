@@ -6,7 +6,7 @@
 // two time derivatives), i.e. one exp/log pair of the geometry; calibrated on one core of the
 // development machine at about kSecondsPerWorkUnit (README "Bounded work").
 //
-// The planner evaluates the curve (kinematics.h, measureCurve) at
+// The planner evaluates the curve (analysis/figures.h, measureCurve) at
 //   P (2 + 8 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
 // (P analytic pieces, 8 nodes, 4 golden-section searches of 2 + at most 60 evaluations), then
 // once per sample. An evaluation costs, in geodesic steps,
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
@@ -53,28 +53,36 @@ struct WorkShape
   int degree = 3;  ///< bspline degree
   std::vector<double> sample_times;
   double sample_period = 0.0;
-  std::uint32_t sample_count = 100;
+  std::uint32_t sample_count = RequestDefaults::kSampleCount;
 };
 
-WorkShape workShape(const ValidatedRequest& r);
+/// The shape of a validated request of any space.
+template <class Space>
+WorkShape workShape(const BasicValidatedRequest<Space>& r)
+{
+  WorkShape w;
+  w.curve = r.curve;
+  w.waypoints = r.waypoints.size();
+  w.degree = r.degree;
+  w.sample_times = r.sampling.sample_times;
+  w.sample_period = r.sampling.sample_period;
+  w.sample_count = r.sampling.sample_count;
+  return w;
+}
 
 /// Geodesic steps of one evaluation of the curve `r` asks for.
 double evaluationCost(const WorkShape& r);
-double evaluationCost(const ValidatedRequest& r);
 
 /// The estimate for `r` with `samples` samples (the sample count as far as it is known).
 WorkEstimate estimateWork(const WorkShape& r, double samples);
-WorkEstimate estimateWork(const ValidatedRequest& r, double samples);
 
 /// The samples `r` will take before any stretch: sample_times' size, sample_count, or the
 /// periods within `span` (the waypoint times' span).
 double expectedSamples(const WorkShape& r, double span);
-double expectedSamples(const ValidatedRequest& r, double span);
 
 /// Throws LimitExceededError naming the dominant field (waypoints for bezier, degree for
 /// bspline, the sampling field when samples dominate, else waypoints) if `w.total` exceeds
 /// limits.max_work.
 void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits);
-void requireWorkWithin(const WorkEstimate& w, const ValidatedRequest& r, const PlannerLimits& limits);
 
 }  // namespace se3_interpolation

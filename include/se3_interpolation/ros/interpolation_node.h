@@ -8,13 +8,33 @@
 // Threading: ~generate runs on its own callback queue served by ~service_threads threads,
 // so a heavy request never delays a light one, the topics or TF. ~waypoint has its own queue
 // and thread (its tf2 lookups wait up to ~tf_timeout each without blocking anything else);
-// ~waypoints, ~clear_waypoints run on the global queue (main spins it); the TF timer and the
-// master watchdog each have their own queue and thread. The waypoint buffer and the latest
+// ~waypoints, ~clear_waypoints and dynamic_reconfigure's ~set_parameters run on the global queue
+// (main spins it; under a nodelet manager, the nodelet's queue); the TF timer (with the /tf
+// collision watch) and the master watchdog each have their own queue and thread. The run-time
+// parameters are read and written under a mutex. The waypoint buffer and the latest
 // trajectory are shared under mutexes; publishing a trajectory is serialised.
 //
 // /tf_static carries exactly the static frames of the latest published trajectory: the node
 // latches its own tf2_msgs/TFMessage with the whole set, replacing the previous one
 // (tf2_ros::StaticTransformBroadcaster would keep every frame it ever sent).
+//
+// Playback: the moving frame replays the latest trajectory once and holds its last pose
+// (~loop false, the default) or replays it forever (~loop true). ~clear_waypoints empties the
+// buffer, stops playback (the frame holds the pose it has at that moment), deletes the markers
+// and publishes an empty ~path so that rviz clears it.
+//
+// TF collisions: the node watches /tf for its own moving frame sent by another publisher (two
+// instances with the same ~child_frame_id, say) and warns, throttled, naming that publisher.
+//
+// Run-time parameters: a dynamic_reconfigure server (cfg/InterpolationNode.cfg, on ~) changes
+// the request defaults and the playback settings (~loop, ~tf_rate); each change is validated as
+// at start-up, a refused one is warned and its old value kept.
+//
+// Waypoints as TF frames: a request's waypoint_frames are looked up with tf2 in the waypoints'
+// frame, each waiting up to ~tf_timeout, on the service thread that serves the request.
+//
+// Nodelet: InterpolationNodelet (src/ros/interpolation_nodelet.cpp) owns one InterpolationNode on
+// the nodelet's handles; everything above holds there too.
 //
 // Master watchdog: every ~master_check_period s the node asks the master whether it still
 // knows the ~generate service; after a master restart it does not (roscpp never re-registers), so the node
@@ -31,12 +51,17 @@
 #include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/PoseStamped.h>
 
+#include <boost/thread/recursive_mutex.hpp>
+#include <dynamic_reconfigure/server.h>
+#include <tf2_msgs/TFMessage.h>
+
 #include <atomic>
 #include <map>
 #include <memory>
 #include <mutex>
 
 #include "se3_interpolation/GenerateTrajectory.h"
+#include "se3_interpolation/InterpolationNodeConfig.h"
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/ros/node_parameters.h"
 
@@ -56,7 +81,7 @@ private:
   /// What the TF timer replays: the latest published trajectory.
   struct Playback
   {
-    std::function<Pose<double>(double)> pose_at;
+    std::function<Pose<double>(double)> point_at;
     ros::Time stamp;  ///< trajectory time 0
     double start_time = 0.0;
     double duration = 0.0;
@@ -79,6 +104,19 @@ private:
   void publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res, const std_msgs::Header& header,
                const std::string& child_frame_id);
   void autoGenerate();
+  /// Fills the request's empty fields from the (run-time) defaults.
+  void applyRequestDefaults(TrajectoryRequest* request) const;
+  /// The poses of `frames` in `target`, looked up with tf2 (each waiting up to ~tf_timeout);
+  /// throws InvalidInputError naming waypoint_frames[i] for an invalid or unknown frame.
+  std::vector<geometry_msgs::Pose> lookUpWaypointFrames(const std::vector<std::string>& frames,
+                                                        const std::string& target);
+  /// dynamic_reconfigure: validates each changed field, keeps (and writes back) refused ones.
+  void reconfigure(InterpolationNodeConfig& config, std::uint32_t level);
+  InterpolationNodeConfig currentConfig() const;
+  /// /tf: warns (throttled) when another publisher sends our moving frame.
+  void tfWatchCallback(const ros::MessageEvent<const tf2_msgs::TFMessage>& event);
+  /// Stops playback: the moving frame holds the pose it has now.
+  void holdPlayback();
   /// ~status for one generation; `source` is "service" or "auto_generation".
   void publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
                      const std::string& source);
@@ -86,6 +124,11 @@ private:
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
   NodeParameters params_;
+  /// Guards the fields of params_ that dynamic_reconfigure changes (request defaults, loop, tf_rate).
+  mutable std::mutex params_mutex_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<InterpolationNodeConfig>> reconfigure_server_;
+  ros::Subscriber tf_watch_sub_;
 
   ros::ServiceServer generate_service_;
   ros::ServiceServer clear_service_;

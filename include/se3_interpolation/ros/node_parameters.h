@@ -1,4 +1,6 @@
-// Parameters of se3_interpolation_node, read once from the private namespace `~`.
+// Parameters of se3_interpolation_node, read at start-up from the private namespace `~`;
+// the request defaults and the playback settings (loop, tf_rate) change at run time through
+// dynamic_reconfigure (cfg/InterpolationNode.cfg) under the same validation.
 // config/se3_interpolation.yaml documents each with its unit and default.
 #pragma once
 
@@ -15,7 +17,7 @@ struct NodeParameters
   std::string frame_id = "map";              ///< frame of waypoints whose header has none
   std::string child_frame_id = "interpolated";  ///< moving TF frame and trajectory joint name
   double tf_rate = 50.0;                     ///< Hz, moving frame broadcast rate
-  bool loop = true;                          ///< replay the trajectory on the moving frame
+  bool loop = false;                         ///< replay the trajectory forever (false: hold the last pose)
   int max_tf_samples = 20;                   ///< static frames <child_frame_id>_<k> on /tf_static
   bool auto_generate = true;                 ///< regenerate when the waypoint buffer changes
   bool publish_tf = true;                    ///< broadcast the moving and static frames
@@ -41,8 +43,18 @@ struct NodeParameters
   double blend_radius = 0.0;  ///< m, for piecewise_geodesic requests without one (0: sharp corners)
 };
 
-/// Reads every parameter from `nh` (the private handle). An invalid value is refused
-/// with a ROS warning naming it and the default is kept.
+/// Reads every parameter from `nh` (the private handle). An invalid value (out of range, an
+/// unknown name such as curve "bspine", or of the wrong type) is refused with a ROS warning
+/// naming the parameter, and the default is kept.
 NodeParameters loadNodeParameters(const ros::NodeHandle& nh);
+
+/// Why the string parameter `name` (without "~") cannot take `value`, naming "~<name>" and
+/// quoting at most kMaxQuotedLength characters of the value; "" when it can. Covers curve,
+/// geometry, parameterization, timing, frame_id and child_frame_id.
+std::string stringParameterError(const std::string& name, const std::string& value);
+
+/// Why the numeric parameter `name` cannot take `value` (its range, as in
+/// config/se3_interpolation.yaml); "" when it can or when `name` has no range.
+std::string numberParameterError(const std::string& name, double value);
 
 }  // namespace se3_interpolation

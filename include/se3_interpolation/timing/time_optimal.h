@@ -63,7 +63,7 @@
 
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/geometry/sphere.h"
+#include "se3_interpolation/analysis/sphere_kinematics.h"
 
 namespace se3_interpolation
 {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/curves/blended_spline.h"
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/planner/planner.h"
@@ -760,7 +761,7 @@ TEST(Blended, PlannerBuildsTheBlendedCurveWithTheRequestedContinuity)
   request.geometry = "screw";
   request.continuity = 3;
   request.sample_times = request.times;
-  const TrajectoryResult result = generateTrajectory(request, PlannerLimits());
+  const TrajectoryResult result = generate(request, PlannerLimits());
   ASSERT_EQ(result.samples.size(), request.times.size());
   for (std::size_t i = 0; i < request.times.size(); ++i)
     EXPECT_LT(test::poseDistance(result.samples[i].pose, request.waypoints[i]), 1e-12);

@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/curves/bspline.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/bezier.h"

@@ -102,7 +102,7 @@ void expectBlendRadiusError(const TrajectoryRequest& r)
 {
   try
   {
-    generateTrajectory(r, PlannerLimits());
+    generate(r, PlannerLimits());
     FAIL() << "expected InvalidInputError";
   }
   catch (const InvalidInputError& e)
@@ -464,16 +464,16 @@ TEST(CornerBlendRequest, PlannerReportsRadiiAndZeroIsThePolyline)
   TrajectoryRequest r = blendedRequest(0.3);
   r.geometry = "screw";
   r.sample_count = 200;
-  const TrajectoryResult blended = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult blended = generate(r, PlannerLimits());
   ASSERT_EQ(blended.blend_radii.size(), 4u);
   EXPECT_EQ(blended.blend_radii[0], 0.0);
   EXPECT_NEAR(blended.blend_radii[1], 0.3, 1e-15);
   EXPECT_NEAR(blended.blend_radii[2], 0.3, 1e-15);
   EXPECT_EQ(blended.blend_radii[3], 0.0);
   r.blend_radius = 0.0;
-  const TrajectoryResult sharp = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult sharp = generate(r, PlannerLimits());
   EXPECT_TRUE(sharp.blend_radii.empty());
-  EXPECT_LT(blended.length, sharp.length);  // corners cut
+  EXPECT_LT(blended.figures.length, sharp.figures.length);  // corners cut
   EXPECT_NEAR(blended.duration, sharp.duration, 1e-12);
   EXPECT_LT(test::poseDistance(blended.samples.back().pose, sharp.samples.back().pose), 1e-12);
 }
@@ -547,21 +547,21 @@ TEST(CornerBlendRequest, TimeOptimalThroughBlendsIsFasterThanStoppingAtEveryCorn
     r.max_linear_acceleration = 1.5;
     r.max_angular_acceleration = 1.5;
     r.sample_count = 400;
-    const TrajectoryResult blended = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult blended = generate(r, PlannerLimits());
     r.blend_radius = 0.0;
-    const TrajectoryResult sharp = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult sharp = generate(r, PlannerLimits());
     EXPECT_LT(blended.duration, 0.9 * sharp.duration) << geometry;
-    EXPECT_LE(blended.max_linear_speed, 1.0 + 1e-9);
-    EXPECT_LE(blended.max_linear_acceleration, 1.5 + 1e-9);
+    EXPECT_LE(blended.figures.max_linear_speed, 1.0 + 1e-9);
+    EXPECT_LE(blended.figures.max_linear_acceleration, 1.5 + 1e-9);
     // At rest only at the two ends: every interior sample of the blended motion moves.
     for (std::size_t i = 1; i + 1 < blended.samples.size(); ++i)
       EXPECT_GT(blended.samples[i].velocity.linear.norm() + blended.samples[i].velocity.angular.norm(), 0.0) << i;
     // At the corners' timed waypoint times the sharp motion is at rest, the blended one is not.
     r.sample_times = sharp.waypoint_times;
-    const TrajectoryResult sharp_at_corners = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult sharp_at_corners = generate(r, PlannerLimits());
     r.blend_radius = 0.25;
     r.sample_times = blended.waypoint_times;
-    const TrajectoryResult blended_at_corners = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult blended_at_corners = generate(r, PlannerLimits());
     for (std::size_t w = 1; w + 1 < r.waypoints.size(); ++w)
     {
       EXPECT_LT(sharp_at_corners.samples[w].velocity.linear.norm(), 1e-9) << geometry << " " << w;

@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 #include <random>
 
+#include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/math/banded_lu.h"
 #include "se3_interpolation/curves/bspline.h"
 #include "se3_interpolation/curves/hermite.h"
@@ -954,7 +955,7 @@ TEST(Planner, InterpolatingAndHermiteRequestsPassTheirWaypoints)
       r.geometry = geometry;
       r.times = t;
       r.sample_times = t;
-      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, PlannerLimits());
       for (std::size_t i = 0; i < x.size(); ++i)
         EXPECT_LT(poseDistance(out.samples[i].pose, x[i]), 1e-10) << geometry << " " << curve << " " << i;
     }
@@ -974,7 +975,7 @@ TEST(Planner, RequestTwistsReachTheCurve)
     r.end_condition = "clamped";
     r.start_velocity = randomTwist(rng, 0.5);
     r.end_velocity = randomTwist(rng, 0.5);
-    TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+    TrajectoryResult out = generate(r, PlannerLimits());
     EXPECT_LT(twistError(out.samples.front().velocity, r.start_velocity), 1e-9) << geometry;
     EXPECT_LT(twistError(out.samples.back().velocity, r.end_velocity), 1e-9) << geometry;
 
@@ -982,7 +983,7 @@ TEST(Planner, RequestTwistsReachTheCurve)
     r.sample_times = t;
     for (std::size_t i = 0; i < x.size(); ++i)
       r.velocities.push_back(randomTwist(rng, 0.5));
-    out = generateTrajectory(r, PlannerLimits());
+    out = generate(r, PlannerLimits());
     for (std::size_t i = 0; i < x.size(); ++i)
       EXPECT_LT(twistError(out.samples[i].velocity, r.velocities[i]), 1e-9) << geometry << " " << i;
   }
@@ -1009,7 +1010,7 @@ TEST(Planner, StretchingMeetsEachBoundWithinOnePercentAndNeverExceedsIt)
       r.geometry = "screw";
       r.*bound.field = bound.value;
       r.sample_count = 20001;
-      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, PlannerLimits());
       EXPECT_GT(out.time_scale, 1.0);
       double peak = 0.0;
       for (const TrajectorySample& s : out.samples)
@@ -1073,7 +1074,7 @@ TEST(Planner, RequestErrorsNameTheField)
   auto message = [&](TrajectoryRequest r) {
     try
     {
-      generateTrajectory(r, PlannerLimits());
+      generate(r, PlannerLimits());
     }
     catch (const InterpolationError& e)
     {

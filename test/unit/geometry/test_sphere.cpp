@@ -14,8 +14,8 @@
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
 #include "se3_interpolation/curves/bezier.h"
-#include "se3_interpolation/geometry/sphere.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/analysis/figures.h"
+#include "se3_interpolation/planner/planner.h"
 #include "test_utils.h"
 
 using namespace se3_interpolation;
@@ -279,15 +279,18 @@ TEST(SphereEnergy, GreatAndSmallCirclesAndTheQuadratureOfEquation32)
                                             std::cos(rho)));
     EXPECT_LT((cs.value(s) - expected).norm(), 1e-13);
   }
-  const SphereCurveFigures fs = measureSphereCurve(cs), fg = measureSphereCurve(cg);
+  const CurveFigures fs = measureCurve(cs, 1.0), fg = measureCurve(cg, 1.0);
   const double e = duration * std::pow(omega, 4) * std::pow(std::sin(rho) * std::cos(rho), 2);
   EXPECT_NEAR(fs.energy, e, 1e-12 * e);
-  EXPECT_NEAR(sphereEnergy(cs), e, 1e-12 * e);
-  EXPECT_NEAR(fs.length, duration * omega * std::sin(rho), 1e-12);
-  EXPECT_NEAR(fs.max_speed, omega * std::sin(rho), 1e-12);
-  EXPECT_NEAR(fs.max_acceleration, omega * omega * std::sin(rho) * std::cos(rho), 1e-12);
+  // The sphere's motion is the angular channel; the linear one stays 0.
+  EXPECT_EQ(fs.length, 0.0);
+  EXPECT_EQ(fs.max_linear_speed, 0.0);
+  EXPECT_EQ(fs.max_linear_acceleration, 0.0);
+  EXPECT_NEAR(fs.rotation_length, duration * omega * std::sin(rho), 1e-12);
+  EXPECT_NEAR(fs.max_angular_speed, omega * std::sin(rho), 1e-12);
+  EXPECT_NEAR(fs.max_angular_acceleration, omega * omega * std::sin(rho) * std::cos(rho), 1e-12);
   EXPECT_LT(fg.energy, 1e-25);
-  EXPECT_NEAR(fg.length, omega * duration, 1e-12);
+  EXPECT_NEAR(fg.rotation_length, omega * duration, 1e-12);
 
   // A Hermite cubic: the library's energy against Simpson's rule on eq. 32 as printed.
   std::mt19937 rng(7);
@@ -295,7 +298,7 @@ TEST(SphereEnergy, GreatAndSmallCirclesAndTheQuadratureOfEquation32)
   const VectorXd x3 = pointAtAngle(rng, x0, 1.2);
   const HermiteSpline<Sphere> h({ x0, x3 }, { 0.0, 1.5 }, { randomTangent(rng, x0, 2.0), randomTangent(rng, x3, 1.0) });
   const double simpson = energySimpson(h, 0.0, 1.5);
-  EXPECT_NEAR(sphereEnergy(h), simpson, 1e-9 * simpson);
+  EXPECT_NEAR(measureCurve(h, 1.0).energy, simpson, 1e-9 * simpson);
 }
 
 // ---- S³ = unit quaternions versus SO(3) (§4.1) -----------------------------------------------
@@ -393,7 +396,7 @@ TEST(SphereS3, HermiteCubicOnS3IsTheSo3HermiteAndTheEnergyIsAQuarter)
       }
       so3_energy += sum * h / 3.0;
     }
-    const double s3_energy = sphereEnergy(on_s3);
+    const double s3_energy = measureCurve(on_s3, 1.0).energy;
     EXPECT_NEAR(s3_energy, so3_energy / 4.0, 1e-9 * so3_energy);
   }
   std::cout << "[ S3 vs SO(3) ] Hermite cubics: largest quaternion difference " << worst << "\n";
@@ -418,7 +421,7 @@ std::string errorOf(const SphereRequest& r)
 {
   try
   {
-    generateSphereTrajectory(r, PlannerLimits());
+    generate(r, PlannerLimits());
   }
   catch (const InterpolationError& e)
   {
@@ -434,7 +437,7 @@ TEST(SpherePlanner, EveryCurveOnS3)
   {
     SphereRequest r = circleRequest(curve);
     r.waypoints[2] = Eigen::Vector4d(0.3, 0.9, 0.1, -0.3).normalized();
-    const SphereResult out = generateSphereTrajectory(r, PlannerLimits());
+    const SphereResult out = generate(r, PlannerLimits());
     ASSERT_EQ(out.samples.size(), 41U) << curve;
     for (const auto& s : out.samples)
     {
@@ -450,8 +453,8 @@ TEST(SpherePlanner, EveryCurveOnS3)
       for (std::size_t i = 0; i < r.waypoints.size(); ++i)
         EXPECT_LT((out.point_at(out.waypoint_times[i]) - r.waypoints[i].normalized()).norm(), 1e-11) << curve << i;
     }
-    EXPECT_GT(out.length, 0.0);
-    EXPECT_TRUE(std::isfinite(out.energy));
+    EXPECT_GT(out.figures.rotation_length, 0.0);
+    EXPECT_TRUE(std::isfinite(out.figures.energy));
   }
 }
 
@@ -461,24 +464,24 @@ TEST(SpherePlanner, ChordTimingStartConditionAndBounds)
   // rad: the waypoints lie on a great circle of S³), over `duration`.
   SphereRequest r = circleRequest("blended");
   r.duration = 5.6;
-  const SphereResult a = generateSphereTrajectory(r, PlannerLimits());
+  const SphereResult a = generate(r, PlannerLimits());
   const std::vector<double> expected{ 0.0, 1.2, 2.6, 3.8, 5.2 };
   for (std::size_t i = 0; i < expected.size(); ++i)
     EXPECT_NEAR(a.waypoint_times[i], expected[i] * 5.6 / 5.2, 1e-12);
   // On a great circle at times proportional to the angles the blended spline is the great
   // circle at constant speed: no covariant acceleration, speed = angle / time.
-  EXPECT_NEAR(a.max_speed, 2.6 / 5.6, 1e-12);
-  EXPECT_LT(a.max_acceleration, 1e-12);
+  EXPECT_NEAR(a.figures.max_angular_speed, 2.6 / 5.6, 1e-12);
+  EXPECT_LT(a.figures.max_angular_acceleration, 1e-12);
 
   // Bounds stretch the time axis until the peaks are within them.
   r.curve = "hermite";
   r.duration = 1.0;
   r.max_angular_velocity = 1.5;
   r.max_angular_acceleration = 2.0;
-  const SphereResult b = generateSphereTrajectory(r, PlannerLimits());
+  const SphereResult b = generate(r, PlannerLimits());
   EXPECT_GT(b.time_scale, 1.0);
-  EXPECT_LE(b.max_speed, 1.5 * (1 + 1e-9));
-  EXPECT_LE(b.max_acceleration, 2.0 * (1 + 1e-9));
+  EXPECT_LE(b.figures.max_angular_speed, 1.5 * (1 + 1e-9));
+  EXPECT_LE(b.figures.max_angular_acceleration, 2.0 * (1 + 1e-9));
   EXPECT_NEAR(b.duration, b.time_scale, 1e-12);
 
   // end_condition start (Crouch Case 2): the first sample has the requested velocity and
@@ -489,7 +492,7 @@ TEST(SpherePlanner, ChordTimingStartConditionAndBounds)
   const VectorXd x0 = r.waypoints[0];
   r.start_velocity = Eigen::Vector4d(0.0, 0.48, 0.0, 0.36);  // tangent: x0 = (0.8, 0, 0.6, 0)
   r.start_acceleration = Eigen::Vector4d(0.0, 0.0, 0.0, 0.05);
-  const SphereResult c = generateSphereTrajectory(r, PlannerLimits());
+  const SphereResult c = generate(r, PlannerLimits());
   EXPECT_LT((c.samples.front().velocity - r.start_velocity).norm(), 1e-12);
   EXPECT_LT((c.samples.front().acceleration - r.start_acceleration).norm(), 1e-9);
   for (std::size_t i = 0; i < r.waypoints.size(); ++i)
@@ -510,7 +513,7 @@ TEST(SpherePlanner, ErrorsNameTheFieldAndIndex)
   r = circleRequest("blended");
   r.waypoints[2] = -r.waypoints[1];
   EXPECT_NE(errorOf(r).find("waypoints[1] and waypoints[2]"), std::string::npos) << errorOf(r);
-  EXPECT_THROW(generateSphereTrajectory(r, PlannerLimits()), NonUniqueGeodesicError);
+  EXPECT_THROW(generate(r, PlannerLimits()), NonUniqueGeodesicError);
   r = circleRequest("blended");
   r.waypoints = { Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1) };
   EXPECT_NE(errorOf(r).find("waypoints[0]: has 2 components"), std::string::npos) << errorOf(r);

@@ -21,8 +21,8 @@ Pose<double> pose(double x, double y, double z, const Quaternion<double>& q = Qu
 
 void expectFinite(const TrajectoryResult& out)
 {
-  for (double x : { out.duration, out.length, out.rotation_length, out.max_linear_speed, out.max_angular_speed,
-                    out.max_linear_acceleration, out.max_angular_acceleration, out.energy })
+  for (double x : { out.duration, out.figures.length, out.figures.rotation_length, out.figures.max_linear_speed, out.figures.max_angular_speed,
+                    out.figures.max_linear_acceleration, out.figures.max_angular_acceleration, out.figures.energy })
     EXPECT_TRUE(std::isfinite(x)) << x;
   for (const TrajectorySample& s : out.samples)
   {
@@ -43,11 +43,11 @@ TEST(FuzzRegressions, HugeRotationScaleWithoutRotationGivesTheTranslationEnergy)
   r.times = { 0.0, 6.5 };
   r.curve = "interpolating";
   r.sample_period = 6.5;
-  const TrajectoryResult reference = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult reference = generate(r, PlannerLimits());
   r.rotation_scale = 1e300;
-  const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, PlannerLimits());
   expectFinite(out);
-  EXPECT_EQ(out.energy, reference.energy);
+  EXPECT_EQ(out.figures.energy, reference.figures.energy);
   EXPECT_EQ(out.samples.size(), 2u);
 }
 
@@ -63,7 +63,7 @@ TEST(FuzzRegressions, OverflowingEnergyIsAnError)
   r.rotation_scale = 1e300;
   try
   {
-    generateTrajectory(r, PlannerLimits());
+    generate(r, PlannerLimits());
     FAIL() << "expected an InterpolationError";
   }
   catch (const InterpolationError& e)

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/validation.h"
 
@@ -57,29 +58,29 @@ TEST(HostileTimes, DurationsBeyondRosRangeNameTheField)
   {
     TrajectoryRequest r = line();
     r.duration = d;
-    const std::string e = errorOf([&] { generateTrajectory(r, PlannerLimits()); });
+    const std::string e = errorOf([&] { generate(r, PlannerLimits()); });
     EXPECT_TRUE(startsWith(e, "duration: ")) << d << ": " << e;
   }
   TrajectoryRequest at_limit = line();
   at_limit.duration = 2147483647.0;  // 2^31 - 1 s is the largest ros::Duration in whole seconds
-  EXPECT_NEAR(generateTrajectory(at_limit, PlannerLimits()).duration, 2147483647.0, 1e-6);
+  EXPECT_NEAR(generate(at_limit, PlannerLimits()).duration, 2147483647.0, 1e-6);
 
   TrajectoryRequest times = line();
   times.times = { 0.0, 1.0, 3e9 };
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(times, PlannerLimits()); }), "times[2]: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(times, PlannerLimits()); }), "times[2]: "));
   TrajectoryRequest negative = line();
   negative.times = { -3e9, 1.0, 2.0 };
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(negative, PlannerLimits()); }), "times[0]: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(negative, PlannerLimits()); }), "times[0]: "));
 
   TrajectoryRequest knots = line();
   knots.curve = "bspline";
   knots.degree = 1;
   knots.knots = { 0.0, 0.0, 1.0, 1e300, 1e300 };
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(knots, PlannerLimits()); }), "knots[3]: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(knots, PlannerLimits()); }), "knots[3]: "));
 
   TrajectoryRequest samples = line();
   samples.sample_times = { 0.0, 3e9 };
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(samples, PlannerLimits()); }), "sample_times[1]: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(samples, PlannerLimits()); }), "sample_times[1]: "));
 }
 
 // Row 14: a tiny bound stretches time without limit; the error names the bound.
@@ -99,14 +100,14 @@ TEST(HostileTimes, TinyBoundsNameTheBound)
       r.curve = "bezier";
       r.times = { 0.0, 1.0, 2.0 };
       r.*(b.first) = tiny;
-      const std::string e = errorOf([&] { generateTrajectory(r, PlannerLimits()); });
+      const std::string e = errorOf([&] { generate(r, PlannerLimits()); });
       EXPECT_TRUE(startsWith(e, b.second)) << tiny << ": " << e;
     }
   // A 1 m/s line bounded to 1e-6 m/s lasts 2e6 s: stretched, within range, accepted.
   TrajectoryRequest slow = line();
   slow.times = { 0.0, 1.0, 2.0 };
   slow.max_linear_velocity = 1e-6;
-  EXPECT_NEAR(generateTrajectory(slow, PlannerLimits()).duration, 2e6, 1e-3);
+  EXPECT_NEAR(generate(slow, PlannerLimits()).duration, 2e6, 1e-3);
 }
 
 // Row 1: stamp + every time must be a ros::Time (unsigned 32-bit seconds, >= 0).
@@ -132,7 +133,7 @@ TEST(HostileSampling, SamplePeriodIncludesBothEnds)
     TrajectoryRequest r = line();
     r.times = { -5.0, -4.0, -3.0 };
     r.sample_period = period;
-    const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult out = generate(r, PlannerLimits());
     ASSERT_EQ(out.samples.size(), 2u) << period;
     EXPECT_EQ(out.samples.front().time, -5.0) << period;
     EXPECT_EQ(out.samples.back().time, -3.0) << period;
@@ -142,7 +143,7 @@ TEST(HostileSampling, SamplePeriodIncludesBothEnds)
   TrajectoryRequest r = line();
   r.times = { 0.0, 1.0, 2.0 };
   r.sample_period = 0.75;
-  const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, PlannerLimits());
   const double expected[] = { 0.0, 0.75, 1.5, 2.0 };
   ASSERT_EQ(out.samples.size(), 4u);
   for (int i = 0; i < 4; ++i)
@@ -158,29 +159,29 @@ TEST(HostileSampling, SpacingBelowOneNanosecondIsRefused)
   TrajectoryRequest count = line();
   count.times = { 0.0, 0.5e-6, 1e-6 };
   count.sample_count = 10000;  // 1e-10 s apart
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(count, PlannerLimits()); }), "sample_count: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(count, PlannerLimits()); }), "sample_count: "));
 
   TrajectoryRequest period = line();
   period.sample_period = 1e-10;
   period.sample_count = 0;
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(period, PlannerLimits()); }), "sample_period: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(period, PlannerLimits()); }), "sample_period: "));
 
   TrajectoryRequest times = line();
   times.times = { 0.0, 1.0, 2.0 };
   times.sample_times = { 0.0, 0.5, 0.5 + 1e-10 };
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(times, PlannerLimits()); }), "sample_times[2]: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(times, PlannerLimits()); }), "sample_times[2]: "));
 
   // Far from 0, double precision is coarser than 1 ns: even spacing cannot be represented.
   TrajectoryRequest late = line();
   late.times = { 2e9, 2e9 + 1e-5, 2e9 + 2e-5 };
   late.sample_count = 1000;
-  EXPECT_TRUE(startsWith(errorOf([&] { generateTrajectory(late, PlannerLimits()); }), "sample_count: "));
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(late, PlannerLimits()); }), "sample_count: "));
 
   // Exactly 1 ns apart: accepted, and the rounded nanoseconds (time_from_start) all differ.
   TrajectoryRequest fine = line();
   fine.times = { 0.0, 0.5e-6, 1e-6 };
   fine.sample_count = 1001;
-  const TrajectoryResult out = generateTrajectory(fine, PlannerLimits());
+  const TrajectoryResult out = generate(fine, PlannerLimits());
   std::set<long long> nanoseconds;
   for (const TrajectorySample& s : out.samples)
     nanoseconds.insert(std::llround(s.time * 1e9));
@@ -189,7 +190,7 @@ TEST(HostileSampling, SpacingBelowOneNanosecondIsRefused)
   TrajectoryRequest repeated = line();
   repeated.times = { 0.0, 1.0, 2.0 };
   repeated.sample_times = { 0.5, 0.5, 1.0 };
-  EXPECT_EQ(generateTrajectory(repeated, PlannerLimits()).samples.size(), 3u);
+  EXPECT_EQ(generate(repeated, PlannerLimits()).samples.size(), 3u);
 }
 
 // Rows 3, 5, 15, 17: frame ids are short and printable; messages quote a bounded prefix.
@@ -215,9 +216,9 @@ TEST(HostileFrameIds, LongAndControlCharacterIdsAreRefusedWithABoundedMessage)
   }
   EXPECT_NE(errorOf([] { validateFrameId("/map", "f"); }).find("leading slash"), std::string::npos);
   EXPECT_NE(errorOf([] { validateFrameId("a b", "f"); }).find("white space"), std::string::npos);
-  EXPECT_EQ(quoted("abc"), "'abc'");
-  EXPECT_EQ(quoted(std::string("\x01\xff", 2)), "'\\x01\\xFF'");
-  EXPECT_EQ(quoted(std::string(41, 'z')), "'" + std::string(40, 'z') + "'... (41 characters)");
+  EXPECT_EQ(quotedText("abc"), "'abc'");
+  EXPECT_EQ(quotedText(std::string("\x01\xff", 2)), "'\\x01\\xFF'");
+  EXPECT_EQ(quotedText(std::string(41, 'z')), "'" + std::string(40, 'z') + "'... (41 characters)");
 }
 
 // Found by fuzz_validate: a denormal sample_period gave an infinite work estimate; it is refused
@@ -229,4 +230,32 @@ TEST(HostileSampling, DenormalSamplePeriodIsRefusedByValidation)
   const std::string e = errorOf([&] { validateRequest(r, PlannerLimits()); });
   EXPECT_TRUE(startsWith(e, "sample_period: ")) << e;
   EXPECT_NE(e.find("1 ns resolution"), std::string::npos) << e;
+}
+
+// The node validates its string parameters with the same parsers as the request (issue 16):
+// every accepted name round-trips through toString, and a near miss is refused naming the
+// field given (a parameter, not a request field) and listing the known names.
+TEST(HostileNames, ParsersNameTheGivenFieldAndListTheKnownNames)
+{
+  for (const char* name : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    EXPECT_STREQ(toString(parseName(name, "~curve", CurveType::kBezier)), name);
+  for (const char* name : { "double_geodesic", "screw" })
+    EXPECT_STREQ(toString(parseName(name, "~geometry", GeometryType::kScrew)), name);
+  EXPECT_EQ(parseName("", "~curve", RequestDefaults::kCurve), CurveType::kInterpolating);
+  EXPECT_EQ(parseName("", "~parameterization", RequestDefaults::kParameterization), Parameterization::kChord);
+  EXPECT_EQ(parseName("uniform", "~parameterization", RequestDefaults::kParameterization), Parameterization::kUniform);
+  EXPECT_EQ(parseName("centripetal", "~parameterization", RequestDefaults::kParameterization), Parameterization::kCentripetal);
+
+  const std::string curve = errorOf([] { parseName("bspine", "~curve", RequestDefaults::kCurve); });
+  EXPECT_EQ(curve.rfind("~curve: unknown value 'bspine'", 0), 0u) << curve;
+  EXPECT_NE(curve.find("bspline"), std::string::npos) << curve;
+  const std::string geometry = errorOf([] { parseName("Screw", "~geometry", RequestDefaults::kGeometry); });
+  EXPECT_EQ(geometry.rfind("~geometry: unknown value 'Screw'", 0), 0u) << geometry;
+  const std::string chord = errorOf([] { parseName("chordal", "~parameterization", RequestDefaults::kParameterization); });
+  EXPECT_EQ(chord.rfind("~parameterization: unknown value 'chordal'", 0), 0u) << chord;
+  // The request path still names the request's field.
+  TrajectoryRequest r = line();
+  r.curve = "bspine";
+  const std::string request = errorOf([&] { generate(r, PlannerLimits()); });
+  EXPECT_EQ(request.rfind("curve: unknown value 'bspine'", 0), 0u) << request;
 }

@@ -9,11 +9,12 @@
 #include <random>
 #include <string>
 
+#include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/planner/planner.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/work_estimate.h"
 #include "test_utils.h"
 
@@ -62,7 +63,7 @@ std::string limitErrorOf(const TrajectoryRequest& r, const PlannerLimits& limits
 {
   try
   {
-    generateTrajectory(r, limits);
+    generate(r, limits);
   }
   catch (const LimitExceededError& e)
   {
@@ -90,7 +91,7 @@ TEST(WorkEstimate, BoundsTheEvaluationsOfTheFigures)
       const std::vector<double> times = waypointTimes(v);
       auto counting = std::make_shared<CountingCurve<DoubleGeodesicSe3>>(makeCurve<DoubleGeodesicSe3>(v, times));
       measureCurve(*counting, 1.0);
-      const WorkEstimate w = estimateWork(v, 0.0);
+      const WorkEstimate w = estimateWork(workShape(v), 0.0);
       const double pieces = static_cast<double>(counting->breakpoints().size() - 1);
       EXPECT_EQ(w.pieces, pieces) << curve << " " << n;
       const double sub = std::max(4.0, std::floor(64.0 / pieces));
@@ -106,12 +107,12 @@ TEST(WorkEstimate, EvaluationCostPerFamily)
   ValidatedRequest v;
   v.waypoints.resize(11);
   v.curve = CurveType::kBezier;
-  EXPECT_EQ(evaluationCost(v), 55.0);
+  EXPECT_EQ(evaluationCost(workShape(v)), 55.0);
   v.curve = CurveType::kBspline;
   v.degree = 4;
-  EXPECT_EQ(evaluationCost(v), 10.0);
+  EXPECT_EQ(evaluationCost(workShape(v)), 10.0);
   v.curve = CurveType::kPiecewiseGeodesic;
-  EXPECT_EQ(evaluationCost(v), 1.0);
+  EXPECT_EQ(evaluationCost(workShape(v)), 1.0);
 }
 
 // Row 2: the requests of the report are refused up front, naming the field.
@@ -144,7 +145,7 @@ TEST(WorkEstimate, ExpensiveRequestsAreRefusedNamingTheField)
   period.sample_period = 1e-3;
   PlannerLimits medium;
   medium.max_work = 1e4;
-  EXPECT_EQ(generateTrajectory(period, medium).samples.size(), 2001u);
+  EXPECT_EQ(generate(period, medium).samples.size(), 2001u);
   period.max_linear_velocity = 0.1;
   EXPECT_TRUE(startsWith(limitErrorOf(period, medium), "sample_period: 20001 samples"));
 
@@ -166,7 +167,7 @@ TEST(WorkEstimate, SphereRequestsAreBoundedToo)
   std::string e;
   try
   {
-    generateSphereTrajectory(r, PlannerLimits());
+    generate(r, PlannerLimits());
   }
   catch (const LimitExceededError& x)
   {
@@ -174,5 +175,5 @@ TEST(WorkEstimate, SphereRequestsAreBoundedToo)
   }
   EXPECT_TRUE(startsWith(e, "waypoints: 250 waypoints make a bezier of degree 249")) << e;
   r.waypoints.resize(20);
-  EXPECT_EQ(generateSphereTrajectory(r, PlannerLimits()).samples.size(), 100u);
+  EXPECT_EQ(generate(r, PlannerLimits()).samples.size(), 100u);
 }

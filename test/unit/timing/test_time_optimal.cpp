@@ -13,8 +13,8 @@
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/planner/planner.h"
-#include "se3_interpolation/geometry/sphere.h"
-#include "se3_interpolation/planner/sphere_planner.h"
+#include "se3_interpolation/analysis/sphere_kinematics.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/planner/validation.h"
 #include "test_utils.h"
@@ -232,7 +232,7 @@ std::string errorOf(const TrajectoryRequest& r)
 {
   try
   {
-    generateTrajectory(r, PlannerLimits());
+    generate(r, PlannerLimits());
   }
   catch (const InvalidInputError& e)
   {
@@ -273,12 +273,12 @@ TEST(TimeOptimal, StraightLineIsTheTrapezoidOrTheTriangle)
       TrajectoryRequest r = timeOptimalRequest(line, b);
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, PlannerLimits());
       const double expected = trapezoidTime(d, b.v, b.a);
       EXPECT_NEAR(out.duration, expected, 0.005 * expected) << geometry << " v " << b.v << " a " << b.a;
       EXPECT_GE(out.duration, expected * (1.0 - 1e-9)) << "faster than the optimum";
       expectWithinBounds(out, b, geometry);
-      EXPECT_NEAR(out.length, d, 1e-9);
+      EXPECT_NEAR(out.figures.length, d, 1e-9);
     }
 }
 
@@ -292,7 +292,7 @@ TEST(TimeOptimal, PureRotationIsTheTrapezoidOrTheTriangle)
       TrajectoryRequest r = timeOptimalRequest(turn, b);
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, PlannerLimits());
       const double expected = trapezoidTime(2.5, b.w, b.alpha);
       EXPECT_NEAR(out.duration, expected, 0.005 * expected) << geometry << " w " << b.w;
       EXPECT_GE(out.duration, expected * (1.0 - 1e-9));
@@ -312,7 +312,7 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
   r.curve = "piecewise_geodesic";
   r.times = { 0.0, 1.0, 1.5, 4.0 };  // very uneven path times: the timing must not depend on them
   r.sample_count = 10000;
-  const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, PlannerLimits());
   double expected = 0.0;
   std::vector<double> corner_times{ 0.0 };
   for (std::size_t i = 0; i + 1 < w.size(); ++i)
@@ -331,7 +331,7 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
   for (std::size_t i = 0; i < w.size(); ++i)
   {
     EXPECT_NEAR(out.waypoint_times[i], corner_times[i], 0.005 * expected) << i;
-    EXPECT_LT(test::poseDistance(out.pose_at(out.waypoint_times[i]), w[i]), 1e-9) << i;
+    EXPECT_LT(test::poseDistance(out.point_at(out.waypoint_times[i]), w[i]), 1e-9) << i;
   }
   for (const TrajectorySample& s : out.samples)
     for (std::size_t i = 1; i + 1 < w.size(); ++i)
@@ -377,7 +377,7 @@ TEST(TimeOptimal, GreatCircleArcOnTheSphereIsTheTrapezoid)
   r.max_angular_velocity = 0.7;
   r.max_angular_acceleration = 1.1;
   r.sample_count = 10000;
-  const SphereResult out = generateSphereTrajectory(r, PlannerLimits());
+  const SphereResult out = generate(r, PlannerLimits());
   const double expected = trapezoidTime(2.0, 0.7, 1.1);
   EXPECT_NEAR(out.duration, expected, 0.005 * expected);
   for (const SphereSample& s : out.samples)
@@ -415,7 +415,7 @@ TEST(TimeOptimal, EveryCurveFamilyAndGeometryMatchesTheBruteForceReference)
       r.curve = curve;
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, PlannerLimits());
       const ValidatedRequest v = validateRequest(r, PlannerLimits());
       const std::vector<double> times = waypointTimes(v);
       double reference = 0.0;
@@ -428,7 +428,7 @@ TEST(TimeOptimal, EveryCurveFamilyAndGeometryMatchesTheBruteForceReference)
       if (std::string(curve) != "bezier" && std::string(curve) != "bspline")
       {
         for (std::size_t i = 0; i < w.size(); ++i)
-          EXPECT_LT(test::poseDistance(out.pose_at(out.waypoint_times[i]), w[i]), 1e-9) << curve << " " << i;
+          EXPECT_LT(test::poseDistance(out.point_at(out.waypoint_times[i]), w[i]), 1e-9) << curve << " " << i;
       }
     }
 }
@@ -441,7 +441,7 @@ TEST(TimeOptimal, ReportedVelocitiesAreTheFiniteDifferencesOfThePoses)
   r.curve = "interpolating";
   r.geometry = "screw";
   r.sample_count = 50;
-  const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, PlannerLimits());
   // s̈ is constant per grid interval, so the acceleration jumps at grid points and a stencil that
   // spans one errs by about |Δa| h: h small enough for that (and the h⁴ terms) to stay below 1e-7,
   // large enough for rounding (1e-16 |p| / h) to stay below 1e-10.
@@ -449,7 +449,7 @@ TEST(TimeOptimal, ReportedVelocitiesAreTheFiniteDifferencesOfThePoses)
   for (std::size_t i = 1; i + 1 < out.samples.size(); ++i)
   {
     const TrajectorySample& s = out.samples[i];
-    const Kinematics fd = test::centralDifferences(out.pose_at, s.time, h);
+    const Kinematics fd = test::centralDifferences(out.point_at, s.time, h);
     EXPECT_LT((fd.velocity.linear - s.velocity.linear).norm(), 1e-6) << s.time;
     EXPECT_LT((fd.velocity.angular - s.velocity.angular).norm(), 1e-6) << s.time;
   }
@@ -497,7 +497,7 @@ TEST(TimeOptimal, ReportedFiguresAreThoseOfTheTimedMotion)
     TrajectoryRequest r = timeOptimalRequest(w, b);
     r.curve = "hermite";
     r.rotation_scale = 0.5;
-    const TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+    const TrajectoryResult out = generate(r, PlannerLimits());
     const ValidatedRequest v = validateRequest(r, PlannerLimits());
     const auto path = makeCurve<DoubleGeodesicSe3>(v, waypointTimes(v));
     timing::RateBounds bounds;
@@ -507,15 +507,15 @@ TEST(TimeOptimal, ReportedFiguresAreThoseOfTheTimedMotion)
     const CurveFigures timed_fig = measureCurve(*timed, 0.5);
     const CurveFigures path_fig = measureCurve(*path, 0.5);
     EXPECT_NEAR(out.duration, timed->endTime() - timed->startTime(), 1e-12);
-    EXPECT_NEAR(out.length, path_fig.length, 1e-12);
-    EXPECT_NEAR(out.length, timed_fig.length, 1e-6 * out.length);
-    EXPECT_NEAR(out.rotation_length, timed_fig.rotation_length, 1e-6 * out.rotation_length);
-    EXPECT_NEAR(out.energy, timed_fig.energy, 2e-3 * timed_fig.energy);
-    EXPECT_NEAR(out.max_linear_speed, timed_fig.max_linear_speed, 1e-6 * timed_fig.max_linear_speed);
-    EXPECT_NEAR(out.max_angular_speed, timed_fig.max_angular_speed, 1e-3 * timed_fig.max_angular_speed);
-    EXPECT_NEAR(out.max_linear_acceleration, timed_fig.max_linear_acceleration,
+    EXPECT_NEAR(out.figures.length, path_fig.length, 1e-12);
+    EXPECT_NEAR(out.figures.length, timed_fig.length, 1e-6 * out.figures.length);
+    EXPECT_NEAR(out.figures.rotation_length, timed_fig.rotation_length, 1e-6 * out.figures.rotation_length);
+    EXPECT_NEAR(out.figures.energy, timed_fig.energy, 2e-3 * timed_fig.energy);
+    EXPECT_NEAR(out.figures.max_linear_speed, timed_fig.max_linear_speed, 1e-6 * timed_fig.max_linear_speed);
+    EXPECT_NEAR(out.figures.max_angular_speed, timed_fig.max_angular_speed, 1e-3 * timed_fig.max_angular_speed);
+    EXPECT_NEAR(out.figures.max_linear_acceleration, timed_fig.max_linear_acceleration,
                 1e-3 * timed_fig.max_linear_acceleration);
-    EXPECT_NEAR(out.max_angular_acceleration, timed_fig.max_angular_acceleration,
+    EXPECT_NEAR(out.figures.max_angular_acceleration, timed_fig.max_angular_acceleration,
                 1e-3 * timed_fig.max_angular_acceleration);
   }
 }
@@ -525,11 +525,11 @@ TEST(TimeOptimal, FasterThanTheUniformStretch)
   std::mt19937 rng(3);
   TrajectoryRequest r = timeOptimalRequest(test::randomPolygon(rng, 6, 0.9), Bounds4{ 0.5, 0.8, 1.0, 1.5 });
   r.curve = "interpolating";
-  const double optimal = generateTrajectory(r, PlannerLimits()).duration;
+  const double optimal = generate(r, PlannerLimits()).duration;
   r.timing = "stretch";
-  const double stretched = generateTrajectory(r, PlannerLimits()).duration;
+  const double stretched = generate(r, PlannerLimits()).duration;
   r.timing = "";
-  EXPECT_EQ(generateTrajectory(r, PlannerLimits()).duration, stretched) << "stretch is the default";
+  EXPECT_EQ(generate(r, PlannerLimits()).duration, stretched) << "stretch is the default";
   EXPECT_LT(optimal, stretched);
 }
 
@@ -543,13 +543,13 @@ TEST(TimeOptimal, DwellAndStationaryEndsAreTimed)
                                            b);
   r.times = { 0, 1, 2, 3 };
   r.sample_count = 2000;
-  TrajectoryResult out = generateTrajectory(r, PlannerLimits());
+  TrajectoryResult out = generate(r, PlannerLimits());
   expectWithinBounds(out, b, "dwell");
   r.curve = "interpolating";
   r.end_condition = "clamped";
   r.waypoints.erase(r.waypoints.begin() + 2);
   r.times = { 0, 1, 3 };
-  out = generateTrajectory(r, PlannerLimits());
+  out = generate(r, PlannerLimits());
   expectWithinBounds(out, b, "clamped");
   EXPECT_TRUE(std::isfinite(out.duration));
 }
@@ -583,7 +583,7 @@ TEST(TimeOptimal, MissingBoundsAreErrorsNamingThem)
   s.max_angular_velocity = 1.0;
   try
   {
-    generateSphereTrajectory(s, PlannerLimits());
+    generate(s, PlannerLimits());
     ADD_FAILURE() << "no error";
   }
   catch (const InvalidInputError& err)

@@ -18,11 +18,11 @@
 //    (interpolating_spline.h), piecewise cubics exp(x_i, P_i(t)) in T_{x_i} S^m (chart_cubic.h),
 //    whose chart acceleration at x_i is the covariant one (tangent_space.h);
 //  - blended C^n splines of circles: BlendedSpline<Sphere> (blending.h, Pobegailo).
-// This header adds the kinematics and figures of sphere curves: the covariant acceleration
-// D²x/dt² = ẍ − ⟨x, ẍ⟩ x (the projection of ẍ onto T_x S^m, §5) and the energy ("average
-// acceleration") of eq. 32,
+// This header adds the kinematics of sphere curves: the covariant acceleration
+// D²x/dt² = ẍ − ⟨x, ẍ⟩ x (the projection of ẍ onto T_x S^m, §5) and the density of the energy
+// ("average acceleration") of eq. 32,
 //   E = ∫ ⟨D²x/dt², D²x/dt²⟩ dt = ∫ (⟨ẍ, ẍ⟩ − ⟨x, ẍ⟩²) dt     (|x| = 1),
-// evaluated from exact jet derivatives with Gauss–Legendre quadrature on each analytic piece.
+// which measureCurve (analysis/figures.h) integrates as for poses.
 //
 // Unit quaternions are S³: the great circles of S³ through q are q Exp(s ω/2), so the
 // de Casteljau curves on S³ and on SO(3) agree when the control quaternions are sign-chosen
@@ -70,74 +70,23 @@ inline SphereKinematics sphereKinematicsAt(const Curve<Sphere>& curve, double t,
   return sphereKinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }
 
-/// Length ∫|ẋ| dt (rad on the unit sphere), energy (eq. 32) and peak speed / covariant acceleration.
-struct SphereCurveFigures
+/// The figures' rates of a sphere motion (analysis/figures.h): the motion is angular (rad on the
+/// unit sphere), so |ẋ| and |D²x/dt²| are the angular channel and the linear one is 0.
+inline Rates rates(const SphereKinematics& k)
 {
-  double length = 0.0;
-  double energy = 0.0;
-  double max_speed = 0.0;
-  double max_acceleration = 0.0;
-};
-
-inline SphereCurveFigures measureSphereCurve(const Curve<Sphere>& curve)
-{
-  SphereCurveFigures fig;
-  std::vector<double> b = curve.breakpoints();
-  b.erase(std::unique(b.begin(), b.end()), b.end());
-  const std::size_t pieces = b.size() - 1;
-  const std::size_t sub = std::max<std::size_t>(4, 64 / std::max<std::size_t>(pieces, 1));
-  std::array<double, 2> peak{};
-  std::array<double, 2> where{};
-  std::array<std::pair<double, double>, 2> bracket{};
-  auto rates = [](const SphereKinematics& k) {
-    return std::array<double, 2>{ k.velocity.norm(), k.acceleration.norm() };
-  };
-  auto consider = [&](const SphereKinematics& k, double t, double lo, double hi) {
-    const auto r = rates(k);
-    for (std::size_t j = 0; j < 2; ++j)
-      if (r[j] > peak[j])
-      {
-        peak[j] = r[j];
-        where[j] = t;
-        bracket[j] = { lo, hi };
-      }
-  };
-  for (std::size_t i = 0; i < pieces; ++i)
-  {
-    const double h = (b[i + 1] - b[i]) / static_cast<double>(sub);
-    consider(sphereKinematicsAt(curve, b[i], Side::kRight), b[i], b[i], b[i] + h);
-    consider(sphereKinematicsAt(curve, b[i + 1], Side::kLeft), b[i + 1], b[i + 1] - h, b[i + 1]);
-    for (std::size_t s = 0; s < sub; ++s)
-    {
-      const double a = b[i] + static_cast<double>(s) * h;
-      for (std::size_t g = 0; g < detail::kGaussNodes.size(); ++g)
-      {
-        const double t = a + 0.5 * h * (1.0 + detail::kGaussNodes[g]);
-        const double w = 0.5 * h * detail::kGaussWeights[g];
-        const SphereKinematics k = sphereKinematicsAt(curve, t);
-        fig.length += w * k.velocity.norm();
-        fig.energy += w * k.acceleration.squaredNorm();
-        consider(k, t, std::max(b[i], t - h / 4.0), std::min(b[i + 1], t + h / 4.0));
-      }
-    }
-  }
-  for (std::size_t j = 0; j < 2; ++j)
-  {
-    if (peak[j] <= 0.0 || bracket[j].second <= bracket[j].first)
-      continue;
-    const Side side = where[j] >= bracket[j].second ? Side::kLeft : Side::kRight;
-    peak[j] = detail::goldenMax([&](double t) { return rates(sphereKinematicsAt(curve, t, side))[j]; },
-                                bracket[j].first, bracket[j].second, peak[j]);
-  }
-  fig.max_speed = peak[0];
-  fig.max_acceleration = peak[1];
-  return fig;
+  return { 0.0, k.velocity.norm(), 0.0, k.acceleration.norm() };
 }
 
-/// The energy ("average acceleration") of eq. 32 over the curve's whole domain.
-inline double sphereEnergy(const Curve<Sphere>& curve)
+/// The energy density ⟨D²x/dt², D²x/dt²⟩ of eq. 32 (the round metric: no rotation scale).
+inline double energyDensity(const SphereKinematics& k, double /*rotation_scale*/)
 {
-  return measureSphereCurve(curve).energy;
+  return k.acceleration.squaredNorm();
+}
+
+/// The kinematics at t (overloads the pose kinematicsAt of kinematics.h for the sphere).
+inline SphereKinematics kinematicsAt(const Curve<Sphere>& curve, double t, Side side = Side::kRight)
+{
+  return sphereKinematicsAt(curve, t, side);
 }
 
 }  // namespace se3_interpolation

@@ -1,0 +1,225 @@
+// The planner's input and output types, written once over the space the motion lives in.
+//
+// A space is the set of points a trajectory moves through, with the request types that name
+// them: PoseSpace (world_T_body poses, either SE(3) geometry of geometry/) and SphereSpace (unit
+// vectors of R^{m+1}, the sphere S^m of geometry/sphere.h). The request, its validated form and
+// the result are one template each over the space, so the service, the CLI and the tests read
+// the same field names (those of srv/GenerateTrajectory.srv) whatever the space.
+//
+// Frames and units (poses): waypoints are world_T_body poses in one frame ("the waypoints'
+// frame"): positions in m, quaternions (x, y, z, w). Times in s after the request stamp.
+// Velocities are (linear, angular) = (dp/dt, ω) with dR/dt = [ω]× R, both expressed in the
+// waypoints' frame (m/s, rad/s); accelerations are (d²p/dt², dω/dt) in the same frame.
+// On the sphere: points are unit vectors, velocities ẋ and covariant accelerations D²x/dt²
+// tangent at their point; the motion is angular (rad on the unit sphere), so its rates are the
+// angular channel of the figures and of the max_angular_* bounds, and the linear channel is 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/analysis/figures.h"
+#include "se3_interpolation/curves/interpolating_spline.h"
+#include "se3_interpolation/geometry/se3_velocity.h"
+
+namespace se3_interpolation
+{
+enum class CurveType
+{
+  kPiecewiseGeodesic,
+  kBezier,
+  kBspline,
+  kInterpolating,
+  kHermite,
+  kBlended
+};
+enum class GeometryType
+{
+  kDoubleGeodesic,
+  kScrew
+};
+enum class Parameterization
+{
+  kChord,
+  kUniform,
+  kCentripetal
+};
+/// How the max_* bounds shape the timing (field `timing`).
+enum class Timing
+{
+  kStretch,     ///< "stretch": the curve's time axis stretched uniformly until every peak fits
+  kTimeOptimal  ///< "time_optimal": the fastest rest-to-rest traversal of the path (timing/time_optimal.h)
+};
+
+/// The defaults of the request's empty or zero fields: the one place the planner, the node's
+/// parameters and the CLI read them from (README "Request fields").
+struct RequestDefaults
+{
+  static constexpr CurveType kCurve = CurveType::kInterpolating;
+  static constexpr GeometryType kGeometry = GeometryType::kDoubleGeodesic;
+  static constexpr EndCondition kEndCondition = EndCondition::kNatural;
+  static constexpr Parameterization kParameterization = Parameterization::kChord;
+  static constexpr Timing kTiming = Timing::kStretch;
+  /// Degree of `bspline` (and of nothing else), lowered to N − 1 for fewer waypoints.
+  static constexpr int kDegree = 3;
+  /// Continuity C^n of `blended`.
+  static constexpr int kContinuity = 2;
+  /// Samples over the trajectory when neither sample_times nor sample_period is given.
+  static constexpr std::uint32_t kSampleCount = 100;
+  /// rotation_scale ρ (m per rad) of the chord spacing and the energy.
+  static constexpr double kRotationScale = 1.0;
+};
+
+/// Resource bounds per request (node parameters ~max_samples, ~max_waypoints, ~max_work).
+struct PlannerLimits
+{
+  std::size_t max_samples = 200000;
+  std::size_t max_waypoints = 20000;
+  /// Estimated work units per request (work_estimate.h): about 1 s on one core.
+  double max_work = 1.25e6;
+};
+
+/// The sampling fields after validation (sample_count defaulted).
+struct Sampling
+{
+  std::vector<double> sample_times;
+  double sample_period = 0.0;
+  std::uint32_t sample_count = RequestDefaults::kSampleCount;
+};
+
+struct TrajectorySample
+{
+  double time = 0.0;  ///< s after the request stamp
+  Pose<double> pose;  ///< world_T_body, quaternion sign-continuous along the samples
+  Twist velocity;
+  Twist acceleration;
+};
+
+struct SphereSample
+{
+  double time = 0.0;
+  Eigen::VectorXd point;         ///< unit vector
+  Eigen::VectorXd velocity;      ///< ẋ, tangent at point
+  Eigen::VectorXd acceleration;  ///< D²x/dt², tangent at point
+};
+
+/// Poses: waypoints world_T_body, velocities spatial twists; geometry chosen by the request.
+struct PoseSpace
+{
+  using Waypoint = Pose<double>;
+  using Velocity = Twist;
+  using Sample = TrajectorySample;
+};
+
+/// The sphere S^m: waypoints unit vectors of R^{m+1}, velocities tangent vectors (empty = zero).
+struct SphereSpace
+{
+  using Waypoint = Eigen::VectorXd;
+  using Velocity = Eigen::VectorXd;
+  using Sample = SphereSample;
+};
+
+/// The request, field for field as in GenerateTrajectory.srv. Empty strings and zeros select
+/// the defaults (RequestDefaults). Fields without meaning in a space (on the sphere: geometry,
+/// rotation_scale, max_linear_*, blend_radius) must stay empty or zero there.
+template <class Space>
+struct BasicRequest
+{
+  using Waypoint = typename Space::Waypoint;
+  using Velocity = typename Space::Velocity;
+
+  /// Raw input points: poses' orientations (or sphere points) finite with norm in
+  /// [kMinUnitNorm, kMaxUnitNorm], normalised by validation.
+  std::vector<Waypoint> waypoints;
+  std::vector<double> times;
+  std::string curve;
+  std::string geometry;
+  int degree = 0;
+  std::vector<double> knots;
+  int continuity = 0;
+  std::string end_condition;
+  Velocity start_velocity{};
+  Velocity end_velocity{};
+  Velocity start_acceleration{};
+  std::vector<Velocity> velocities;
+  std::string parameterization;
+  double rotation_scale = 0.0;
+  double duration = 0.0;
+  double max_linear_velocity = 0.0;
+  double max_angular_velocity = 0.0;
+  double max_linear_acceleration = 0.0;
+  double max_angular_acceleration = 0.0;
+  std::string timing;
+  std::vector<double> sample_times;
+  double sample_period = 0.0;
+  std::uint32_t sample_count = 0;
+  /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
+  double blend_radius = 0.0;
+};
+
+/// A request after validation: names parsed, defaults resolved, points normalised, sphere
+/// tangents projected onto their tangent space.
+template <class Space>
+struct BasicValidatedRequest
+{
+  using Waypoint = typename Space::Waypoint;
+  using Velocity = typename Space::Velocity;
+
+  std::vector<Waypoint> waypoints;
+  std::vector<double> times;  ///< explicit times, or empty
+  CurveType curve = RequestDefaults::kCurve;
+  GeometryType geometry = RequestDefaults::kGeometry;
+  int degree = RequestDefaults::kDegree;
+  std::vector<double> knots;  ///< explicit knots, or empty
+  int continuity = RequestDefaults::kContinuity;
+  EndCondition end_condition = RequestDefaults::kEndCondition;
+  Velocity start_velocity{};
+  Velocity end_velocity{};
+  Velocity start_acceleration{};
+  std::vector<Velocity> velocities;
+  Parameterization parameterization = RequestDefaults::kParameterization;
+  double rotation_scale = RequestDefaults::kRotationScale;
+  double duration = 0.0;
+  double max_linear_velocity = 0.0;
+  double max_angular_velocity = 0.0;
+  double max_linear_acceleration = 0.0;
+  double max_angular_acceleration = 0.0;
+  Timing timing = RequestDefaults::kTiming;
+  Sampling sampling;
+  double blend_radius = 0.0;
+};
+
+template <class Space>
+struct BasicResult
+{
+  using Waypoint = typename Space::Waypoint;
+
+  std::vector<typename Space::Sample> samples;
+  std::vector<double> waypoint_times;  ///< final times of the waypoints (after any stretch)
+  std::vector<Waypoint> waypoints;     ///< the validated (normalised) input waypoints
+  std::vector<Waypoint> control_points;
+  /// Per waypoint, the radius r_i of its corner blend (m, chord distance; 0 = not blended).
+  /// Empty unless the request has a blend_radius.
+  std::vector<double> blend_radii;
+  double start_time = 0.0;
+  double duration = 0.0;  ///< s
+  /// Uniform stretch applied to meet the max_* bounds (≥ 1); with timing time_optimal the final
+  /// correction of the optimal profile (TimingProfile::stretch, within a few 1e-3 of 1).
+  double time_scale = 1.0;
+  /// Length, rotation length, peak rates and energy of the final (timed) motion.
+  CurveFigures figures;
+  /// The final curve's point at any time in [start_time, start_time + duration] (for TF).
+  std::function<Waypoint(double)> point_at;
+};
+
+using TrajectoryRequest = BasicRequest<PoseSpace>;
+using ValidatedRequest = BasicValidatedRequest<PoseSpace>;
+using TrajectoryResult = BasicResult<PoseSpace>;
+using SphereRequest = BasicRequest<SphereSpace>;
+using ValidatedSphereRequest = BasicValidatedRequest<SphereSpace>;
+using SphereResult = BasicResult<SphereSpace>;
+
+}  // namespace se3_interpolation
