@@ -58,7 +58,7 @@ std::vector<double> times(ByteReader& in, std::size_t n)
   return t;
 }
 
-struct Se3Space
+struct Se3Data
 {
   using Point = Pose<double>;
   using Tangent = Vector6<double>;
@@ -107,7 +107,7 @@ struct Se3Space
   }
 };
 
-struct SphereSpace
+struct SphereData
 {
   using Point = Eigen::VectorXd;
   using Tangent = Eigen::VectorXd;
@@ -216,13 +216,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (in.byte() % 3)
     {
       case 0:
-        solve<DoubleGeodesicSe3, Se3Space>(in);
+        solve<DoubleGeodesicSe3, Se3Data>(in);
         break;
       case 1:
-        solve<ScrewSe3, Se3Space>(in);
+        solve<ScrewSe3, Se3Data>(in);
         break;
       default:
-        solve<Sphere, SphereSpace>(in);
+        solve<Sphere, SphereData>(in);
         break;
     }
   }
