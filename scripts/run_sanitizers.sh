@@ -1,18 +1,23 @@
 #!/usr/bin/env bash
 # Builds the core and every unit test with AddressSanitizer + UndefinedBehaviorSanitizer (plain
 # CMake, no ROS: test/sanitize/CMakeLists.txt) into $SE3_WS/sanitize, runs each test binary
-# (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer targets for
-# ${SE3_FUZZ_SECONDS:-60} s in all, each over a copy of its seed corpus: a quarter for the
-# whole-request target fuzz_generate, the rest split evenly between the per-layer targets
-# fuzz_lie, fuzz_validate, fuzz_curves, fuzz_sphere and fuzz_yaml. The last line is
-# `sanitizers: N passed, N failed` (the unit test cases plus each fuzz run as one test); exits
-# non-zero on any failure, sanitizer report or fuzzer finding.
+# (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer targets, each
+# over a copy of its seed corpus: every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves,
+# fuzz_c2, fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
+# ${SE3_FUZZ_MAX_SECONDS:-200} s each (a target that reaches fewer inputs in that time FAILS, so
+# that the README's "each per-layer target sees 1e5 inputs per CI run" stays true), and the
+# whole-request target fuzz_generate, much slower per input, for ${SE3_FUZZ_SECONDS:-30} s. Each
+# run's input count and rate are printed. The last line is `sanitizers: N passed, N failed` (the
+# unit test cases plus each fuzz run as one test); exits non-zero on any failure, sanitizer
+# report or fuzzer finding.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 
 build="$SE3_WS/sanitize"
 results="$build/test_results"
-fuzz_seconds=${SE3_FUZZ_SECONDS:-60}
+fuzz_runs=${SE3_FUZZ_RUNS:-100000}
+fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-200}
+fuzz_seconds=${SE3_FUZZ_SECONDS:-30}
 mkdir -p "$build"
 echo "sanitized build (clang++, ASan + UBSan) in $build"
 if ! { cmake -S "$SE3_ROOT/test/sanitize" -B "$build" -DCMAKE_CXX_COMPILER=clang++ &&
@@ -75,21 +80,27 @@ done
 echo "unit tests done at ${SECONDS} s"
 
 # target, seed corpus, largest input: fuzz_generate's 12 waypoints and every other field take
-# ~170 bytes (inputs up to 512, reached quickly with -len_control=10); YAML documents up to 4 KB.
+# ~170 bytes (inputs up to 512, reached quickly with -len_control=10), fuzz_c2's 6 points ~100;
+# YAML documents up to 2 KB (the CLI's test requests are below 700 bytes).
 fuzz_targets=(
-  "fuzz_generate test/fuzz/corpus 512"
   "fuzz_lie test/fuzz/corpus_lie 128"
   "fuzz_validate test/fuzz/corpus 512"
   "fuzz_curves test/fuzz/corpus 512"
+  "fuzz_c2 test/fuzz/corpus_c2 256"
   "fuzz_sphere test/fuzz/corpus_sphere 512"
-  "fuzz_yaml test/cli/data 4096"
+  "fuzz_yaml test/cli/data 2048"
+  "fuzz_generate test/fuzz/corpus 512"
 )
-whole_seconds=$((fuzz_seconds / 4))
-layer_seconds=$(((fuzz_seconds - whole_seconds) / (${#fuzz_targets[@]} - 1)))
+fuzz_total=0
 for entry in "${fuzz_targets[@]}"; do
   read -r target seeds max_len <<<"$entry"
-  seconds=$layer_seconds
-  [ "$target" = fuzz_generate ] && seconds=$whole_seconds
+  # Per-layer targets: a number of inputs (with a time cap); the whole request: a time.
+  budget=(-runs="$fuzz_runs" -max_total_time="$fuzz_max_seconds")
+  need=$fuzz_runs
+  if [ "$target" = fuzz_generate ]; then
+    budget=(-max_total_time="$fuzz_seconds")
+    need=1
+  fi
   corpus="$build/corpus_$target"
   artifacts="$build/artifacts_$target"
   log="$build/$target.log"
@@ -97,18 +108,28 @@ for entry in "${fuzz_targets[@]}"; do
   mkdir -p "$artifacts"
   cp -r "$SE3_ROOT/$seeds" "$corpus"
   status=0
-  "$build/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
+  start=$SECONDS
+  "$build/$target" "${budget[@]}" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
+  seconds=$((SECONDS - start))
   runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
-  if [ "$status" -eq 0 ] && [ -n "$runs" ] && [ -z "$(ls -A "$artifacts")" ]; then
+  rate=$((runs / (seconds > 0 ? seconds : 1)))
+  runs=${runs:-0}
+  fuzz_total=$((fuzz_total + runs))
+  if [ "$status" -eq 0 ] && [ "$runs" -ge "$need" ] && [ -z "$(ls -A "$artifacts")" ]; then
     passed=$((passed + 1))
-    echo "PASS $target: $runs inputs in $seconds s, no finding; corpus $(find "$corpus" -type f | wc -l) files"
+    echo "PASS $target: $runs inputs in $seconds s (${rate}/s), no finding; corpus $(find "$corpus" -type f | wc -l) files"
+  elif [ "$status" -eq 0 ] && [ -z "$(ls -A "$artifacts")" ]; then
+    failed=$((failed + 1))
+    echo "FAIL $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need required" \
+      "(SE3_FUZZ_RUNS, SE3_FUZZ_MAX_SECONDS; log: $log)"
   else
     failed=$((failed + 1))
-    echo "FAIL $target: exit status $status (log: $log; inputs: $artifacts)"
+    echo "FAIL $target: exit status $status after $runs inputs (log: $log; inputs: $artifacts)"
     grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
   fi
 done
+echo "fuzzing: $fuzz_total inputs in all"
 
 echo "done in ${SECONDS} s"
 echo "sanitizers: $passed passed, $failed failed"

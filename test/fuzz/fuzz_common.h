@@ -1,7 +1,12 @@
 // Shared by the libFuzzer targets of test/fuzz/: a byte reader that turns any input into
 // numbers (plausible values, edge cases, raw bits), names and requests, and the checks of a
 // successful result (finite numbers, unit quaternions). A failed check prints the request
-// being run and aborts, so that libFuzzer reports it.
+// being run and aborts, so that libFuzzer reports it. runRequestTarget() is the shared body of
+// the request targets (fuzz_generate, fuzz_validate, fuzz_curves).
+//
+// Speed (README "Sanitizers and fuzzing": each per-layer target reaches 1e5 inputs in CI): the
+// limits are small (kFuzzMaxWaypoints, kFuzzMaxSamples) so that inputs explore the logic, not
+// bulk, and the checks build their messages only on failure.
 //
 // Input format (read front to back; missing bytes read as 0, so every input is valid):
 // each field starts with a mode byte that picks how the value is drawn, e.g. a plausible
@@ -338,25 +343,31 @@ inline const char* g_target = "fuzz";
   std::abort();
 }
 
-inline void checkFinite(double x, const std::string& field)
+// The field names are C strings, so that a passing check allocates nothing.
+inline void checkFinite(double x, const char* field)
 {
   if (!std::isfinite(x))
-    fail("non-finite " + field + " (" + list(std::vector<double>{ x }) + ") in a successful result");
+    fail(std::string("non-finite ") + field + " (" + list(std::vector<double>{ x }) + ") in a successful result");
 }
 
-inline void checkFinite(const Eigen::Vector3d& v, const std::string& field)
+inline void checkFinite(const Eigen::Vector3d& v, const char* field)
 {
-  for (int i = 0; i < 3; ++i)
-    checkFinite(v[i], field);
+  if (!v.allFinite())
+    fail(std::string("non-finite ") + field + " (" + list(v) + ") in a successful result");
+}
+
+inline void checkPose(const Pose<double>& x, const char* field)
+{
+  if (!x.p.allFinite() || !x.q.coeffs().allFinite())
+    fail(std::string("non-finite ") + field + " (position " + list(x.p) + ", orientation " + list(x.q.coeffs()) +
+         ") in a successful result");
+  if (std::abs(x.q.norm() - 1.0) > 1e-9)
+    fail(std::string("non-unit quaternion in ") + field + " of a successful result");
 }
 
 inline void checkPose(const Pose<double>& x, const std::string& field)
 {
-  checkFinite(x.p, field + ".position");
-  for (int i = 0; i < 4; ++i)
-    checkFinite(x.q.coeffs()[i], field + ".orientation");
-  if (std::abs(x.q.norm() - 1.0) > 1e-9)
-    fail("non-unit quaternion in " + field + " of a successful result");
+  checkPose(x, field.c_str());
 }
 
 inline void checkResult(const TrajectoryResult& out, const PlannerLimits& limits)
@@ -394,6 +405,57 @@ inline void checkResult(const TrajectoryResult& out, const PlannerLimits& limits
     fail("a successful result has no point_at");
   checkPose(out.point_at(out.start_time), "point_at(start_time)");
   checkPose(out.point_at(out.start_time + out.duration), "point_at(end)");
+}
+/// The planner limits of the request targets: a few waypoints and samples are enough to reach
+/// every branch (the limits' own checks included: decode() also draws counts beyond them), and
+/// keep one input in the order of 0.1 ms under ASan.
+constexpr std::size_t kFuzzMaxWaypoints = 12;
+constexpr std::size_t kFuzzMaxSamples = 256;
+
+/// The body of a request target: decodes the input, keeps the request for a finding's report
+/// and runs `layer(request, limits, in)` (`in` positioned after the request, for further
+/// choices), expecting it to return or to throw an InterpolationError; any other exception is
+/// a finding. Returns libFuzzer's 0.
+template <class Layer>
+int runRequestTarget(const char* target, const std::uint8_t* data, std::size_t size, Layer&& layer)
+{
+  g_target = target;
+  ByteReader in(data, size);
+  const TrajectoryRequest request = decode(in);
+  g_request = &request;
+  PlannerLimits limits;
+  limits.max_samples = kFuzzMaxSamples;
+  limits.max_waypoints = kFuzzMaxWaypoints;
+  try
+  {
+    layer(request, limits, in);
+  }
+  catch (const InterpolationError&)
+  {
+    // The expected rejection of a bad request.
+  }
+  catch (const std::exception& e)
+  {
+    fail(std::string("an exception other than InterpolationError escaped: ") + e.what());
+  }
+  catch (...)
+  {
+    fail("a non-standard exception escaped");
+  }
+  g_request = nullptr;
+  return 0;
+}
+
+/// A unit quaternion from the reader: quaternion()'s cases, normalised; the identity when they
+/// are not normalisable (the layers below validation take unit quaternions only).
+inline Quaternion<double> unitQuaternion(ByteReader& in, const std::vector<Pose<double>>& previous)
+{
+  Quaternion<double> q = quaternion(in, previous);
+  const double n = q.norm();
+  if (!(n > 0.5 && n < 2.0) || !q.coeffs().allFinite())
+    return Quaternion<double>::Identity();
+  q.coeffs() /= n;
+  return q;
 }
 }  // namespace fuzz
 }  // namespace se3_interpolation

@@ -13,29 +13,8 @@ using namespace se3_interpolation::fuzz;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-  g_target = "fuzz_generate";
-  ByteReader in(data, size);
-  const TrajectoryRequest request = decode(in);
-  g_request = &request;
-  PlannerLimits limits;
-  limits.max_samples = 2000;
-  limits.max_waypoints = 12;
-  try
-  {
-    checkResult(generate(request, limits), limits);
-  }
-  catch (const InterpolationError&)
-  {
-    // The expected rejection of a bad request.
-  }
-  catch (const std::exception& e)
-  {
-    fail(std::string("an exception other than InterpolationError escaped: ") + e.what());
-  }
-  catch (...)
-  {
-    fail("a non-standard exception escaped");
-  }
-  g_request = nullptr;
-  return 0;
+  return runRequestTarget("fuzz_generate", data, size,
+                          [](const TrajectoryRequest& request, const PlannerLimits& limits, ByteReader&) {
+                            checkResult(generate(request, limits), limits);
+                          });
 }

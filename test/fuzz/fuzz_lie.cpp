@@ -10,17 +10,6 @@ using namespace se3_interpolation::fuzz;
 
 namespace
 {
-/// A unit quaternion from the reader (the valid cases of fuzz_common's decoder).
-Quaternion<double> unitQuaternion(ByteReader& in, const std::vector<Pose<double>>& previous)
-{
-  Quaternion<double> q = quaternion(in, previous);
-  const double n = q.norm();
-  if (!(n > 0.5 && n < 2.0) || !q.coeffs().allFinite())
-    return Quaternion<double>::Identity();
-  q.coeffs() /= n;
-  return q;
-}
-
 double rotationDistance(const Quaternion<double>& a, const Quaternion<double>& b)
 {
   return std::min((a.coeffs() - b.coeffs()).norm(), (a.coeffs() + b.coeffs()).norm());

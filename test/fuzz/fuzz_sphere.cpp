@@ -1,5 +1,6 @@
 // libFuzzer target, the sphere space S^m (m = 2 ... 4) end to end: bytes -> SphereRequest ->
-// generate (sphere space). Expected: an InterpolationError, or samples on the unit sphere with
+// generate (sphere space: validation, curve, figures, timing, sampling) with up to 6 waypoints
+// and 32 samples. Expected: an InterpolationError, or samples on the unit sphere with
 // finite velocities and accelerations tangent to it. Input format: fuzz_common.h's reader.
 #include "fuzz_common.h"
 #include "se3_interpolation/planner/planner.h"
@@ -9,6 +10,11 @@ using namespace se3_interpolation::fuzz;
 
 namespace
 {
+/// Small limits (fuzz_common.h, "Speed"): the figures' quadrature and the samples dominate the
+/// cost of an input, in proportion to the waypoints and the samples.
+constexpr std::size_t kMaxWaypoints = 6;
+constexpr std::size_t kMaxSamples = 32;
+
 Eigen::VectorXd vectorX(ByteReader& in, Eigen::Index dim, bool normalise)
 {
   Eigen::VectorXd v(dim);
@@ -31,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   ByteReader in(data, size);
   SphereRequest r;
   const Eigen::Index dim = 3 + in.byte() % 3;
-  const std::size_t n = in.byte() % 10;
+  const std::size_t n = in.byte() % (kMaxWaypoints + 2);  // one more than the limit: its error
   for (std::size_t i = 0; i < n; ++i)
   {
     const std::uint8_t mode = in.byte() % 8;
@@ -65,10 +71,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   r.max_angular_velocity = in.optionalNumber();
   r.max_angular_acceleration = in.optionalNumber();
   r.sample_period = in.optionalNumber();
-  r.sample_count = in.byte() % 64;
+  r.sample_count = in.byte() % (kMaxSamples + 8);
   PlannerLimits limits;
-  limits.max_samples = 500;
-  limits.max_waypoints = 10;
+  limits.max_samples = kMaxSamples;
+  limits.max_waypoints = kMaxWaypoints;
   try
   {
     const SphereResult out = generate(r, limits);

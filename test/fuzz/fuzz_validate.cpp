@@ -11,45 +11,33 @@
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;
 
+namespace
+{
+void validate(const TrajectoryRequest& request, const PlannerLimits& limits, ByteReader&)
+{
+  const ValidatedRequest v = validateRequest(request, limits);
+  if (v.waypoints.size() < 2 || v.waypoints.size() > limits.max_waypoints)
+    fail("validated request with " + std::to_string(v.waypoints.size()) + " waypoints");
+  for (const Pose<double>& x : v.waypoints)
+    checkPose(x, "validated waypoints");
+  for (std::size_t i = 0; i < v.times.size(); ++i)
+  {
+    checkFinite(v.times[i], "times");
+    if (std::abs(v.times[i]) > kRosDurationMaxSeconds || (i > 0 && !(v.times[i] > v.times[i - 1])))
+      fail("validated times out of range or not increasing");
+  }
+  if (v.degree < 1 || v.continuity < 1 || v.continuity > kMaxBlendingContinuity || v.sampling.sample_count == 1)
+    fail("validated degree, continuity or sample_count out of range");
+  if (!(std::abs(v.duration) <= kRosDurationMaxSeconds))
+    fail("validated duration out of ROS's range");
+  const WorkEstimate w = estimateWork(workShape(v), expectedSamples(workShape(v), 1.0));
+  if (!std::isfinite(w.total) || !(w.total > 0.0))
+    fail("work estimate not finite and positive");
+  requireWorkWithin(w, workShape(v), limits);
+}
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
-  g_target = "fuzz_validate";
-  ByteReader in(data, size);
-  const TrajectoryRequest request = decode(in);
-  g_request = &request;
-  PlannerLimits limits;
-  limits.max_samples = 2000;
-  limits.max_waypoints = 12;
-  try
-  {
-    const ValidatedRequest v = validateRequest(request, limits);
-    if (v.waypoints.size() < 2 || v.waypoints.size() > limits.max_waypoints)
-      fail("validated request with " + std::to_string(v.waypoints.size()) + " waypoints");
-    for (const Pose<double>& x : v.waypoints)
-      checkPose(x, "validated waypoints");
-    for (std::size_t i = 0; i < v.times.size(); ++i)
-    {
-      checkFinite(v.times[i], "times");
-      if (std::abs(v.times[i]) > kRosDurationMaxSeconds || (i > 0 && !(v.times[i] > v.times[i - 1])))
-        fail("validated times out of range or not increasing");
-    }
-    if (v.degree < 1 || v.continuity < 1 || v.continuity > kMaxBlendingContinuity || v.sampling.sample_count == 1)
-      fail("validated degree, continuity or sample_count out of range");
-    if (!(std::abs(v.duration) <= kRosDurationMaxSeconds))
-      fail("validated duration out of ROS's range");
-    const WorkEstimate w = estimateWork(workShape(v), expectedSamples(workShape(v), 1.0));
-    if (!std::isfinite(w.total) || !(w.total > 0.0))
-      fail("work estimate not finite and positive");
-    requireWorkWithin(w, workShape(v), limits);
-  }
-  catch (const InterpolationError&)
-  {
-    // The expected rejection of a bad request.
-  }
-  catch (const std::exception& e)
-  {
-    fail(std::string("an exception other than InterpolationError escaped: ") + e.what());
-  }
-  g_request = nullptr;
-  return 0;
+  return runRequestTarget("fuzz_validate", data, size, validate);
 }

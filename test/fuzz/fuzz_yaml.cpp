@@ -15,11 +15,20 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   const std::string text(reinterpret_cast<const char*>(data), size);
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(text);
+  }
+  catch (const YAML::Exception&)
+  {
+    return 0;  // not YAML: the CLI reports it with exit status 2
+  }
+  // One parse for both readers (parsing dominates the cost of an input).
   for (int space = 0; space < 2; ++space)
   {
     try
     {
-      const YAML::Node root = YAML::Load(text);
       if (space == 0)
         se3_interpolation::cli::requestFromYaml(root);
       else

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Writes the seed corpus of fuzz_generate (test/fuzz/corpus/): one small input per curve in
-the byte format that fuzz_generate.cpp decodes (see ByteReader and decode() there), plus a
-text seed and an empty one. Usage: python3 test/fuzz/make_corpus.py [OUT_DIR]"""
+"""Writes the seed corpus of the request targets fuzz_generate, fuzz_validate and fuzz_curves
+(test/fuzz/corpus/): one small input per curve in the byte format of fuzz_common.h's decode(),
+plus a text seed and an empty one; and the seed corpus of fuzz_c2 (test/fuzz/corpus_c2/): C^2
+solves in each space in the format of fuzz_c2.cpp.
+Usage: python3 test/fuzz/make_corpus.py [OUT_DIR [C2_OUT_DIR]]"""
 import math
 import os
 import sys
@@ -119,8 +121,87 @@ def request(waypoints, curve="", geometry="", end_condition="", parameterization
     return bytes(e.out)
 
 
+def c2_solve(space, points, start, steps, clamped=False, velocities=((0,) * 6, (0,) * 6), evaluations=(0.25, 0.75),
+             dim=3, project=True):
+    """An input of fuzz_c2.cpp: space 0 double geodesic, 1 screw, 2 the sphere S^(dim - 1);
+    SE(3) points are (position, quaternion as rotation() gives it), sphere points vectors (unit
+    after the decoder's normalisation) or "antipodal" for the previous point's negation; the
+    times start at `start` and increase by `steps`, multiples of 1/8, each optionally times
+    10^k for k in [-6, 4] (a (step, k) pair)."""
+    e = Encoder()
+    e.byte(space)
+    e.byte(len(points) - 2)
+    if space == 2:
+        e.byte(dim - 3)
+    for i, x in enumerate(points):
+        if space == 2:
+            if x == "antipodal":
+                e.byte(0)
+            else:
+                e.byte(2)  # a new point
+                for c in x:
+                    e.small(c)
+            continue
+        position, quaternion = x
+        if i > 0:
+            e.byte(1)  # a new position, not the previous one
+        for c in position:
+            e.small(c)
+            e.byte(1)  # not scaled
+        e.byte(0)  # quaternion mode 0
+        for c in quaternion:
+            e.small(c)
+    e.small(start)
+    for step in steps:
+        step, scale = step if isinstance(step, tuple) else (step, None)
+        e.byte(round(step * 8))
+        if scale is None:
+            e.byte(1)
+        else:
+            e.byte(0)
+            e.byte(scale + 6)  # ByteReader::range(-6, 4)
+    e.byte(1 if clamped else 0)
+    for v in velocities:
+        for c in v[:dim if space == 2 else 6]:
+            e.small(c)
+        if space == 2:
+            e.byte(1 if project else 0)
+    e.byte(1)  # the fuzz target's Newton budget (kFuzzIterations)
+    e.byte(len(evaluations))
+    for u in evaluations:
+        e.byte(round(u * 255))
+    return bytes(e.out)
+
+
+def c2_seeds():
+    z = (0, 0, 1)
+    x = (1, 0, 0)
+    poses = [((0, 0, 0), rotation(z, 0.0)), ((1, 0.5, 0), rotation(z, 1.0)), ((2, 1, 0.5), rotation(x, 1.5)),
+             ((3, 0, 1), rotation((1, 1, 0), 2.5)), ((4, -1, 1), rotation(z, -1.0)), ((5, 0, 0), rotation(x, 3.0))]
+    moving = (0.5, 0, 0, 0, 0, 0.25)
+    circle = [(1, 0, 0), (0, 1, 0), (-1, 0, 0.5), (0, -1, 1)]
+    return {
+        "double_geodesic_natural": c2_solve(0, poses[:3], 0, [1, 1.5]),
+        "double_geodesic_two": c2_solve(0, poses[:2], 0, [1]),
+        "double_geodesic_six": c2_solve(0, poses, 0, [0.5, 0.5, 1, 0.5, 1.5]),
+        "screw_clamped": c2_solve(1, poses[:4], 0, [1, 1, 1], clamped=True, velocities=(moving, moving)),
+        "screw_natural": c2_solve(1, poses[1:5], -1, [1, 0.25, 1.25]),
+        "uneven_times": c2_solve(0, poses[:4], 0, [1, (4, -3), (1, 3)]),
+        "sphere_natural": c2_solve(2, circle, 0, [1, 1, 1]),
+        "sphere_s3_clamped": c2_solve(2, [(1, 0, 0, 0), (0, 1, 0, 1), (0, 0, 1, 1)], 0, [1, 2], clamped=True,
+                                      velocities=((0, 0.5, 0, 0), (0.25, 0, 0, 0)), dim=4),
+        "sphere_antipodal": c2_solve(2, [(1, 0, 0), "antipodal", (0, 1, 0)], 0, [1, 1]),
+    }
+
+
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
+    here = os.path.dirname(os.path.abspath(__file__))
+    out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "corpus")
+    c2_out = sys.argv[2] if len(sys.argv) > 2 else os.path.join(here, "corpus_c2")
+    os.makedirs(c2_out, exist_ok=True)
+    for name, data in c2_seeds().items():
+        with open(os.path.join(c2_out, name), "wb") as f:
+            f.write(data)
     os.makedirs(out, exist_ok=True)
     z = (0, 0, 1)
     x = (1, 0, 0)
