@@ -15,6 +15,7 @@
 
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/timing/time_optimal.h"
 
 namespace

@@ -331,10 +331,13 @@ std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& r)
   for (std::size_t i = 0; i < n; ++i)
     times[i] = total * cumulative[i] / cumulative[n - 1];
   times.back() = total;
+  // Spaced by at least what time_from_start resolves (a denormal duration would divide by ~0).
   for (std::size_t i = 1; i < n; ++i)
-    if (!(times[i] > times[i - 1]))
+    if (!(times[i] - times[i - 1] >= kRosDurationResolution))
       throw InvalidInputError(indexedField("waypoints", i - 1) + " and " + indexedField("waypoints", i) +
-                              ": too close to be spaced apart in time; give explicit times");
+                              ": too close to be spaced apart in time (" + formatNumber(times[i] - times[i - 1]) +
+                              " s, below the 1 ns resolution of time_from_start); give a longer duration or "
+                              "explicit times");
   return times;
 }
 

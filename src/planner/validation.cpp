@@ -407,7 +407,13 @@ void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
     return;
   requireIncreasingTimes(times, num_waypoints);
   for (std::size_t i = 0; i < times.size(); ++i)
+  {
     requireRosDuration(times[i], indexedField("times", i));
+    if (i > 0 && !(times[i] - times[i - 1] >= kRosDurationResolution))
+      throw InvalidInputError(indexedField("times", i) + ": " + formatNumber(times[i]) + " is only " +
+                              formatNumber(times[i] - times[i - 1]) + " s after times[" + std::to_string(i - 1) +
+                              "], below the 1 ns resolution of time_from_start");
+  }
 }
 
 Sampling validateSampling(const std::vector<double>& sample_times, double sample_period, std::uint32_t sample_count,

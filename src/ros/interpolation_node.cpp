@@ -183,7 +183,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       }
       startFromCurrent(stamp, frame, child, &r);
     }
-    const TrajectoryResult result = generate(r, params_.limits);
+    const TrajectoryResult result = se3_interpolation::generate(r, params_.limits);
 
     std_msgs::Header header;
     header.frame_id = frame;
@@ -194,11 +194,11 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     res.path = toPathMsg(result, header);
     res.trajectory = toTrajectoryMsg(result, header, child);
     res.duration = result.duration;
-    res.length = result.length;
-    res.rotation_length = result.rotation_length;
-    res.max_linear_speed = result.max_linear_speed;
-    res.max_angular_speed = result.max_angular_speed;
-    res.energy = result.energy;
+    res.length = result.figures.length;
+    res.rotation_length = result.figures.rotation_length;
+    res.max_linear_speed = result.figures.max_linear_speed;
+    res.max_angular_speed = result.figures.max_angular_speed;
+    res.energy = result.figures.energy;
     res.success = true;
     std::ostringstream msg;
     msg << result.samples.size() << " samples over " << result.duration << " s";

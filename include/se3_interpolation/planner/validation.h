@@ -67,7 +67,8 @@ constexpr std::size_t kMaxFrameIdLength = 256;
 /// space or control characters. Throws InvalidInputError naming `field` (quoting a prefix).
 void validateFrameId(const std::string& id, const std::string& field);
 
-/// `times` empty, or one finite, strictly increasing time per waypoint.
+/// `times` empty, or one finite, strictly increasing time per waypoint, each within ROS's
+/// duration range and at least kRosDurationResolution after the previous one.
 void validateTimes(const std::vector<double>& times, std::size_t num_waypoints);
 
 /// Checks sample_times (finite, non-decreasing), sample_period (finite, ≥ 0), sample_count

@@ -8,6 +8,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/names.h"
+#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/validation.h"
 
 using namespace se3_interpolation;
@@ -245,4 +246,26 @@ TEST(Validation, MessageHelpers)
   EXPECT_EQ(formatNumber(0.1), "0.10000000000000001");
   EXPECT_EQ(quotedText(std::string("a\x01z")), "'a\\x01z'");
   EXPECT_EQ(quotedText(std::string(50, 'x')), "'" + std::string(kMaxQuotedLength, 'x') + "'... (50 characters)");
+}
+
+// Fuzz finding fuzz_curves-denormal-duration (test/fuzz/findings): a denormal duration spaced two
+// waypoints 4.9e-324 s apart and the curve divided by it (NaN). Waypoint times closer than the
+// 1 ns that time_from_start resolves are refused, explicit or spaced by the duration.
+TEST(Validation, WaypointTimesCloserThanOneNanosecondAreRefused)
+{
+  TrajectoryRequest p = poseRequest();
+  p.waypoints.pop_back();
+  p.duration = 4.9e-324;
+  const std::string e = errorOf([&] { generate(p, PlannerLimits()); });
+  EXPECT_TRUE(startsWith(e, "waypoints[0] and waypoints[1]: too close to be spaced apart in time")) << e;
+  SphereRequest s = sphereRequest();
+  s.duration = 1e-12;
+  EXPECT_TRUE(startsWith(errorOf([&] { generate(s, PlannerLimits()); }), "waypoints[0] and waypoints[1]: too close"));
+
+  p = poseRequest();
+  p.times = { 0.0, 5e-10, 1.0 };
+  EXPECT_EQ(validationError(p), "times[1]: 5.0000000000000003e-10 is only 5.0000000000000003e-10 s after times[0], "
+                                "below the 1 ns resolution of time_from_start");
+  p.times = { 0.0, 1e-9, 1.0 };
+  EXPECT_EQ(validationError(p), "");
 }
