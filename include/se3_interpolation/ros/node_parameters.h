@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -30,18 +31,19 @@ struct NodeParameters
   bool replan_from_current = true;           ///< auto-generation starts from the current motion
   double replan_lead = 0.1;                  ///< s, switch time after the request (from_current)
   PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work
-  /// Defaults for empty request fields (and the auto-generated trajectory).
-  std::string curve = "interpolating";
-  std::string geometry = "double_geodesic";
-  std::string parameterization = "chord";
-  std::string timing = "stretch";
+  /// Defaults for empty request fields (and the auto-generated trajectory): the core's
+  /// RequestDefaults until a parameter says otherwise.
+  std::string curve = toString(RequestDefaults::kCurve);
+  std::string geometry = toString(RequestDefaults::kGeometry);
+  std::string parameterization = toString(RequestDefaults::kParameterization);
+  std::string timing = toString(RequestDefaults::kTiming);
   /// The max_* bounds of requests that leave them 0 (0 = unbounded); time_optimal needs some.
   double max_linear_velocity = 0.0;
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
   double duration = 0.0;
-  int sample_count = 100;
+  int sample_count = static_cast<int>(RequestDefaults::kSampleCount);
   double blend_radius = 0.0;  ///< m, for piecewise_geodesic requests without one (0: sharp corners)
 };
 
