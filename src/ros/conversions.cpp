@@ -4,7 +4,7 @@
 
 namespace se3_interpolation
 {
-Pose<double> fromPoseMsg(const geometry_msgs::Pose& msg)
+Pose<double> fromMsg(const geometry_msgs::Pose& msg)
 {
   Eigen::Quaterniond q;
   Eigen::Vector3d p;
@@ -13,7 +13,7 @@ Pose<double> fromPoseMsg(const geometry_msgs::Pose& msg)
   return Pose<double>(q, p);
 }
 
-geometry_msgs::Pose toPoseMsg(const Pose<double>& pose)
+geometry_msgs::Pose toMsg(const Pose<double>& pose)
 {
   geometry_msgs::Pose msg;
   msg.position = tf2::toMsg(Eigen::Vector3d(pose.p));
@@ -21,7 +21,7 @@ geometry_msgs::Pose toPoseMsg(const Pose<double>& pose)
   return msg;
 }
 
-Twist fromTwistMsg(const geometry_msgs::Twist& msg)
+Twist fromMsg(const geometry_msgs::Twist& msg)
 {
   Eigen::Matrix<double, 6, 1> v;
   tf2::fromMsg(msg, v);  // (linear, angular)
@@ -31,27 +31,26 @@ Twist fromTwistMsg(const geometry_msgs::Twist& msg)
   return t;
 }
 
-geometry_msgs::Twist toTwistMsg(const Twist& twist)
+geometry_msgs::Twist toMsg(const Twist& twist)
 {
   Eigen::Matrix<double, 6, 1> v;
   v << twist.linear, twist.angular;
   return tf2::toMsg(v);
 }
 
-geometry_msgs::Transform toTransformMsg(const Pose<double>& pose)
+geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transform& out)
 {
-  geometry_msgs::Transform msg;
-  tf2::toMsg(Eigen::Vector3d(pose.p), msg.translation);
-  msg.rotation = tf2::toMsg(Eigen::Quaterniond(pose.q));
-  return msg;
+  tf2::toMsg(Eigen::Vector3d(pose.p), out.translation);
+  out.rotation = tf2::toMsg(Eigen::Quaterniond(pose.q));
+  return out;
 }
 
-TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
+TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
 {
   TrajectoryRequest r;
   r.waypoints.reserve(poses.size());
   for (const auto& p : poses)
-    r.waypoints.push_back(fromPoseMsg(p));
+    r.waypoints.push_back(fromMsg(p));
   r.times = msg.times;
   r.curve = msg.curve;
   r.geometry = msg.geometry;
@@ -60,11 +59,11 @@ TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const s
   r.continuity = msg.continuity;
   r.blend_radius = msg.blend_radius;
   r.end_condition = msg.end_condition;
-  r.start_velocity = fromTwistMsg(msg.start_velocity);
-  r.end_velocity = fromTwistMsg(msg.end_velocity);
-  r.start_acceleration = fromTwistMsg(msg.start_acceleration);
+  r.start_velocity = fromMsg(msg.start_velocity);
+  r.end_velocity = fromMsg(msg.end_velocity);
+  r.start_acceleration = fromMsg(msg.start_acceleration);
   for (const auto& v : msg.velocities)
-    r.velocities.push_back(fromTwistMsg(v));
+    r.velocities.push_back(fromMsg(v));
   r.parameterization = msg.parameterization;
   r.rotation_scale = msg.rotation_scale;
   r.duration = msg.duration;
@@ -79,34 +78,34 @@ TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const s
   return r;
 }
 
-nav_msgs::Path toPathMsg(const TrajectoryResult& result, const std_msgs::Header& header)
+nav_msgs::Path& toMsg(const TrajectoryResult& result, const std_msgs::Header& header, nav_msgs::Path& path)
 {
-  nav_msgs::Path path;
   path.header = header;
   path.poses.resize(result.samples.size());
   for (std::size_t i = 0; i < result.samples.size(); ++i)
   {
     path.poses[i].header.frame_id = header.frame_id;
     path.poses[i].header.stamp = header.stamp + ros::Duration(result.samples[i].time);
-    path.poses[i].pose = toPoseMsg(result.samples[i].pose);
+    path.poses[i].pose = toMsg(result.samples[i].pose);
   }
   return path;
 }
 
-trajectory_msgs::MultiDOFJointTrajectory toTrajectoryMsg(const TrajectoryResult& result, const std_msgs::Header& header,
-                                                         const std::string& joint_name)
+trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, const std_msgs::Header& header,
+                                                const std::string& joint_name,
+                                                trajectory_msgs::MultiDOFJointTrajectory& traj)
 {
-  trajectory_msgs::MultiDOFJointTrajectory traj;
   traj.header = header;
-  traj.joint_names.push_back(joint_name);
+  traj.joint_names.assign(1, joint_name);
   traj.points.resize(result.samples.size());
   for (std::size_t i = 0; i < result.samples.size(); ++i)
   {
     const TrajectorySample& s = result.samples[i];
     auto& point = traj.points[i];
-    point.transforms.push_back(toTransformMsg(s.pose));
-    point.velocities.push_back(toTwistMsg(s.velocity));
-    point.accelerations.push_back(toTwistMsg(s.acceleration));
+    point.transforms.resize(1);
+    toMsg(s.pose, point.transforms[0]);
+    point.velocities.assign(1, toMsg(s.velocity));
+    point.accelerations.assign(1, toMsg(s.acceleration));
     point.time_from_start = ros::Duration(s.time);
   }
   return traj;

@@ -170,7 +170,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     if (child == frame)
       throw InvalidInputError("child_frame_id: " + quotedText(child) + " is also the waypoints' frame");
 
-    TrajectoryRequest r = fromRequestMsg(req, poses);
+    TrajectoryRequest r = fromMsg(req, poses);
     applyRequestDefaults(&r);
     ros::Time stamp = req.waypoints.header.stamp;
     if (req.from_current)
@@ -191,8 +191,8 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     validateStampedSpan(header.stamp.toSec(), result.start_time, result.start_time + result.duration,
                         "waypoints.header.stamp");
 
-    res.path = toPathMsg(result, header);
-    res.trajectory = toTrajectoryMsg(result, header, child);
+    toMsg(result, header, res.path);
+    toMsg(result, header, child, res.trajectory);
     res.duration = result.duration;
     res.length = result.figures.length;
     res.rotation_length = result.figures.rotation_length;
@@ -327,7 +327,7 @@ void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTr
     geometry_msgs::TransformStamped ts;
     ts.header = header;
     ts.child_frame_id = child_frame_id + "_" + std::to_string(k);
-    ts.transform = toTransformMsg(result.point_at(t));
+    toMsg(result.point_at(t), ts.transform);
     frames.transforms.push_back(ts);
   }
   tf_static_pub_.publish(frames);
@@ -454,7 +454,7 @@ void InterpolationNode::waypointCallback(const ros::MessageEvent<const geometry_
       validateFrameId(pose.header.frame_id, "waypoint.header.frame_id");
     if (!pose.header.frame_id.empty() && pose.header.frame_id != frame)
       pose = tf_buffer_.transform(pose, frame, ros::Duration(params_.tf_timeout));
-    validatePose(fromPoseMsg(pose.pose), "waypoint.pose");
+    validatePose(fromMsg(pose.pose), "waypoint.pose");
     std::size_t n = 0;
     {
       std::lock_guard<std::mutex> lock(buffer_mutex_);
@@ -479,7 +479,7 @@ void InterpolationNode::waypointsCallback(const geometry_msgs::PoseArray::ConstP
   try
   {
     for (std::size_t i = 0; i < msg->poses.size(); ++i)
-      validatePose(fromPoseMsg(msg->poses[i]), "waypoints.poses[" + std::to_string(i) + "]");
+      validatePose(fromMsg(msg->poses[i]), "waypoints.poses[" + std::to_string(i) + "]");
     if (msg->poses.size() > params_.limits.max_waypoints)
       throw LimitExceededError("more than ~max_waypoints = " + std::to_string(params_.limits.max_waypoints) +
                                " waypoints");
@@ -546,7 +546,7 @@ void InterpolationNode::broadcastMovingFrame()
   ts.header.stamp = now;
   ts.header.frame_id = playback->frame_id;
   ts.child_frame_id = playback->child_frame_id;
-  ts.transform = toTransformMsg(playback->point_at(t));
+  toMsg(playback->point_at(t), ts.transform);
   tf_broadcaster_.sendTransform(ts);
   last_tf_stamp_ = now;
 }

@@ -13,21 +13,31 @@
 
 namespace se3_interpolation
 {
-Pose<double> fromPoseMsg(const geometry_msgs::Pose& msg);
-geometry_msgs::Pose toPoseMsg(const Pose<double>& pose);
-Twist fromTwistMsg(const geometry_msgs::Twist& msg);
-geometry_msgs::Twist toTwistMsg(const Twist& twist);
-geometry_msgs::Transform toTransformMsg(const Pose<double>& pose);
+// In the style of tf2_eigen: overloads of fromMsg / toMsg by argument type; where one core type
+// has several message forms (a pose as geometry_msgs/Pose or /Transform, a result as a path or a
+// trajectory), the message is an output argument, returned by reference.
 
-/// The core request from a service request (waypoints taken from `poses`).
-TrajectoryRequest fromRequestMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses);
+/// world_T_body from a geometry_msgs/Pose (quaternion x, y, z, w; not normalised here:
+/// validatePose does that and refuses what is not nearly unit).
+Pose<double> fromMsg(const geometry_msgs::Pose& msg);
+geometry_msgs::Pose toMsg(const Pose<double>& pose);
+/// A spatial twist (linear m/s, angular rad/s, the waypoints' frame), or its derivative.
+Twist fromMsg(const geometry_msgs::Twist& msg);
+geometry_msgs::Twist toMsg(const Twist& twist);
+/// The pose as the transform parent_T_child (tf2's convention for the same pose).
+geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transform& out);
+
+/// The core request from a service request (waypoints taken from `poses`: the request's own,
+/// transformed into the waypoints' frame, then those of waypoint_frames).
+TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses);
 
 /// nav_msgs/Path of the samples; each pose stamped header.stamp + sample time.
-nav_msgs::Path toPathMsg(const TrajectoryResult& result, const std_msgs::Header& header);
+nav_msgs::Path& toMsg(const TrajectoryResult& result, const std_msgs::Header& header, nav_msgs::Path& out);
 
 /// One-joint MultiDOFJointTrajectory (transforms, velocities, accelerations, time_from_start).
-trajectory_msgs::MultiDOFJointTrajectory toTrajectoryMsg(const TrajectoryResult& result, const std_msgs::Header& header,
-                                                         const std::string& joint_name);
+trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, const std_msgs::Header& header,
+                                                const std::string& joint_name,
+                                                trajectory_msgs::MultiDOFJointTrajectory& out);
 
 /// rviz markers: waypoints (spheres), the control polygon, the sampled path, the blend zones
 /// (a translucent sphere of radius r_i at each blended corner, ns `blend_zones`) and
