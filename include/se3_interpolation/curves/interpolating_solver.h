@@ -33,6 +33,10 @@
 //   - every linear system is banded (block tridiagonal, bandwidth 2·dof − 1) and factorised by
 //     math/banded_lu.h: O(N) work and memory per iteration.
 // Converged when every row is below tolerance · (the size of the terms that make it up).
+// The returned curve is then checked itself (verifyContinuity: its one-sided chart jets at the
+// interior waypoints, through exp and log rather than D_i, E_i, Q_i): near a conjugate point of
+// the geometry the rows' rounding is amplified by the condition of D_i, and such data end in a
+// ConvergenceError naming the waypoints instead of a "converged" curve that is not C².
 //
 // Cost. D_i and Q_i come from second-order jets of the transition map (curves/chart_cubic.h),
 // once per segment: dof + dof(dof − 1)/2 jet evaluations in general; for the double geodesic only the
