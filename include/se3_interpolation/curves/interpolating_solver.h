@@ -33,6 +33,10 @@
 //   - every linear system is banded (block tridiagonal, bandwidth 2·dof − 1) and factorised by
 //     math/banded_lu.h: O(N) work and memory per iteration.
 // Converged when every row is below tolerance · (the size of the terms that make it up).
+// The returned curve is then checked itself (verifyContinuity: its one-sided chart jets at the
+// interior waypoints, through exp and log rather than D_i, E_i, Q_i): near a conjugate point of
+// the geometry the rows' rounding is amplified by the condition of D_i, and such data end in a
+// ConvergenceError naming the waypoints instead of a "converged" curve that is not C².
 //
 // Cost. D_i and Q_i come from second-order jets of the transition map (curves/chart_cubic.h),
 // once per segment: dof + dof(dof − 1)/2 jet evaluations in general; for the double geodesic only the
@@ -126,6 +130,11 @@ constexpr double kArmijo = 1e-4;
 constexpr double kShortestLineStep = 1.0 / 1024.0;
 /// Polishing steps below tolerance at λ = 1 (file comment).
 constexpr int kPolishSteps = 2;
+/// The relative continuity that verifyContinuity asks of the solved curve: a thousand times the
+/// default row tolerance (SplineSolverOptions::tolerance), for the rounding of evaluating the
+/// curve through exp and log; a solution of the rows whose D_i, Q_i describe the curve meets it
+/// with margin (rounding level, about 1e-15, in the unit tests' configurations).
+constexpr double kContinuityTolerance = 1e-9;
 
 /// c q for a constant unit quaternion c and a quaternion of jets q (Hamilton product, double ×
 /// jet products only).
@@ -329,12 +338,67 @@ public:
       start.push_back(fromFrame(i, block(z, i)));
       end.push_back(fromFrame(i, w));
     }
-    return std::make_shared<const ChartCubicSpline<G>>(x_, t_, logs_, std::move(start), std::move(end));
+    const auto spline = std::make_shared<const ChartCubicSpline<G>>(x_, t_, logs_, std::move(start), std::move(end));
+    verifyContinuity(*spline);
+    return spline;
   }
 
   Eigen::Index dof() const { return dof_; }
 
 private:
+  /// The curve's chart velocity and acceleration in T_{x_i} (log_{x_i} of its second-order jet)
+  /// at t_i from `side`, stacked.
+  Eigen::VectorXd chartState(const ChartCubicSpline<G>& curve, std::size_t i, Side side) const
+  {
+    using J2 = Jet<2>;
+    const typename G::template Tangent<J2> y =
+        G::log(G::template cast<J2>(x_[i]), curve.jet(J2::variable(t_[i]), side));
+    const Eigen::Index m = static_cast<Eigen::Index>(y.size());
+    Eigen::VectorXd s(2 * m);
+    for (Eigen::Index k = 0; k < m; ++k)
+    {
+      s[k] = y[k].coefficient(1);
+      s[m + k] = 2.0 * y[k].coefficient(2);
+    }
+    return s;
+  }
+
+  /// The C^2 conditions checked on the curve itself: at every interior waypoint its one-sided
+  /// chart velocities and accelerations (chartState, evaluated through the geometry's exp and
+  /// log, not through D_i, E_i, Q_i) must agree to kContinuityTolerance of the size of the terms
+  /// they are made of (|L|/h and 6 |L|/h^2 of both segments, and the two sides themselves).
+  /// The solve meets its rows with the transition derivatives D_i, Q_i; near a conjugate point
+  /// of the geometry (a step within ~1e-6 of pi on S^m, where D_i is singular) their rounding is
+  /// amplified by the condition of D_i and the converged rows no longer describe the curve
+  /// (the fuzz_c2 finding: an acceleration jump of 4.5e4 on terms of 3e12, 1.5e-8 of them,
+  /// with rows converged to 1e-12). Such data are refused rather than returned as a C^2 curve.
+  void verifyContinuity(const ChartCubicSpline<G>& curve) const
+  {
+    const Eigen::Index m = static_cast<Eigen::Index>(logs_[0].size());
+    for (std::size_t i = 1; i + 1 < n_; ++i)
+    {
+      const Eigen::VectorXd left = chartState(curve, i, Side::kLeft);
+      const Eigen::VectorXd right = chartState(curve, i, Side::kRight);
+      const double h0 = segments_[i - 1].h, h1 = segments_[i].h;
+      const double l0 = logs_[i - 1].norm(), l1 = logs_[i].norm();
+      const double velocity_size = l0 / h0 + l1 / h1 + left.head(m).norm() + right.head(m).norm();
+      const double acceleration_size =
+          6.0 * l0 / (h0 * h0) + 6.0 * l1 / (h1 * h1) + left.tail(m).norm() + right.tail(m).norm();
+      const double velocity_jump = (left.head(m) - right.head(m)).norm();
+      const double acceleration_jump = (left.tail(m) - right.tail(m)).norm();
+      if (!(velocity_jump <= kContinuityTolerance * velocity_size) ||
+          !(acceleration_jump <= kContinuityTolerance * acceleration_size))
+        throw ConvergenceError(
+            prefix() + "the solved spline is not C^2 at " + indexedField("waypoints", i) +
+            " to the accuracy of double precision (relative velocity jump " +
+            scientific(velocity_jump / velocity_size) + ", acceleration jump " +
+            scientific(acceleration_jump / acceleration_size) + "): the steps from " +
+            indexedField("waypoints", i - 1) + " to " + indexedField("waypoints", i + 1) +
+            " are too close to a conjugate point of the geometry (nearly antipodal points) for their "
+            "time steps; add waypoints between them or use curve 'hermite'");
+    }
+  }
+
   enum class Outcome
   {
     kConverged,

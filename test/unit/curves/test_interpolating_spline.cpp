@@ -14,6 +14,7 @@
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
 #include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/analysis/sphere_kinematics.h"
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/geometry/se3_velocity.h"
 #include "test_utils.h"
@@ -1096,4 +1097,94 @@ TEST(Planner, RequestErrorsNameTheField)
   r.end_condition = "clamped";
   r.start_velocity.linear.x() = std::numeric_limits<double>::infinity();
   EXPECT_NE(message(r).find("start_velocity.linear.x"), std::string::npos) << message(r);
+}
+
+namespace
+{
+/// The data of test/fuzz/findings/fuzz_c2-sphere-acceleration-jump (decoded by hand from
+/// fuzz_c2.cpp's reader): a natural spline on S^2 through x0, x1 = x0 turned by pi - gap
+/// (nearly antipodal) after `h`, and a third point 0.625 later.
+struct NearAntipodalData
+{
+  std::vector<Eigen::VectorXd> x;
+  std::vector<double> t;
+};
+
+NearAntipodalData nearAntipodal(double gap, double h)
+{
+  NearAntipodalData d;
+  Eigen::VectorXd x0(3), x2(3), u(3);
+  x0 << 1.0, 0.0, -3.125;
+  x0.normalize();
+  u << 0.0, 1.0, 0.0;  // already orthogonal to x0
+  x2 << -4.8125, -2.0625, -1.4375;
+  x2.normalize();
+  const double a = M_PI - gap;
+  d.x = { x0, Eigen::VectorXd(std::cos(a) * x0 + std::sin(a) * u), x2 };
+  d.t = { -1.125, -1.125 + h, -1.125 + h + 0.625 };
+  return d;
+}
+
+/// Velocity and covariant acceleration at t from one side, by one-sided second-order finite
+/// differences of the curve's values (independent of its jets): the covariant acceleration is
+/// the tangential part of the ambient one.
+Eigen::VectorXd finiteDifferenceState(const Curve<Sphere>& c, double t, double step, double sign)
+{
+  const Eigen::VectorXd p0 = c.value(t), p1 = c.value(t + sign * step), p2 = c.value(t + 2.0 * sign * step),
+                        p3 = c.value(t + 3.0 * sign * step);
+  const Eigen::VectorXd v = sign * (-3.0 * p0 + 4.0 * p1 - p2) / (2.0 * step);
+  const Eigen::VectorXd a = (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) / (step * step);
+  Eigen::VectorXd s(6);
+  s << v, a - p0.dot(a) * p0;
+  return s;
+}
+}  // namespace
+
+// Found by fuzz_c2: x0 -> x1 is pi - 1e-12 rad in 2.5e-6 s, so near the conjugate point of the
+// sphere that its transition map D_0 has condition ~3e12. Newton's rows converged, yet the curve's
+// acceleration at waypoints[1] was 45351 from the left and -4.5 from the right. The solve now
+// checks the curve itself and refuses such data with a ConvergenceError naming the waypoint.
+TEST(OtherGeometries, NearAntipodalShortStepIsRefusedNotReturnedAsC2)
+{
+  const NearAntipodalData d = nearAntipodal(1e-12, 2.5e-6);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(3);
+  try
+  {
+    solveC2Spline<Sphere>(d.x, d.t, EndCondition::kNatural, zero, zero);
+    FAIL() << "a spline that is not C^2 at waypoints[1] was returned";
+  }
+  catch (const ConvergenceError& e)
+  {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("not C^2 at waypoints[1]"), std::string::npos) << what;
+    EXPECT_NE(what.find("waypoints[0] to waypoints[2]"), std::string::npos) << what;
+  }
+}
+
+// The same shape farther from the antipode, or with a longer step, is still solved, and is C^2
+// at waypoints[1] by one-sided finite differences of its values.
+TEST(OtherGeometries, NearAntipodalWellConditionedStepsStaySolvedAndC2)
+{
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(3);
+  for (const auto& gap_h : { std::make_pair(1e-4, 1e-3), std::make_pair(1e-6, 0.1), std::make_pair(1e-4, 1.0) })
+  {
+    const NearAntipodalData d = nearAntipodal(gap_h.first, gap_h.second);
+    const auto c = solveC2Spline<Sphere>(d.x, d.t, EndCondition::kNatural, zero, zero);
+    // Step: h/1000 keeps the O(step^2) truncation of both formulas near 1e-5 of the scales
+    // pi/h and 6 pi/h^2 (the derivatives above the second scale with 1/h^3, 1/h^4), and the
+    // rounding (eps/step, eps/step^2 relative) far below it.
+    const double step = gap_h.second / 1000.0;
+    const Eigen::VectorXd left = finiteDifferenceState(*c, d.t[1], step, -1.0);
+    const Eigen::VectorXd right = finiteDifferenceState(*c, d.t[1], step, 1.0);
+    const double h = gap_h.second;
+    const double velocity_scale = M_PI / h, acceleration_scale = 6.0 * M_PI / (h * h);
+    EXPECT_LT((left.head(3) - right.head(3)).norm(), 1e-3 * velocity_scale) << gap_h.first << " " << h;
+    EXPECT_LT((left.tail(3) - right.tail(3)).norm(), 2e-2 * acceleration_scale) << gap_h.first << " " << h;
+    // the one-sided jets agree much closer than the differences can tell
+    const SphereKinematics l = sphereKinematicsAt(*c, d.t[1], Side::kLeft);
+    const SphereKinematics r = sphereKinematicsAt(*c, d.t[1], Side::kRight);
+    EXPECT_LT((l.velocity - r.velocity).norm(), 1e-9 * velocity_scale);
+    EXPECT_LT((l.acceleration - r.acceleration).norm(), 1e-9 * acceleration_scale);
+    EXPECT_LT((l.acceleration - left.tail(3)).norm(), 2e-2 * acceleration_scale);
+  }
 }
