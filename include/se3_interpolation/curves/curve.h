@@ -16,6 +16,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/geometry/tangent_space.h"
 #include "se3_interpolation/math/jet.h"
 
 namespace se3_interpolation
@@ -151,5 +152,12 @@ private:
   double t0_;
   double scale_;
 };
+
+/// (T1), (T2) of a curve at time t (one-sided at a breakpoint).
+template <class G>
+TangentMotion<G> tangentMotion(const Curve<G>& curve, double t, Side side = Side::kRight)
+{
+  return tangentMotion<G>(curve.jet(Jet<2>::variable(t), side));
+}
 
 }  // namespace se3_interpolation
