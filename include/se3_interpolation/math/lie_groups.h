@@ -1,3 +1,7 @@
+// math/: numbers and closed forms, no geometry policy: jet.h (truncated Taylor arithmetic, exact
+// derivatives), lie_groups.h (this header: Pose, SO(3)/SE(3) Exp/Log and slerp with their jets),
+// banded_lu.h (the banded LU of the C² systems), quadrature.h (Gauss–Legendre, golden section).
+//
 // Closed-form exponential and logarithm maps of SO(3) (unit quaternions) and SE(3).
 //
 // Conventions (as Sophus):

@@ -1,3 +1,5 @@
+// timing/: time parameterisation beyond the uniform stretch: time_optimal.h (this header).
+//
 // Time-optimal timing along a fixed path under velocity and acceleration norm bounds.
 //
 // The path is a curve C(s) on [s_0, s_1], its own time axis s (the waypoint times) serving
