@@ -45,27 +45,6 @@ geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transfo
   return out;
 }
 
-ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outputs)
-{
-  if (outputs.empty())
-    return ResponseOutputs();
-  ResponseOutputs chosen;
-  chosen.path = false;
-  chosen.trajectory = false;
-  for (std::size_t i = 0; i < outputs.size(); ++i)
-  {
-    const std::string field = indexedField("outputs", i);
-    if (outputs[i].empty())
-      throw InvalidInputError(field + ": empty name (expected one of: " + knownNames<ResponseOutput>() + ")");
-    bool& slot = parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path
-                                                                                             : chosen.trajectory;
-    if (slot)
-      throw InvalidInputError(field + ": " + quotedText(outputs[i]) + " is named twice");
-    slot = true;
-  }
-  return chosen;
-}
-
 TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
 {
   TrajectoryRequest r;

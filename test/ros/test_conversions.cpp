@@ -124,39 +124,3 @@ TEST(Conversions, SamplesAreStampedAndTimedFromTheHeader)
   EXPECT_EQ(traj.points.size(), 3u);
   EXPECT_EQ(traj.points[0].transforms.size(), 1u);
 }
-
-TEST(Conversions, ResponseOutputsFromTheRequest)
-{
-  // Empty: both arrays (the behaviour before the field existed).
-  const ResponseOutputs all = parseResponseOutputs({});
-  EXPECT_TRUE(all.path);
-  EXPECT_TRUE(all.trajectory);
-  const ResponseOutputs trajectory = parseResponseOutputs({ "trajectory" });
-  EXPECT_FALSE(trajectory.path);
-  EXPECT_TRUE(trajectory.trajectory);
-  const ResponseOutputs path = parseResponseOutputs({ "path" });
-  EXPECT_TRUE(path.path);
-  EXPECT_FALSE(path.trajectory);
-  const ResponseOutputs both = parseResponseOutputs({ "trajectory", "path" });
-  EXPECT_TRUE(both.path);
-  EXPECT_TRUE(both.trajectory);
-
-  const std::pair<std::vector<std::string>, std::string> bad[] = {
-    { { "path", "markers" }, "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
-    { { "Path" }, "outputs[0]: unknown value 'Path'" },
-    { { "trajectory", "trajectory" }, "outputs[1]: 'trajectory' is named twice" },
-    { { "path", "" }, "outputs[1]: empty name (expected one of: path, trajectory)" },
-  };
-  for (const auto& b : bad)
-  {
-    try
-    {
-      parseResponseOutputs(b.first);
-      ADD_FAILURE() << "accepted: " << b.second;
-    }
-    catch (const InvalidInputError& e)
-    {
-      EXPECT_NE(std::string(e.what()).find(b.second), std::string::npos) << e.what();
-    }
-  }
-}

@@ -1,5 +1,5 @@
 // The names of the request's string fields (curve, geometry, end_condition, parameterization,
-// timing): one table per enum, read by the planner, the node's parameters and the CLI, so that
+// timing, the entries of outputs): one table per enum, read by the planner, the node's parameters and the CLI, so that
 // a name is spelled in one place. parseName gives the default for "" and refuses an unknown
 // name with an InvalidInputError naming the field and listing the known names.
 #pragma once
@@ -7,6 +7,7 @@
 #include <array>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/request.h"
@@ -68,6 +69,15 @@ struct NameTable<Timing>
   } };
 };
 
+template <>
+struct NameTable<ResponseOutput>
+{
+  static constexpr std::array<std::pair<const char*, ResponseOutput>, 2> kNames = { {
+      { "path", ResponseOutput::kPath },
+      { "trajectory", ResponseOutput::kTrajectory },
+  } };
+};
+
 /// The name of `value` in its table.
 template <class E>
 const char* toString(E value)
@@ -99,6 +109,29 @@ E parseName(const std::string& name, const std::string& field, E default_value)
     if (name == n.first)
       return n.second;
   throw InvalidInputError(field + ": unknown value " + quotedText(name) + " (expected one of: " + knownNames<E>() + ")");
+}
+
+/// The arrays named in a request's `outputs` (empty: all of them, the behaviour before the field
+/// existed). An empty, unknown or repeated name throws InvalidInputError naming outputs[i].
+inline ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outputs)
+{
+  if (outputs.empty())
+    return ResponseOutputs();
+  ResponseOutputs chosen;
+  chosen.path = false;
+  chosen.trajectory = false;
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+  {
+    const std::string field = indexedField("outputs", i);
+    if (outputs[i].empty())
+      throw InvalidInputError(field + ": empty name (expected one of: " + knownNames<ResponseOutput>() + ")");
+    bool& slot = parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path
+                                                                                             : chosen.trajectory;
+    if (slot)
+      throw InvalidInputError(field + ": " + quotedText(outputs[i]) + " is named twice");
+    slot = true;
+  }
+  return chosen;
 }
 
 }  // namespace se3_interpolation

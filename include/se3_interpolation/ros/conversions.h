@@ -9,7 +9,6 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "se3_interpolation/GenerateTrajectory.h"
-#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -31,33 +30,6 @@ geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transfo
 /// The core request from a service request (waypoints taken from `poses`: the request's own,
 /// transformed into the waypoints' frame, then those of waypoint_frames).
 TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses);
-
-/// The sample arrays a GenerateTrajectory response can carry (its request's `outputs`).
-enum class ResponseOutput
-{
-  kPath,       ///< "path": nav_msgs/Path of the sampled poses
-  kTrajectory  ///< "trajectory": MultiDOFJointTrajectory of poses, velocities and accelerations
-};
-
-template <>
-struct NameTable<ResponseOutput>
-{
-  static constexpr std::array<std::pair<const char*, ResponseOutput>, 2> kNames = { {
-      { "path", ResponseOutput::kPath },
-      { "trajectory", ResponseOutput::kTrajectory },
-  } };
-};
-
-/// Which of the response's sample arrays to fill.
-struct ResponseOutputs
-{
-  bool path = true;
-  bool trajectory = true;
-};
-
-/// The arrays named in a request's `outputs` (empty: all of them, the behaviour before the field
-/// existed). An empty, unknown or repeated name throws InvalidInputError naming outputs[i].
-ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outputs);
 
 /// nav_msgs/Path of the samples; each pose stamped header.stamp + sample time.
 nav_msgs::Path& toMsg(const TrajectoryResult& result, const std_msgs::Header& header, nav_msgs::Path& out);
