@@ -4,9 +4,10 @@
 # with its timing logger (ros.se3_interpolation.timing) at debug level, then calls the service
 # from the roscpp client (bench/service_latency.cpp) and the rospy client
 # (scripts/service_latency.py) with the same request: N waypoints, `interpolating`,
-# double_geodesic, M samples; first with both outputs (the default), then with `outputs:
-# [trajectory]`. Prints the clients' round trips and the node's time inside the callback
-# (planner; filling the response messages). Stops what it started.
+# double_geodesic, M samples; with both outputs (the default), then `outputs: [trajectory]`, then
+# `[path]`. Prints the clients' round trips and the node's time inside the callback (planner;
+# filling the response messages). Stops what it started. SE3_KEEP=1 keeps its logs (roscore,
+# node) in the temporary folder it names.
 #
 # Usage: scripts/service_latency.sh [WAYPOINTS [SAMPLES [REPETITIONS]]]   (default 1000 100000 3)
 # Needs the catkin build ($SE3_WS; targets se3_interpolation_node and service_latency).
@@ -33,6 +34,7 @@ done
 export ROS_MASTER_URI=http://localhost:$port
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/se3_service_latency.XXXXXX")
+[ -z "${SE3_KEEP:-}" ] || echo "logs in $work"
 pids=()
 cleanup() {
   for pid in "${pids[@]}"; do
