@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "bench_fixtures.h"
+#include "bench_peers.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace
@@ -364,6 +365,51 @@ void registerPeers()
   });
 }
 
+/// The optional peers of bench_peers.h (Sophus, manif, basalt) that are compiled in.
+void registerOptionalPeers()
+{
+#if defined(SE3_BENCH_SOPHUS) || defined(SE3_BENCH_MANIF)
+  const auto& in = stepInputs();
+  const auto& rel = relativePoses();
+  auto twist = std::make_shared<std::vector<se3_bench::Twist6>>();
+  for (const auto& xi : in.twist)
+    twist->push_back(se3_bench::swapTwist(xi));
+#endif
+#ifdef SE3_BENCH_SOPHUS
+  auto sa = std::make_shared<std::vector<Sophus::SE3d>>(se3_bench::toSophus(in.a));
+  auto sb = std::make_shared<std::vector<Sophus::SE3d>>(se3_bench::toSophus(in.b));
+  auto srel = std::make_shared<std::vector<Sophus::SE3d>>(se3_bench::toSophus(rel));
+  registerOp("sophus/se3_exp", [twist](std::size_t i) { return Sophus::SE3d::exp((*twist)[i]); });
+  registerOp("sophus/se3_log", [srel](std::size_t i) { return (*srel)[i].log(); });
+  registerOp("sophus/screw_step",
+             [sa, sb, &in](std::size_t i) { return se3_bench::sophusScrewStep((*sa)[i], (*sb)[i], in.lambda[i]); });
+#endif
+#ifdef SE3_BENCH_MANIF
+  auto ma = std::make_shared<std::vector<manif::SE3d>>(se3_bench::toManif(in.a));
+  auto mb = std::make_shared<std::vector<manif::SE3d>>(se3_bench::toManif(in.b));
+  auto mrel = std::make_shared<std::vector<manif::SE3d>>(se3_bench::toManif(rel));
+  registerOp("manif/se3_exp", [twist](std::size_t i) { return manif::SE3Tangentd((*twist)[i]).exp(); });
+  registerOp("manif/se3_log", [mrel](std::size_t i) { return (*mrel)[i].log(); });
+  registerOp("manif/screw_step",
+             [ma, mb, &in](std::size_t i) { return se3_bench::manifScrewStep((*ma)[i], (*mb)[i], in.lambda[i]); });
+#endif
+#ifdef SE3_BENCH_BASALT
+  auto splines = std::make_shared<std::vector<se3_bench::BasaltSpline>>();
+  for (const auto& p : se3_bench::makePolygons(se3_bench::kCurveCount, se3_bench::kBsplinePoints, 3))
+    splines->emplace_back(p);
+  const auto& t = parameters();
+  registerOp("basalt/bspline_point", [splines, &t](std::size_t i) {
+    const auto& b = (*splines)[i & 15];
+    const std::int64_t t_ns = b.timeNs(t[i]);
+    return std::make_pair(b.so3.evaluate(t_ns), b.pos.evaluate(t_ns));
+  });
+  registerOp("basalt/bspline_point_jet", [splines, &t](std::size_t i) {
+    const auto& b = (*splines)[i & 15];
+    return se3_bench::basaltKinematics(b, b.timeNs(t[i]));
+  });
+#endif
+}
+
 // --- Reporting ---------------------------------------------------------------------------------
 
 /// The console output, plus the CPU time per iteration (ns) of every repetition kept by name
@@ -457,6 +503,21 @@ void printRatios(const CollectingReporter& rep)
                      "Eigen 3 evaluations (FD)", 0.0 });
   }
 
+  // The optional peers (rows without a measured peer are left out below).
+  rows.push_back({ "se3 exp", "se3/exp", "sophus/se3_exp", "Sophus SE3::exp", 0.0 });
+  rows.push_back({ "se3 exp", "se3/exp", "manif/se3_exp", "manif SE3Tangent::exp", 0.0 });
+  rows.push_back({ "se3 log", "se3/log", "sophus/se3_log", "Sophus SE3::log", 0.0 });
+  rows.push_back({ "se3 log", "se3/log", "manif/se3_log", "manif SE3::log", 0.0 });
+  rows.push_back({ "screw step (two poses)", "screw/step", "sophus/screw_step", "Sophus a*exp(l*log)", 0.0 });
+  rows.push_back({ "screw step (two poses)", "screw/step", "manif/screw_step", "manif a.rplus(l*rminus)", 0.0 });
+  for (const std::string g : { "double_geodesic", "screw" })
+  {
+    rows.push_back({ g + " cubic B-spline point", g + "/bspline_point", "basalt/bspline_point",
+                     "basalt cumulative SO3xR3", 0.0 });
+    rows.push_back({ g + " cubic B-spline point + vel + acc", g + "/bspline_point_jet", "basalt/bspline_point_jet",
+                     "basalt cumulative SO3xR3", 1.0 });
+  }
+
   std::printf("\nRatios ours / peer (median CPU time per operation over %zu repetition(s); < 1: ours faster)\n",
               rep.repetitions());
   std::printf("%-50s %9s  %-28s %9s %7s  %s\n", "operation", "ours ns", "peer", "peer ns", "ratio", "target");
@@ -503,12 +564,13 @@ int main(int argc, char** argv)
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
-  if (!checkPeers())
+  if (!checkPeers() || !se3_bench::checkPeersAgree())
     return 1;
   registerLieGroups();
   registerGeometry<si::DoubleGeodesicSe3>("double_geodesic");
   registerGeometry<si::ScrewSe3>("screw");
   registerPeers();
+  registerOptionalPeers();
   // Colour only on a terminal (--benchmark_color is honoured by the default reporter only).
   CollectingReporter reporter(isatty(fileno(stdout)) ? benchmark::ConsoleReporter::OO_ColorTabular
                                                      : benchmark::ConsoleReporter::OO_Tabular);

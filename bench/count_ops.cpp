@@ -5,7 +5,8 @@
 //        count_ops --list          (the operation names, one a line)
 //
 // The inputs are the deterministic tables of bench_fixtures.h, cycled with the loop index;
-// everything an operation needs is built before the loop, identically for every N.
+// everything an operation needs is built before the loop, identically for every N. The optional
+// peers of bench_peers.h (Sophus, manif, basalt) are listed when compiled in.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "bench_fixtures.h"
+#include "bench_peers.h"
 
 namespace
 {
@@ -61,6 +63,34 @@ double checksum(const si::Kinematics& k)
   return checksum(k.pose) + k.velocity.angular.x() + k.velocity.linear.y() + k.acceleration.angular.z() +
          k.acceleration.linear.x();
 }
+
+#ifdef SE3_BENCH_SOPHUS
+double checksum(const Sophus::SE3d& x)
+{
+  return x.unit_quaternion().w() + x.unit_quaternion().x() + x.translation().x() + x.translation().z();
+}
+#endif
+#ifdef SE3_BENCH_MANIF
+double checksum(const manif::SE3d& x)
+{
+  return x.quat().w() + x.quat().x() + x.translation().x() + x.translation().z();
+}
+double checksum(const manif::SE3Tangentd& v)
+{
+  return v.coeffs().sum();
+}
+#endif
+#ifdef SE3_BENCH_BASALT
+double checksum(const std::pair<Sophus::SO3d, Eigen::Vector3d>& x)
+{
+  return x.first.unit_quaternion().w() + x.first.unit_quaternion().z() + x.second.x();
+}
+double checksum(const se3_bench::BasaltKinematics& k)
+{
+  return k.rotation.unit_quaternion().w() + k.position.y() + k.angular_velocity.x() + k.angular_acceleration.z() +
+         k.linear_velocity.y() + k.linear_acceleration.x();
+}
+#endif
 
 KDL::Frame toKdl(const Pose3& x)
 {
@@ -226,6 +256,93 @@ std::vector<std::pair<std::string, Runner>> eigenCurveOperations()
   return { { "eigen_bezier_point", bezier }, { "eigen_bspline_point", bspline } };
 }
 
+/// The optional peers (bench_peers.h), each checked against the project before its loop (the
+/// check is the same for N = 0 and N = 2000, so it cancels from the count).
+std::vector<std::pair<std::string, Runner>> peerOperations()
+{
+  std::vector<std::pair<std::string, Runner>> ops;
+  [[maybe_unused]] auto checked = [] {
+    static const bool agree = se3_bench::checkPeersAgree();
+    if (!agree)
+      std::exit(1);
+  };
+#if defined(SE3_BENCH_SOPHUS) || defined(SE3_BENCH_MANIF)
+  static const se3_bench::StepInputs in = se3_bench::makeStepInputs();
+  static const std::vector<Pose3> rel = [] {
+    std::vector<Pose3> r;
+    for (std::size_t i = 0; i < se3_bench::kTableSize; ++i)
+      r.push_back(in.a[i].inverse() * in.b[i]);
+    return r;
+  }();
+  static const std::vector<se3_bench::Twist6> twist = [] {
+    std::vector<se3_bench::Twist6> t;
+    for (const auto& xi : in.twist)
+      t.push_back(se3_bench::swapTwist(xi));
+    return t;
+  }();
+#endif
+#ifdef SE3_BENCH_SOPHUS
+  static const std::vector<Sophus::SE3d> sa = se3_bench::toSophus(in.a), sb = se3_bench::toSophus(in.b),
+                                         srel = se3_bench::toSophus(rel);
+  ops.push_back({ "sophus_se3_exp", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return Sophus::SE3d::exp(twist[i]); });
+                 } });
+  ops.push_back({ "sophus_se3_log", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return srel[i].log(); });
+                 } });
+  ops.push_back({ "sophus_screw_step", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return se3_bench::sophusScrewStep(sa[i], sb[i], in.lambda[i]); });
+                 } });
+#endif
+#ifdef SE3_BENCH_MANIF
+  static const std::vector<manif::SE3d> ma = se3_bench::toManif(in.a), mb = se3_bench::toManif(in.b),
+                                        mrel = se3_bench::toManif(rel);
+  ops.push_back({ "manif_se3_exp", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return manif::SE3Tangentd(twist[i]).exp(); });
+                 } });
+  ops.push_back({ "manif_se3_log", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return mrel[i].log(); });
+                 } });
+  ops.push_back({ "manif_screw_step", [checked](std::size_t n) {
+                   checked();
+                   return repeat(n, [](std::size_t i) { return se3_bench::manifScrewStep(ma[i], mb[i], in.lambda[i]); });
+                 } });
+#endif
+#ifdef SE3_BENCH_BASALT
+  // The control polygons and parameters of the project's B-spline rows.
+  auto splines = [] {
+    std::vector<se3_bench::BasaltSpline> s;
+    for (const auto& p : se3_bench::makePolygons(se3_bench::kCurveCount, se3_bench::kBsplinePoints, 3))
+      s.emplace_back(p);
+    return s;
+  };
+  static const std::vector<double> t = se3_bench::makeParameters(5);
+  ops.push_back({ "basalt_bspline_point", [checked, splines](std::size_t n) {
+                   checked();
+                   const auto s = splines();
+                   return repeat(n, [&s](std::size_t i) {
+                     const auto& b = s[i & 15];
+                     const std::int64_t t_ns = b.timeNs(t[i]);
+                     return std::make_pair(b.so3.evaluate(t_ns), b.pos.evaluate(t_ns));
+                   });
+                 } });
+  ops.push_back({ "basalt_bspline_point_jet", [checked, splines](std::size_t n) {
+                   checked();
+                   const auto s = splines();
+                   return repeat(n, [&s](std::size_t i) {
+                     const auto& b = s[i & 15];
+                     return se3_bench::basaltKinematics(b, b.timeNs(t[i]));
+                   });
+                 } });
+#endif
+  return ops;
+}
+
 std::vector<std::pair<std::string, Runner>> operations()
 {
   std::vector<std::pair<std::string, Runner>> ops = stepOperations();
@@ -234,6 +351,8 @@ std::vector<std::pair<std::string, Runner>> operations()
   for (auto& op : curveOperations<si::DoubleGeodesicSe3>("double_geodesic"))
     ops.push_back(std::move(op));
   for (auto& op : eigenCurveOperations())
+    ops.push_back(std::move(op));
+  for (auto& op : peerOperations())
     ops.push_back(std::move(op));
   return ops;
 }

@@ -54,3 +54,36 @@ se3_build() {
   source "$SE3_WS/devel/setup.bash"
   set -u
 }
+
+# Compiler flags of the benchmarks' optional peers (bench/bench_peers.h), from local copies given by
+# path (never fetched, never committed): SE3_BENCH_SOPHUS_DIR (a Sophus checkout: its root holds
+# sophus/se3.hpp), SE3_BENCH_MANIF_DIR (manif's root: include/manif/SE3.h, external/tl/),
+# SE3_BENCH_BASALT_DIR (basalt-headers' root: include/basalt/spline/; needs Sophus as well).
+# Unset: that peer is left out. Sets the array se3_bench_peer_flags and the list se3_bench_peers
+# ("sophus manif basalt", those given); a given directory without the expected header is an error.
+se3_bench_peer_setup() {
+  se3_bench_peer_flags=()
+  se3_bench_peers=""
+  if [ -n "${SE3_BENCH_SOPHUS_DIR:-}" ]; then
+    [ -f "$SE3_BENCH_SOPHUS_DIR/sophus/se3.hpp" ] ||
+      { echo "SE3_BENCH_SOPHUS_DIR=$SE3_BENCH_SOPHUS_DIR has no sophus/se3.hpp" >&2; return 2; }
+    se3_bench_peer_flags+=(-DSE3_BENCH_SOPHUS -isystem "$SE3_BENCH_SOPHUS_DIR")
+    se3_bench_peers+=" sophus"
+  fi
+  if [ -n "${SE3_BENCH_MANIF_DIR:-}" ]; then
+    [ -f "$SE3_BENCH_MANIF_DIR/include/manif/SE3.h" ] ||
+      { echo "SE3_BENCH_MANIF_DIR=$SE3_BENCH_MANIF_DIR has no include/manif/SE3.h" >&2; return 2; }
+    se3_bench_peer_flags+=(-DSE3_BENCH_MANIF -isystem "$SE3_BENCH_MANIF_DIR/include" -isystem
+                           "$SE3_BENCH_MANIF_DIR/external/tl")
+    se3_bench_peers+=" manif"
+  fi
+  if [ -n "${SE3_BENCH_BASALT_DIR:-}" ]; then
+    [ -f "$SE3_BENCH_BASALT_DIR/include/basalt/spline/so3_spline.h" ] ||
+      { echo "SE3_BENCH_BASALT_DIR=$SE3_BENCH_BASALT_DIR has no include/basalt/spline/so3_spline.h" >&2; return 2; }
+    [ -n "${SE3_BENCH_SOPHUS_DIR:-}" ] ||
+      { echo "SE3_BENCH_BASALT_DIR needs SE3_BENCH_SOPHUS_DIR (basalt-headers includes Sophus)" >&2; return 2; }
+    se3_bench_peer_flags+=(-DSE3_BENCH_BASALT -isystem "$SE3_BENCH_BASALT_DIR/include")
+    se3_bench_peers+=" basalt"
+  fi
+  se3_bench_peers=${se3_bench_peers# }
+}

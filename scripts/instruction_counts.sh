@@ -6,10 +6,14 @@
 # Usage: scripts/instruction_counts.sh            print the table
 #        scripts/instruction_counts.sh --check    compare with bench/instruction_counts.txt;
 #                                                 exit 1 if any count grew by more than 10 %
-#        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt
+#        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt (the rows of
+#                                                 peers not given are kept as committed)
 # The driver is built with g++ -O2 -DNDEBUG (default x86-64 flags, no catkin) into
 # $SE3_WS/bench; counts depend on the compiler, whose version the results file records.
-# A run takes about 2 minutes on an idle core (42 callgrind runs), so run_tests.sh does not call it.
+# A run takes about 2 minutes on an idle core (48 callgrind runs), so run_tests.sh does not call it.
+# Optional peers (bench/bench_peers.h: Sophus, manif, basalt), counted when a local copy is given:
+# SE3_BENCH_SOPHUS_DIR, SE3_BENCH_MANIF_DIR, SE3_BENCH_BASALT_DIR (see se3_bench_peer_setup in
+# scripts/common.sh). Without them their committed rows are reported as skipped, not as failures.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -33,14 +37,19 @@ CXXFLAGS="-std=c++17 -O2 -DNDEBUG"
 mkdir -p "$OUT"
 
 command -v valgrind >/dev/null || { echo "valgrind not found (apt-get install valgrind)" >&2; exit 2; }
+se3_bench_peer_setup || exit 2
 
-# Rebuild the driver when it is missing or older than any source it includes.
+# Rebuild the driver when it is missing, older than any source it includes, or built with other
+# peers.
 driver="$OUT/count_ops"
-if [ ! -x "$driver" ] || [ -n "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" \( -name '*.h' -o -name count_ops.cpp \) -newer "$driver" | head -n 1)" ]; then
-  echo "building $driver ($CXX $CXXFLAGS)" >&2
+stamp="$driver.peers"
+if [ ! -x "$driver" ] || [ "$(cat "$stamp" 2>/dev/null)" != "${se3_bench_peer_flags[*]}" ] ||
+  [ -n "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" \( -name '*.h' -o -name count_ops.cpp \) -newer "$driver" | head -n 1)" ]; then
+  echo "building $driver ($CXX $CXXFLAGS; peers: ${se3_bench_peers:-none})" >&2
   # shellcheck disable=SC2086
-  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/count_ops.cpp" -o "$driver.$$" \
-    -lorocos-kdl && mv "$driver.$$" "$driver"
+  "$CXX" $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "${se3_bench_peer_flags[@]}" \
+    "$SE3_ROOT/bench/count_ops.cpp" -o "$driver.$$" -lorocos-kdl && mv "$driver.$$" "$driver"
+  echo "${se3_bench_peer_flags[*]}" >"$stamp"
 fi
 
 compiler="$("$CXX" --version | head -n 1)"
@@ -71,6 +80,7 @@ write_table() {
   echo "# Driver: bench/count_ops.cpp, $CXX $CXXFLAGS (default x86-64 flags); compiler: $compiler"
   echo "# Check: scripts/instruction_counts.sh --check (fails when a count grows by more than 10 %);"
   echo "# regenerate: scripts/instruction_counts.sh --update."
+  echo "# Rows sophus_*, manif_*, basalt_*: optional peers (SE3_BENCH_*_DIR), kept by --update without them."
   awk '{ printf "%-40s %10d\n", $1, $2 }' "$measured"
 }
 
@@ -79,6 +89,14 @@ case "$mode" in
     write_table
     ;;
   update)
+    # The committed rows of peers not given this time are kept (they were measured with them).
+    if [ -f "$RESULTS" ]; then
+      awk -v peers=" $se3_bench_peers " 'FNR == NR { measured[$1] = 1; next }
+        $0 !~ /^#/ && NF == 2 && !($1 in measured) && $1 ~ /^(sophus|manif|basalt)_/ {
+          peer = $1; sub(/_.*/, "", peer); if (index(peers, " " peer " ") == 0) print $1, $2 }' \
+        "$measured" "$RESULTS" >"$scratch/kept"
+      cat "$scratch/kept" >>"$measured"
+    fi
     write_table >"$RESULTS"
     cat "$RESULTS"
     echo "wrote $RESULTS"
@@ -88,7 +106,7 @@ case "$mode" in
     committed_compiler=$(sed -n 's/^# Driver: .*compiler: //p' "$RESULTS")
     [ "$committed_compiler" = "$compiler" ] ||
       echo "note: the committed counts were made with '$committed_compiler', this is '$compiler'" >&2
-    awk -v tol="$TOLERANCE" '
+    awk -v tol="$TOLERANCE" -v peers=" $se3_bench_peers " '
       FNR == NR { if ($0 !~ /^#/ && NF == 2) committed[$1] = $2; next }
       {
         measured[$1] = $2
@@ -100,7 +118,12 @@ case "$mode" in
       }
       END {
         for (op in committed)
-          if (!(op in measured)) { printf "%-40s  MISSING (in the results file, not measured)\n", op; bad = 1 }
+          if (!(op in measured)) {
+            peer = op; sub(/_.*/, "", peer)
+            if (op ~ /^(sophus|manif|basalt)_/ && index(peers, " " peer " ") == 0)
+              printf "%-40s  skipped (no SE3_BENCH_%s_DIR given)\n", op, toupper(peer)
+            else { printf "%-40s  MISSING (in the results file, not measured)\n", op; bad = 1 }
+          }
         if (bad) { print "instruction counts: FAILED (more than " 100 * tol " % growth, or a changed list); " \
                          "run scripts/instruction_counts.sh --update if intended"; exit 1 }
         print "instruction counts: ok (no count grew by more than " 100 * tol " %)"

@@ -13,6 +13,9 @@
 #                                   what the catkin Release build uses)
 #              SE3_BENCH_REPETITIONS repetitions per benchmark (default 5; the tables use medians)
 #              SE3_BENCH_MIN_TIME    seconds per repetition (default 0.3)
+#              SE3_BENCH_SOPHUS_DIR, SE3_BENCH_MANIF_DIR, SE3_BENCH_BASALT_DIR  local copies of the
+#                                   optional peers (bench/bench_peers.h; scripts/common.sh,
+#                                   se3_bench_peer_setup); unset: left out, nothing else changes
 # Timings are noisy on a loaded machine; the instruction counts are not.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -23,6 +26,7 @@ REPETITIONS=${SE3_BENCH_REPETITIONS:-5}
 MIN_TIME=${SE3_BENCH_MIN_TIME:-0.3}
 OUT="$SE3_WS/bench"
 mkdir -p "$OUT"
+se3_bench_peer_setup || exit 2
 
 # The core's sources, from the list every build reads (src/core_sources.txt).
 mapfile -t core_sources < <(grep -v '^#' "$SE3_ROOT/src/core_sources.txt" | sed "s|^|$SE3_ROOT/|")
@@ -32,21 +36,21 @@ build() {
   local name=$1
   shift
   local bin="$OUT/$name" stamp="$OUT/$name.flags"
-  if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS" ] &&
+  if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]}" ] &&
     [ -z "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" "$SE3_ROOT/src" -newer "$bin" -type f | head -n 1)" ]; then
     return 0
   fi
   echo "building $bin ($CXX -std=c++17 $CXXFLAGS)" >&2
   # shellcheck disable=SC2086
-  "$CXX" -std=c++17 $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "$SE3_ROOT/bench/$name.cpp" \
-    "${core_sources[@]}" -o "$bin" "$@" -lbenchmark -lpthread
-  echo "$CXX $CXXFLAGS" >"$stamp"
+  "$CXX" -std=c++17 $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "${se3_bench_peer_flags[@]}" \
+    "$SE3_ROOT/bench/$name.cpp" "${core_sources[@]}" -o "$bin" "$@" -lbenchmark -lpthread
+  echo "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]}" >"$stamp"
 }
 
 echo "== machine"
 lscpu | head -n 20
 "$CXX" --version | head -n 1
-echo "flags: $CXXFLAGS; $REPETITIONS repetitions of >= $MIN_TIME s each (medians)"
+echo "flags: $CXXFLAGS; $REPETITIONS repetitions of >= $MIN_TIME s each (medians); optional peers: ${se3_bench_peers:-none}"
 
 build bench_core -lorocos-kdl
 echo

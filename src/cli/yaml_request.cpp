@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
@@ -161,7 +162,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
                 "max_linear_acceleration", "max_angular_acceleration", "timing", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state" });
+                "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
   // The service's from_current starts from the motion the node plays; the CLI plays none.
   if (root["from_current"] && toBool(root["from_current"], "from_current"))
     throw InvalidInputError("from_current: the CLI plays no trajectory, so there is no current motion to start "
@@ -206,6 +207,18 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
   if (root["publish"])
     toBool(root["publish"], "publish");
+  // The service's choice of response arrays: checked as the service does, so that one request
+  // file serves both; the CLI writes its one CSV (pose, velocity, acceleration) whatever it names.
+  if (root["outputs"])
+  {
+    const YAML::Node& outputs = root["outputs"];
+    if (!outputs.IsSequence())
+      throw InvalidInputError("outputs: expected a list of names");
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      names.push_back(toString(outputs[i], indexedField("outputs", i)));
+    parseResponseOutputs(names);
+  }
   if (root["child_frame_id"])
     validateFrameId(toString(root["child_frame_id"], "child_frame_id"), "child_frame_id");
 }

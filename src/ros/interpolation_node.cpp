@@ -5,6 +5,7 @@
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <new>
@@ -178,6 +179,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     if (child == frame)
       throw InvalidInputError("child_frame_id: " + quotedText(child) + " is also the waypoints' frame");
 
+    const ResponseOutputs outputs = parseResponseOutputs(req.outputs);
     TrajectoryRequest r = fromMsg(req, poses);
     applyRequestDefaults(&r);
     ros::Time stamp = req.waypoints.header.stamp;
@@ -191,7 +193,9 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       }
       startFromCurrent(stamp, frame, child, &r);
     }
+    const std::chrono::steady_clock::time_point planning = std::chrono::steady_clock::now();
     const TrajectoryResult result = se3_interpolation::generate(r, params_.limits);
+    const std::chrono::steady_clock::time_point filling = std::chrono::steady_clock::now();
 
     std_msgs::Header header;
     header.frame_id = frame;
@@ -199,8 +203,15 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     validateStampedSpan(header.stamp.toSec(), result.start_time, result.start_time + result.duration,
                         "waypoints.header.stamp");
 
-    toMsg(result, header, res.path);
-    toMsg(result, header, child, res.trajectory);
+    if (outputs.path)
+      toMsg(result, header, res.path);
+    if (outputs.trajectory)
+      toMsg(result, header, child, res.trajectory);
+    // The service's latency apart from transport (README "Service latency"): rosconsole logger
+    // ros.se3_interpolation.timing at debug level.
+    ROS_DEBUG_NAMED("timing", "generate: %zu samples, planner %.1f ms, response messages %.1f ms",
+                    result.samples.size(), 1e3 * std::chrono::duration<double>(filling - planning).count(),
+                    1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - filling).count());
     res.duration = result.duration;
     res.length = result.figures.length;
     res.rotation_length = result.figures.rotation_length;
@@ -214,7 +225,13 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       msg << " (time stretched x" << result.time_scale << " to meet the bounds)";
     res.message = msg.str();
     if (req.publish)
-      publish(result, res, header, child);
+    {
+      // The topics carry both forms whatever the response omits.
+      nav_msgs::Path path;
+      trajectory_msgs::MultiDOFJointTrajectory trajectory;
+      publish(result, outputs.path ? res.path : toMsg(result, header, path),
+              outputs.trajectory ? res.trajectory : toMsg(result, header, child, trajectory), header, child);
+    }
   }
   catch (const std::bad_alloc&)
   {
@@ -295,12 +312,13 @@ std::vector<geometry_msgs::Pose> InterpolationNode::lookUpWaypointFrames(const s
   return poses;
 }
 
-void InterpolationNode::publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res,
+void InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::Path& path,
+                                const trajectory_msgs::MultiDOFJointTrajectory& trajectory,
                                 const std_msgs::Header& header, const std::string& child_frame_id)
 {
   std::lock_guard<std::mutex> publishing(publish_mutex_);
-  path_pub_.publish(res.path);
-  trajectory_pub_.publish(res.trajectory);
+  path_pub_.publish(path);
+  trajectory_pub_.publish(trajectory);
   markers_pub_.publish(toMarkerArray(result, result.waypoints, header, params_.marker_axes, params_.axis_length));
 
   auto playback = std::make_shared<Playback>();

@@ -336,7 +336,7 @@ TEST(Cli, ServiceSpellingEqualsListSpelling)
       "    - {position: {y: 1, z: 0.5}, orientation: {z: 1}}\n"
       "start_velocity: {linear: {x: 0.2}, angular: {}}\n"
       "end_velocity: {angular: {z: 0.5}}\n"
-      "publish: true\nchild_frame_id: moving\n" +
+      "publish: true\nchild_frame_id: moving\noutputs: [trajectory]\n" +
           tail);
   const CliRun a = run(list);
   const CliRun b = run(service);
@@ -389,6 +389,10 @@ TEST(Cli, ServiceSpellingRefusals)
     // A service field the CLI cannot serve (no TF): refused by name, not as an unknown field.
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\nwaypoint_frames: [taught_1]\n",
       "waypoint_frames: the command-line tool has no TF" },
+    // The service's outputs, checked as the service checks them.
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: [path, markers]\n",
+      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: path\n", "outputs: expected a list of names" },
   };
   const std::string out = testing::TempDir() + "spelling_must_not_exist.csv";
   for (const auto& c : cases)

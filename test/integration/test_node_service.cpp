@@ -1,13 +1,16 @@
 // Integration: a real roscore and se3_interpolation_node; service calls for every curve and
-// geometry, bad requests answered with success=false while the node keeps serving, and the
-// latched ~path reaching a late subscriber.
+// geometry, bad requests answered with success=false while the node keeps serving, the request's
+// `outputs` choosing the response's sample arrays, and the latched ~path reaching a late subscriber.
 #include <gtest/gtest.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <ros/serialization.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "se3_interpolation/GenerateTrajectory.h"
 
@@ -172,6 +175,11 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
           s.request.waypoints.poses.push_back(pose(std::cos(0.1 * i), std::sin(0.1 * i), 0.01 * i, 0.02 * i));
       },
       "waypoints: 250 waypoints make a bezier of degree 249" },
+    // outputs: only the names of the response's sample arrays, each once.
+    { "unknown output", [](auto& s) { s.request.outputs = { "trajectory", "markers" }; },
+      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+    { "repeated output", [](auto& s) { s.request.outputs = { "path", "path" }; }, "outputs[1]: 'path' is named twice" },
+    { "empty output name", [](auto& s) { s.request.outputs = { "" }; }, "outputs[0]: empty name" },
   };
   for (const auto& c : cases)
   {
@@ -258,6 +266,80 @@ TEST(NodeService, BlendRadiusFromTheRequestOrTheNodeDefault)
   ASSERT_TRUE(call(other));
   EXPECT_FALSE(other.response.success);
   EXPECT_EQ(other.response.message.rfind("blend_radius", 0), 0U) << other.response.message;
+}
+
+/// The serialised bytes of a message: equal bytes, equal messages (every field, every sample).
+template <class M>
+std::vector<std::uint8_t> bytes(const M& msg)
+{
+  const ros::SerializedMessage m = ros::serialization::serializeMessage(msg);
+  return std::vector<std::uint8_t>(m.buf.get(), m.buf.get() + m.num_bytes);
+}
+
+TEST(NodeService, OutputsChooseTheSampleArraysOfTheResponse)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  // A fixed stamp: the responses' headers and sample stamps are then the same call to call.
+  auto reference = goodRequest();
+  reference.request.waypoints.header.stamp = ros::Time(100.0);
+  reference.request.curve = "interpolating";
+  ASSERT_TRUE(call(reference));
+  ASSERT_TRUE(reference.response.success) << reference.response.message;
+  ASSERT_EQ(reference.response.path.poses.size(), 50U);
+  ASSERT_EQ(reference.response.trajectory.points.size(), 50U);
+
+  auto trajectory_only = reference;
+  trajectory_only.response = se3_interpolation::GenerateTrajectory::Response();
+  trajectory_only.request.outputs = { "trajectory" };
+  ASSERT_TRUE(call(trajectory_only));
+  ASSERT_TRUE(trajectory_only.response.success) << trajectory_only.response.message;
+  EXPECT_TRUE(trajectory_only.response.path.poses.empty());
+  EXPECT_TRUE(trajectory_only.response.path.header.frame_id.empty());
+  EXPECT_EQ(bytes(trajectory_only.response.trajectory), bytes(reference.response.trajectory));
+  EXPECT_EQ(trajectory_only.response.duration, reference.response.duration);
+  EXPECT_EQ(trajectory_only.response.energy, reference.response.energy);
+
+  auto path_only = reference;
+  path_only.response = se3_interpolation::GenerateTrajectory::Response();
+  path_only.request.outputs = { "path" };
+  ASSERT_TRUE(call(path_only));
+  ASSERT_TRUE(path_only.response.success) << path_only.response.message;
+  EXPECT_TRUE(path_only.response.trajectory.points.empty());
+  EXPECT_TRUE(path_only.response.trajectory.joint_names.empty());
+  EXPECT_EQ(bytes(path_only.response.path), bytes(reference.response.path));
+  EXPECT_EQ(path_only.response.max_linear_speed, reference.response.max_linear_speed);
+
+  auto both = reference;
+  both.response = se3_interpolation::GenerateTrajectory::Response();
+  both.request.outputs = { "trajectory", "path" };
+  ASSERT_TRUE(call(both));
+  ASSERT_TRUE(both.response.success) << both.response.message;
+  EXPECT_EQ(bytes(both.response), bytes(reference.response));
+
+  // Publishing is not affected: ~path carries every sample although the response omits it.
+  auto published = reference;
+  published.request.outputs = { "trajectory" };
+  published.request.sample_count = 37;
+  published.request.publish = true;
+  ASSERT_TRUE(call(published));
+  ASSERT_TRUE(published.response.success) << published.response.message;
+  EXPECT_TRUE(published.response.path.poses.empty());
+  ros::NodeHandle nh;
+  nav_msgs::Path received;
+  bool got = false;
+  ros::Subscriber sub = nh.subscribe<nav_msgs::Path>("/se3_interpolation_node/path", 1,
+                                                     [&](const nav_msgs::Path::ConstPtr& msg) {
+                                                       received = *msg;
+                                                       got = received.poses.size() == 37U;
+                                                     });
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(10.0);
+  while (!got && ros::WallTime::now() < deadline)
+  {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ASSERT_TRUE(got) << "the latched ~path has " << received.poses.size() << " poses, not 37";
+  EXPECT_EQ(received.header.frame_id, "map");
 }
 
 TEST(NodeService, LatchedPathReachesALateSubscriber)

@@ -1,12 +1,13 @@
-// The names of the request's string fields (curve, geometry, parameterization, timing): one
-// table per enum (name_table.h), read by the planner, the node's parameters and the CLI, so that
-// a name is spelled in one place. end_condition's table lives with its enum in
-// curves/interpolating_solver.h (curves/ must not include planner/).
+// The names of the request's string fields (curve, geometry, parameterization, timing, the
+// entries of outputs): one table per enum (name_table.h), read by the planner, the node's
+// parameters and the CLI, so that a name is spelled in one place. end_condition's table lives
+// with its enum in curves/interpolating_solver.h (curves/ must not include planner/).
 #pragma once
 
 #include <array>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "se3_interpolation/name_table.h"
 #include "se3_interpolation/planner/request.h"
@@ -53,5 +54,37 @@ struct NameTable<Timing>
       { "time_optimal", Timing::kTimeOptimal },
   } };
 };
+
+template <>
+struct NameTable<ResponseOutput>
+{
+  static constexpr std::array<std::pair<const char*, ResponseOutput>, 2> kNames = { {
+      { "path", ResponseOutput::kPath },
+      { "trajectory", ResponseOutput::kTrajectory },
+  } };
+};
+
+/// The arrays named in a request's `outputs` (empty: all of them, the behaviour before the field
+/// existed). An empty, unknown or repeated name throws InvalidInputError naming outputs[i].
+inline ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outputs)
+{
+  if (outputs.empty())
+    return ResponseOutputs();
+  ResponseOutputs chosen;
+  chosen.path = false;
+  chosen.trajectory = false;
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+  {
+    const std::string field = indexedField("outputs", i);
+    if (outputs[i].empty())
+      throw InvalidInputError(field + ": empty name (expected one of: " + knownNames<ResponseOutput>() + ")");
+    bool& slot = parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path
+                                                                                             : chosen.trajectory;
+    if (slot)
+      throw InvalidInputError(field + ": " + quotedText(outputs[i]) + " is named twice");
+    slot = true;
+  }
+  return chosen;
+}
 
 }  // namespace se3_interpolation

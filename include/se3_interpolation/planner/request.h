@@ -55,6 +55,21 @@ enum class Timing
   kTimeOptimal  ///< "time_optimal": the fastest rest-to-rest traversal of the path (timing/time_optimal.h)
 };
 
+/// The sample arrays a response of the ~generate service can carry (its request's `outputs`;
+/// the CLI checks the names too and writes its CSV whatever they are).
+enum class ResponseOutput
+{
+  kPath,       ///< "path": nav_msgs/Path of the sampled poses
+  kTrajectory  ///< "trajectory": MultiDOFJointTrajectory of poses, velocities and accelerations
+};
+
+/// Which of the response's sample arrays to fill (default: all, the behaviour before `outputs`).
+struct ResponseOutputs
+{
+  bool path = true;
+  bool trajectory = true;
+};
+
 /// The defaults of the request's empty or zero fields: the one place the planner, the node's
 /// parameters and the CLI read them from (README "Request fields").
 struct RequestDefaults

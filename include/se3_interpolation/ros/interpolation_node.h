@@ -121,7 +121,8 @@ private:
 
   /// Validates, generates and (if asked) publishes; fills `res` and never throws.
   void generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
-  void publish(const TrajectoryResult& result, const GenerateTrajectory::Response& res, const std_msgs::Header& header,
+  void publish(const TrajectoryResult& result, const nav_msgs::Path& path,
+               const trajectory_msgs::MultiDOFJointTrajectory& trajectory, const std_msgs::Header& header,
                const std::string& child_frame_id);
   void autoGenerate();
   /// Fills the request's empty fields from the (run-time) defaults.

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/names.h"
@@ -250,4 +252,40 @@ TEST(Validation, WaypointTimesCloserThanOneNanosecondAreRefused)
                                 "below the 1 ns resolution of time_from_start");
   p.times = { 0.0, 1e-9, 1.0 };
   EXPECT_EQ(validationError(p), "");
+}
+
+TEST(Validation, ResponseOutputsAreNamedOnceEachFromTheirTable)
+{
+  // Empty: both arrays (the behaviour before the field existed).
+  const ResponseOutputs all = parseResponseOutputs({});
+  EXPECT_TRUE(all.path);
+  EXPECT_TRUE(all.trajectory);
+  const ResponseOutputs trajectory = parseResponseOutputs({ "trajectory" });
+  EXPECT_FALSE(trajectory.path);
+  EXPECT_TRUE(trajectory.trajectory);
+  const ResponseOutputs path = parseResponseOutputs({ "path" });
+  EXPECT_TRUE(path.path);
+  EXPECT_FALSE(path.trajectory);
+  const ResponseOutputs both = parseResponseOutputs({ "trajectory", "path" });
+  EXPECT_TRUE(both.path);
+  EXPECT_TRUE(both.trajectory);
+
+  const std::pair<std::vector<std::string>, std::string> bad[] = {
+    { { "path", "markers" }, "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+    { { "Path" }, "outputs[0]: unknown value 'Path'" },
+    { { "trajectory", "trajectory" }, "outputs[1]: 'trajectory' is named twice" },
+    { { "path", "" }, "outputs[1]: empty name (expected one of: path, trajectory)" },
+  };
+  for (const auto& b : bad)
+  {
+    try
+    {
+      parseResponseOutputs(b.first);
+      ADD_FAILURE() << "accepted: " << b.second;
+    }
+    catch (const InvalidInputError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(b.second), std::string::npos) << e.what();
+    }
+  }
 }
