@@ -21,21 +21,14 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 
+#include "node_test_utils.h"
+
+using namespace node_test;
+
 namespace
 {
 const char* const kNode = "/se3_interpolation_node";
 const char* const kService = "/se3_interpolation_node/generate";
-
-geometry_msgs::Pose pose(double x, double y, double z, double yaw)
-{
-  geometry_msgs::Pose p;
-  p.position.x = x;
-  p.position.y = y;
-  p.position.z = z;
-  p.orientation.z = std::sin(yaw / 2);
-  p.orientation.w = std::cos(yaw / 2);
-  return p;
-}
 
 se3_interpolation::GenerateTrajectory lightRequest()
 {
@@ -44,18 +37,6 @@ se3_interpolation::GenerateTrajectory lightRequest()
   srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(1, 0, 0, 0.5), pose(1, 1, 0.5, 1.5) };
   srv.request.sample_count = 10;
   return srv;
-}
-
-bool waitFor(const std::function<bool()>& done, double seconds)
-{
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < deadline)
-  {
-    if (done())
-      return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return done();
 }
 
 /// The node's messages on /rosout (the test's spinner threads fill it).

@@ -17,29 +17,15 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 
+#include "node_test_utils.h"
+
+using namespace node_test;
+
 namespace
 {
 const std::string kNode = "/se3_interpolation_node";
 constexpr double kSwitchTolerance = 1e-9;  // the C2 switch tolerance
 constexpr double kLead = 0.2;              // ~replan_lead in node_replan.test
-
-geometry_msgs::Pose pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q)
-{
-  geometry_msgs::Pose msg;
-  msg.position = tf2::toMsg(p);
-  msg.orientation = tf2::toMsg(q);
-  return msg;
-}
-
-void spinFor(double seconds)
-{
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end)
-  {
-    ros::spinOnce();
-    ros::WallDuration(0.002).sleep();
-  }
-}
 
 /// The moving frame's messages on /tf.
 struct TfRecord

@@ -14,20 +14,13 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 
+#include "node_test_utils.h"
+
+using namespace node_test;
+
 namespace
 {
 const char* const kService = "/se3_interpolation_node/generate";
-
-geometry_msgs::Pose pose(double x, double y, double z, double yaw)
-{
-  geometry_msgs::Pose p;
-  p.position.x = x;
-  p.position.y = y;
-  p.position.z = z;
-  p.orientation.z = std::sin(yaw / 2);
-  p.orientation.w = std::cos(yaw / 2);
-  return p;
-}
 
 se3_interpolation::GenerateTrajectory goodRequest()
 {

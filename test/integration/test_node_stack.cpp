@@ -28,6 +28,10 @@
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/GenerationStatus.h"
 
+#include "node_test_utils.h"
+
+using namespace node_test;
+
 namespace
 {
 const std::string kArm1 = "/arm1/se3_interpolation_node";
@@ -38,53 +42,6 @@ const std::string kNodelet = "/arm3/se3_interpolation_node";
 const Eigen::Quaterniond kQa(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
 const Eigen::Quaterniond kQb(Eigen::AngleAxisd(1.3, Eigen::Vector3d(1, 2, 2).normalized()));
 const Eigen::Vector3d kPa(0.5, -1.0, 0.2), kPb(1.5, 1.0, 3.2);
-
-geometry_msgs::Pose pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q)
-{
-  geometry_msgs::Pose msg;
-  msg.position = tf2::toMsg(p);
-  msg.orientation = tf2::toMsg(q);
-  return msg;
-}
-
-bool spinUntil(const std::function<bool()>& done, double seconds)
-{
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < deadline)
-  {
-    ros::spinOnce();
-    if (done())
-      return true;
-    ros::WallDuration(0.005).sleep();
-  }
-  return done();
-}
-
-void spinFor(double seconds)
-{
-  spinUntil([] { return false; }, seconds);
-}
-
-/// Latest message on a (latched) topic.
-template <class M>
-class Latest
-{
-public:
-  Latest(ros::NodeHandle& nh, const std::string& topic)
-    : sub_(nh.subscribe<M>(topic, 10, [this](const typename M::ConstPtr& m) {
-      msg_ = *m;
-      ++count_;
-    }))
-  {
-  }
-  const M& msg() const { return msg_; }
-  int count() const { return count_; }
-
-private:
-  ros::Subscriber sub_;
-  M msg_;
-  int count_ = 0;
-};
 
 /// pa -> pb over `duration` s as a double geodesic, published, stamped `stamp`.
 se3_interpolation::GenerateTrajectory segment(double duration, const ros::Time& stamp)

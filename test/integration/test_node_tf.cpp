@@ -20,51 +20,13 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 
+#include "node_test_utils.h"
+
+using namespace node_test;
+
 namespace
 {
 const char* const kNode = "/se3_interpolation_node";
-
-geometry_msgs::Pose pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q)
-{
-  geometry_msgs::Pose msg;
-  msg.position = tf2::toMsg(p);
-  msg.orientation = tf2::toMsg(q);
-  return msg;
-}
-
-bool spinUntil(const std::function<bool()>& done, double seconds)
-{
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < deadline)
-  {
-    ros::spinOnce();
-    if (done())
-      return true;
-    ros::WallDuration(0.005).sleep();
-  }
-  return done();
-}
-
-/// Latest message on a latched topic.
-template <class M>
-class Latest
-{
-public:
-  Latest(ros::NodeHandle& nh, const std::string& topic)
-    : sub_(nh.subscribe<M>(topic, 10, [this](const typename M::ConstPtr& m) {
-      msg_ = *m;
-      ++count_;
-    }))
-  {
-  }
-  const M& msg() const { return msg_; }
-  int count() const { return count_; }
-
-private:
-  ros::Subscriber sub_;
-  M msg_;
-  int count_ = 0;
-};
 }  // namespace
 
 TEST(NodeTf, MovingFrameFollowsTheTrajectoryThroughTf2)
