@@ -20,19 +20,24 @@ typename G::template Point<S> geodesic(const typename G::template Point<S>& a, c
   return G::exp(a, typename G::template Tangent<S>(G::log(a, b) * lambda));
 }
 
-/// The types of the geometries whose points and tangents are coordinate vectors (R^n, S^m).
-struct VectorGeometryTypes
+/// The point and tangent types of a geometry whose points are cast to another scalar
+/// coordinate by coordinate (every geometry but So3, whose quaternions cast per coefficient).
+template <template <class> class PointType, template <class> class TangentType>
+struct CoordinateTypes
 {
   template <class S>
-  using Point = VectorX<S>;
+  using Point = PointType<S>;
   template <class S>
-  using Tangent = VectorX<S>;
+  using Tangent = TangentType<S>;
   template <class T>
   static Point<T> cast(const Point<double>& a)
   {
     return a.template cast<T>();
   }
 };
+
+/// R^n and S^m: points and tangents are coordinate vectors.
+using VectorGeometryTypes = CoordinateTypes<VectorX, VectorX>;
 
 /// Whether every coordinate of a coordinate-vector point (R^n, S^m) or tangent is finite.
 template <class D>

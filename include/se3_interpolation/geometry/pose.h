@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "se3_interpolation/geometry/geodesic.h"
 #include "se3_interpolation/math/lie_groups.h"
 
 namespace se3_interpolation
@@ -63,20 +64,8 @@ inline Kinematics kinematicsFromJet(const Pose<Jet<2>>& x)
   return k;
 }
 
-/// The types both SE(3) geometries share: points are poses, tangents 6-vectors (rotation
-/// first), and a point is cast to another scalar coordinate by coordinate.
-struct PoseGeometryTypes
-{
-  template <class S>
-  using Point = Pose<S>;
-  template <class S>
-  using Tangent = Vector6<S>;
-  template <class T>
-  static Point<T> cast(const Point<double>& a)
-  {
-    return a.template cast<T>();
-  }
-};
+/// The types both SE(3) geometries share: points are poses, tangents 6-vectors (rotation first).
+using PoseGeometryTypes = CoordinateTypes<Pose, Vector6>;
 
 /// Whether every coordinate of a pose is finite.
 inline bool allFinite(const Pose<double>& x)
