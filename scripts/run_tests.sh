@@ -33,34 +33,27 @@ if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -l
   tail -n 40 "$SE3_WS/tests.log" >&2
   failed=$((failed + 1))
 fi
+# A stage run by its own script, which ends with the line `<prefix>: N passed, N failed`: its
+# counts are added to the totals; a script that fails without counting a failure counts as one.
+run_counted_stage() {
+  local prefix=$1 script=$2 log=$3 status=0 line stage_passed stage_failed
+  bash "$script" >"$log" 2>&1 || status=$?
+  grep -vE "^$prefix: |: ok\$" "$log" || true
+  line=$(grep -E "^$prefix: [0-9]+ passed, [0-9]+ failed\$" "$log" | tail -n 1 || true)
+  stage_passed=$(echo "$line" | sed -nE "s/^$prefix: ([0-9]+) passed.*/\1/p")
+  stage_failed=$(echo "$line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
+  stage_passed=${stage_passed:-0}; stage_failed=${stage_failed:-0}
+  if [ "$status" -ne 0 ] && [ "$stage_failed" -eq 0 ]; then
+    echo "$script failed (log: $log)" >&2
+    stage_failed=1
+  fi
+  passed=$((passed + stage_passed))
+  failed=$((failed + stage_failed))
+}
 # Every ```bash block of README.md, run verbatim in order (scripts/check_readme.sh): each block is a test.
-readme_status=0
-bash "$SE3_ROOT/scripts/check_readme.sh" >"$SE3_WS/readme_summary.log" 2>&1 || readme_status=$?
-grep -vE '^readme: |: ok$' "$SE3_WS/readme_summary.log" || true
-readme_line=$(grep -E '^readme: [0-9]+ passed, [0-9]+ failed$' "$SE3_WS/readme_summary.log" | tail -n 1 || true)
-readme_passed=$(echo "$readme_line" | sed -nE 's/^readme: ([0-9]+) passed.*/\1/p')
-readme_failed=$(echo "$readme_line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
-readme_passed=${readme_passed:-0}; readme_failed=${readme_failed:-0}
-if [ "$readme_status" -ne 0 ] && [ "$readme_failed" -eq 0 ]; then
-  echo "scripts/check_readme.sh failed (log: $SE3_WS/readme_summary.log)" >&2
-  readme_failed=1
-fi
-passed=$((passed + readme_passed))
-failed=$((failed + readme_failed))
-# The core and unit tests under ASan + UBSan and a bounded libFuzzer run (scripts/run_sanitizers.sh):
-# each sanitized test case and the fuzz run count as tests here too.
-sanitizer_status=0
-bash "$SE3_ROOT/scripts/run_sanitizers.sh" >"$SE3_WS/sanitizers.log" 2>&1 || sanitizer_status=$?
-grep -vE '^sanitizers: ' "$SE3_WS/sanitizers.log" || true
-sanitizer_line=$(grep -E '^sanitizers: [0-9]+ passed, [0-9]+ failed$' "$SE3_WS/sanitizers.log" | tail -n 1 || true)
-sanitizer_passed=$(echo "$sanitizer_line" | sed -nE 's/^sanitizers: ([0-9]+) passed.*/\1/p')
-sanitizer_failed=$(echo "$sanitizer_line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
-sanitizer_passed=${sanitizer_passed:-0}; sanitizer_failed=${sanitizer_failed:-0}
-if [ "$sanitizer_status" -ne 0 ] && [ "$sanitizer_failed" -eq 0 ]; then
-  echo "scripts/run_sanitizers.sh failed (log: $SE3_WS/sanitizers.log)" >&2
-  sanitizer_failed=1
-fi
-passed=$((passed + sanitizer_passed))
-failed=$((failed + sanitizer_failed))
+run_counted_stage readme "$SE3_ROOT/scripts/check_readme.sh" "$SE3_WS/readme_summary.log"
+# The core and unit tests under ASan + UBSan and the libFuzzer targets (scripts/run_sanitizers.sh):
+# each sanitized test case and each fuzz replay and exploration count as tests here too.
+run_counted_stage sanitizers "$SE3_ROOT/scripts/run_sanitizers.sh" "$SE3_WS/sanitizers.log"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

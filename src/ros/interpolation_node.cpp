@@ -28,21 +28,29 @@ std::string bounded(const char* what)
   return m.size() <= kMaxMessageLength ? m : m.substr(0, kMaxMessageLength) + "... (truncated)";
 }
 
-/// The trajectory time at `now` of a trajectory stamped `stamp` spanning [t0, t0 + d]: wrapped
+/// Where playback is at some instant: the trajectory time, and whether the instant is outside the
+/// trajectory's span without looping (before its start or at or after its end: the pose is held).
+struct PlaybackPosition
+{
+  double time = 0.0;
+  bool ended = false;
+};
+
+/// The playback position at `now` of a trajectory stamped `stamp` spanning [t0, t0 + d]: wrapped
 /// into the span when looping, else clamped to it (held at the ends).
-double playbackTime(const ros::Time& stamp, double t0, double d, const ros::Time& now, bool loop)
+PlaybackPosition playbackPosition(const ros::Time& stamp, double t0, double d, const ros::Time& now, bool loop)
 {
   // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
-  double t = static_cast<double>(static_cast<std::int64_t>(now.toNSec()) - static_cast<std::int64_t>(stamp.toNSec())) *
-             1e-9;
+  const double t =
+      static_cast<double>(static_cast<std::int64_t>(now.toNSec()) - static_cast<std::int64_t>(stamp.toNSec())) * 1e-9;
   if (loop && d > 0.0)
   {
     double u = std::fmod(t - t0, d);
     if (u < 0.0)
       u += d;
-    return t0 + u;
+    return { t0 + u, false };
   }
-  return std::min(std::max(t, t0), t0 + d);
+  return { std::min(std::max(t, t0), t0 + d), t < t0 || t >= t0 + d };
 }
 
 /// tf2 ignores one leading '/' in frame ids: so does the collision check.
@@ -412,7 +420,7 @@ void InterpolationNode::holdPlayback()
     loop = params_.loop;
   }
   const Pose<double> held = playback_->point_at(
-      playbackTime(playback_->stamp, playback_->start_time, playback_->duration, now, loop));
+      playbackPosition(playback_->stamp, playback_->start_time, playback_->duration, now, loop).time);
   auto hold = std::make_shared<Playback>(*playback_);
   hold->point_at = [held](double) { return held; };
   hold->stamp = now;
@@ -676,14 +684,9 @@ double InterpolationNode::playbackClock(const Playback& playback, const ros::Tim
     std::lock_guard<std::mutex> lock(params_mutex_);
     loop = params_.loop;
   }
-  const double t0 = playback.start_time;
-  const double d = playback.duration;
-  // In integer nanoseconds: a ros::Duration would throw beyond 2^31 s (a stamp far ahead).
-  const double raw = static_cast<double>(static_cast<std::int64_t>(time.toNSec()) -
-                                         static_cast<std::int64_t>(playback.stamp.toNSec())) *
-                     1e-9;
-  *ended = !(loop && d > 0.0) && (raw < t0 || raw >= t0 + d);
-  return playbackTime(playback.stamp, t0, d, time, loop);
+  const PlaybackPosition position = playbackPosition(playback.stamp, playback.start_time, playback.duration, time, loop);
+  *ended = position.ended;
+  return position.time;
 }
 
 void InterpolationNode::startFromCurrent(const ros::Time& switch_time, const std::string& frame,

@@ -14,8 +14,7 @@
 #include "fuzz_common.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
-#include "se3_interpolation/analysis/sphere_kinematics.h"
+#include "se3_interpolation/geometry/geometry.h"
 
 using namespace se3_interpolation;
 using namespace se3_interpolation::fuzz;
@@ -160,7 +159,7 @@ struct SphereData
   static double distance(const Point& a, const Point& b) { return (a - b).norm(); }
   static Eigen::VectorXd state(const Curve<Sphere>& curve, double t, Side side)
   {
-    const SphereKinematics k = sphereKinematicsAt(curve, t, side);
+    const SphereKinematics k = kinematicsAt(curve, t, side);
     if (!k.point.allFinite() || std::abs(k.point.norm() - 1.0) > 1e-9)
       fail("a point of the sphere spline is not a unit vector");
     Eigen::VectorXd s(2 * k.velocity.size());

@@ -1,6 +1,7 @@
 // Helpers shared by the unit tests: random points, distances, central differences.
 #pragma once
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -73,6 +74,45 @@ Kinematics centralDifferences(const F& f, double t, double h)
   k.velocity.angular = (-b2 + 8.0 * b1 - 8.0 * a1 + a2) / (12.0 * h);
   k.acceleration.angular = (-b2 + 16.0 * b1 + 16.0 * a1 - a2) / (12.0 * h * h);
   return k;
+}
+
+/// A random valid knot vector for n control points of degree m: gaps in [0.3, 1.5] from
+/// `start`, interior multiplicities 1 … m; clamped (m + 1 equal end knots) or not.
+inline std::vector<double> randomKnots(std::mt19937& rng, std::size_t n, int m, bool clamped, double start = 0.0)
+{
+  std::uniform_real_distribution<double> gap(0.3, 1.5);
+  std::uniform_int_distribution<int> mult(1, m);
+  std::bernoulli_distribution repeat(0.3);
+  const std::size_t mm = static_cast<std::size_t>(m);
+  const std::size_t length = n + mm + 1;
+  for (;;)
+  {
+    std::vector<double> u;
+    double value = start;
+    if (clamped)
+      u.assign(mm + 1, value);
+    const std::size_t body = clamped ? n - mm - 1 : length;
+    std::size_t added = 0;
+    while (added < body)
+    {
+      value += gap(rng);
+      const std::size_t k = std::min<std::size_t>(repeat(rng) ? static_cast<std::size_t>(mult(rng)) : 1, body - added);
+      u.insert(u.end(), k, value);
+      added += k;
+    }
+    if (clamped)
+      u.insert(u.end(), mm + 1, value + gap(rng));
+    if (u[mm] < u[n])
+      return u;
+  }
+}
+
+/// Bézier knots: m + 1 copies of t0 and of t1, nothing inside.
+inline std::vector<double> bezierKnots(int m, double t0, double t1)
+{
+  std::vector<double> u(static_cast<std::size_t>(m) + 1, t0);
+  u.insert(u.end(), static_cast<std::size_t>(m) + 1, t1);
+  return u;
 }
 
 }  // namespace test

@@ -1,6 +1,6 @@
 // The integral figures of a curve over its domain — length, rotation length, energy and peak
 // rates — written once over the geometry: both SE(3) geometries through the pose kinematics
-// (kinematics.h), the sphere S^m through its own (sphere_kinematics.h), whose motion is the
+// (kinematics.h), the sphere S^m through its own (geometry/sphere.h), whose motion is the
 // angular channel (rad on the unit sphere) with rotation scale 1.
 //
 // The integrals use 8-point Gauss–Legendre rules (math/quadrature.h) on subintervals of each
@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/analysis/sphere_kinematics.h"
 #include "se3_interpolation/math/quadrature.h"
 
 namespace se3_interpolation

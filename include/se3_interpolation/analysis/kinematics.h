@@ -1,10 +1,8 @@
-// Velocities and accelerations of pose curves (both SE(3) geometries), from their jets.
-//
-// From the second-order jet of a pose (q(t), p(t)) at t:
-//   linear velocity  ṗ,            linear acceleration  p̈,
-//   angular velocity ω = 2 vec(q̇ q*)  (so that Ṙ = [ω]× R: spatial, the waypoints' frame),
-//   angular accel.   ω̇ = 2 vec(q̈ q*)  (vec(q̇ q̇*) = 0 for a unit quaternion).
-// The integral figures of a curve over its domain are in figures.h.
+// analysis/: what a curve does, measured. This header: the kinematics of a curve at an instant
+// (poses: Kinematics of geometry/pose.h; the sphere: SphereKinematics of geometry/sphere.h; both
+// from the curve's second-order jet), the four rates the figures and the bounds look at, and the
+// energy density. figures.h integrates them over a curve's domain (length, rotation length,
+// energy, peak rates).
 #pragma once
 
 #include <algorithm>
@@ -13,42 +11,21 @@
 #include <vector>
 
 #include "se3_interpolation/curves/curve.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
 {
-struct Kinematics
-{
-  Pose<double> pose;
-  Twist velocity;
-  Twist acceleration;
-};
-
-inline Kinematics kinematicsFromJet(const Pose<Jet<2>>& x)
-{
-  Kinematics k;
-  const Quaternion<double> q0(x.q.w().value(), x.q.x().value(), x.q.y().value(), x.q.z().value());
-  const Quaternion<double> q1(x.q.w().coefficient(1), x.q.x().coefficient(1), x.q.y().coefficient(1),
-                              x.q.z().coefficient(1));
-  const Quaternion<double> q2(x.q.w().coefficient(2), x.q.x().coefficient(2), x.q.y().coefficient(2),
-                              x.q.z().coefficient(2));
-  k.pose.q = q0;
-  for (int i = 0; i < 3; ++i)
-  {
-    k.pose.p[i] = x.p[i].value();
-    k.velocity.linear[i] = x.p[i].coefficient(1);
-    k.acceleration.linear[i] = 2.0 * x.p[i].coefficient(2);
-  }
-  const Quaternion<double> q0c = q0.conjugate();
-  k.velocity.angular = 2.0 * (q1 * q0c).vec();
-  k.acceleration.angular = 4.0 * (q2 * q0c).vec();
-  return k;
-}
-
+/// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint).
 template <class G>
 Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
+}
+
+/// The sphere kinematics at t: velocity and covariant acceleration (sphere.h).
+inline SphereKinematics kinematicsAt(const Curve<Sphere>& curve, double t, Side side = Side::kRight)
+{
+  return sphereKinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }
 
 /// The four rates of a motion the figures and the bounds look at, in this order.
@@ -73,6 +50,19 @@ inline Rates rates(const Kinematics& k)
 inline double energyDensity(const Kinematics& k, double rotation_scale)
 {
   return k.acceleration.linear.squaredNorm() + (rotation_scale * k.acceleration.angular).squaredNorm();
+}
+
+/// The figures' rates of a sphere motion (analysis/figures.h): the motion is angular (rad on the
+/// unit sphere), so |ẋ| and |D²x/dt²| are the angular channel and the linear one is 0.
+inline Rates rates(const SphereKinematics& k)
+{
+  return { 0.0, k.velocity.norm(), 0.0, k.acceleration.norm() };
+}
+
+/// The energy density ⟨D²x/dt², D²x/dt²⟩ of eq. 32 (the round metric: no rotation scale).
+inline double energyDensity(const SphereKinematics& k, double /*rotation_scale*/)
+{
+  return k.acceleration.squaredNorm();
 }
 
 }  // namespace se3_interpolation

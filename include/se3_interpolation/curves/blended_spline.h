@@ -69,6 +69,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -82,6 +83,8 @@ namespace se3_interpolation
 /// The highest `continuity` offered: the SPEC asks for C^1 ... C^4 at least; the blending
 /// polynomials' properties are tested for every n up to 8 (test_blended_spline).
 constexpr int kMaxBlendingContinuity = 8;
+/// The degree 2n + 1 of the blending polynomials at the highest continuity.
+constexpr std::size_t kMaxBlendingDegree = 2 * kMaxBlendingContinuity + 1;
 
 /// A Bézier polynomial Σ_j c_j b_{d,j}(u) of degree d = 2n + 1 with Pobegailo's control values.
 class BlendingPolynomial
@@ -97,35 +100,36 @@ public:
   /// The control value c_j (j = 0 … 2n + 1).
   double controlValue(int j) const { return control_[static_cast<std::size_t>(j)]; }
 
-  /// The polynomial at u (double or Jet), summed in the Bernstein basis.
+  /// The polynomial at u (double or Jet), summed in the Bernstein basis. No allocation: the
+  /// powers of u live on the stack (degree ≤ kMaxBlendingDegree), the powers of 1 − u are
+  /// accumulated from the highest index down.
   template <class S>
   S operator()(const S& u) const
   {
-    const int d = degree();
+    const std::size_t d = static_cast<std::size_t>(degree());
     const S v = S(1.0) - u;
-    std::vector<S> up(static_cast<std::size_t>(d) + 1), vp(static_cast<std::size_t>(d) + 1);
+    std::array<S, kMaxBlendingDegree + 1> up;
     up[0] = S(1.0);
-    vp[0] = S(1.0);
-    for (std::size_t j = 1; j <= static_cast<std::size_t>(d); ++j)
-    {
+    for (std::size_t j = 1; j <= d; ++j)
       up[j] = up[j - 1] * u;
-      vp[j] = vp[j - 1] * v;
-    }
     S sum(0.0);
-    for (std::size_t j = 0; j <= static_cast<std::size_t>(d); ++j)
+    S vp(1.0);  // v^(d − j)
+    for (std::size_t j = d + 1; j-- > 0;)
+    {
       if (weight_[j] != 0.0)
-        sum += S(weight_[j]) * up[j] * vp[static_cast<std::size_t>(d) - j];
+        sum += S(weight_[j]) * up[j] * vp;
+      vp *= v;
+    }
     return sum;
   }
 
 private:
   BlendingPolynomial(int n, bool increasing) : n_(n)
   {
-    if (n < 1)
-      throw InvalidInputError("continuity: " + std::to_string(n) + " must be >= 1");
+    if (n < 1 || n > kMaxBlendingContinuity)
+      throw InvalidInputError("continuity: " + std::to_string(n) + " must be in [1, " +
+                              std::to_string(kMaxBlendingContinuity) + "]");
     const int d = 2 * n + 1;
-    control_.assign(static_cast<std::size_t>(d) + 1, 0.0);
-    weight_.assign(static_cast<std::size_t>(d) + 1, 0.0);
     double binomial = 1.0;  // C(d, j)
     for (int j = 0; j <= d; ++j)
     {
@@ -138,8 +142,8 @@ private:
   }
 
   int n_;
-  std::vector<double> control_;
-  std::vector<double> weight_;  ///< C(d, j) c_j
+  std::array<double, kMaxBlendingDegree + 1> control_{};
+  std::array<double, kMaxBlendingDegree + 1> weight_{};  ///< C(d, j) c_j
 };
 
 /// w_{1,n}(u), eq. 3.1.
@@ -227,8 +231,8 @@ private:
   Tangent log_bc_;
 };
 
-/// On S^m: the circle through a, b, c, traversed by the rotation exp(θ(t) J) of SO(m+1) about
-/// its centre, θ(t) quadratic with θ(tb) = 0 (see the file comment).
+/// On S^m: the circle through a, b, c (SphereCircle, sphere.h), traversed by the rotation
+/// exp(θ(t) J) about its centre, θ(t) quadratic with θ(tb) = 0 (see the file comment).
 template <>
 class ThreePointCurve<Sphere>
 {
@@ -238,50 +242,9 @@ public:
   using Point = PointT<double>;
   using Tangent = Sphere::Tangent<double>;
 
-  /// Below this distance two points on the unit sphere count as the same point.
-  static constexpr double kCoincident = 1e-12;
-
   ThreePointCurve(const Point& a, const Point& b, const Point& c, double ta, double tb, double tc)
-    : b_(b), ta_(ta), tb_(tb), tc_(tc)
+    : b_(b), ta_(ta), tb_(tb), tc_(tc), circle_(a, b, c)
   {
-    const double two_pi = 6.283185307179586476925286766559;
-    const Eigen::VectorXd dab = a - b, dcb = c - b;
-    if (dab.norm() > kCoincident && dcb.norm() > kCoincident && (a - c).norm() > kCoincident)
-    {
-      // The affine plane through the three points: orthonormal directions f1, f2; its foot
-      // point o (the circle's centre) is the projection of the sphere's centre 0.
-      const Eigen::VectorXd f1 = dab.normalized();
-      const Eigen::VectorXd f2 = (dcb - dcb.dot(f1) * f1).normalized();
-      const Eigen::VectorXd o = b - b.dot(f1) * f1 - b.dot(f2) * f2;
-      u_ = (b - o).normalized();
-      v_ = -u_.dot(f2) * f1 + u_.dot(f1) * f2;  // u rotated by a right angle in the plane
-      auto angle = [&](const Eigen::VectorXd& x) {
-        const double phi = std::atan2((x - o).dot(v_), (x - o).dot(u_));
-        return phi < 0.0 ? phi + two_pi : phi;
-      };
-      double angle_a = angle(a);
-      double angle_c = angle(c);
-      if (angle_c > angle_a)  // orient the circle so that b → c comes before reaching a
-      {
-        v_ = -v_;
-        angle_a = two_pi - angle_a;
-        angle_c = two_pi - angle_c;
-      }
-      theta_a_ = angle_a - two_pi;
-      theta_c_ = angle_c;
-    }
-    else
-    {
-      // A dwell (two points equal): the great circle through b and the other distinct point.
-      u_ = b;
-      const Eigen::VectorXd& other = dab.norm() >= dcb.norm() ? a : c;
-      const Eigen::VectorXd w = other - other.dot(b) * b;
-      v_ = w.norm() > kCoincident ? Eigen::VectorXd(w.normalized()) : Eigen::VectorXd(Eigen::VectorXd::Zero(b.size()));
-      theta_a_ = std::atan2(a.dot(v_), a.dot(u_));
-      theta_c_ = std::atan2(c.dot(v_), c.dot(u_));
-      if (v_.isZero())
-        u_.setZero();
-    }
   }
 
   /// The angle θ(t): θ(ta) = θ_a < 0 < θ(tc) = θ_c on a proper circle, θ(tb) = 0.
@@ -290,47 +253,29 @@ public:
   {
     S la, lc;
     detail::outerLagrangeBasis(ta_, tb_, tc_, t, &la, &lc);
-    return S(theta_a_) * la + S(theta_c_) * lc;
+    return S(circle_.angleAtFirst()) * la + S(circle_.angleAtLast()) * lc;
   }
 
   template <class S>
   PointT<S> at(const S& t) const
   {
-    return rotate(angle(t), PointT<S>(b_.template cast<S>()));
+    return circle_.rotate(angle(t), PointT<S>(b_.template cast<S>()));
   }
 
   /// exp((θ(t) − θ(ta)) J) y: the rotation carrying a = C(ta) to C(t), applied to y.
   template <class S>
   PointT<S> carry(const S& t, const PointT<S>& y) const
   {
-    return rotate(S(angle(t) - S(theta_a_)), y);
+    return circle_.rotate(S(angle(t) - S(circle_.angleAtFirst())), y);
   }
 
-  double angleAtFirst() const { return theta_a_; }
-  double angleAtLast() const { return theta_c_; }
+  double angleAtFirst() const { return circle_.angleAtFirst(); }
+  double angleAtLast() const { return circle_.angleAtLast(); }
 
 private:
-  /// exp(φ J) y = y + sin φ J y + (1 − cos φ) J² y with J = v uᵀ − u vᵀ.
-  template <class S>
-  PointT<S> rotate(const S& phi, const PointT<S>& y) const
-  {
-    using std::sin;
-    S s, c;
-    sincos(phi, &s, &c);
-    const S half = sin(S(phi * 0.5));
-    const S one_minus_cos = S(2.0) * half * half;
-    const PointT<S> u = u_.template cast<S>();
-    const PointT<S> v = v_.template cast<S>();
-    const S yu = u.dot(y);
-    const S yv = v.dot(y);
-    return y + PointT<S>(v * S(s * yu) - u * S(s * yv)) - PointT<S>(u * S(one_minus_cos * yu) + v * S(one_minus_cos * yv));
-  }
-
   Point b_;
   double ta_, tb_, tc_;
-  Eigen::VectorXd u_, v_;  ///< orthonormal basis of the circle's plane, u along b − centre (zero: b = a = c)
-  double theta_a_ = 0.0;
-  double theta_c_ = 0.0;
+  SphereCircle circle_;
 };
 
 namespace detail

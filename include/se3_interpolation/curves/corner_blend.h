@@ -1,6 +1,6 @@
 // Corner blending for waypoint paths: `piecewise_geodesic` with `blend_radius` (issue 14).
 //
-// The polyline of geodesics x_{i−1} → x_i (piecewise_geodesic, polynomial_curves.h) stops
+// The polyline of geodesics x_{i−1} → x_i (piecewise_geodesic, bezier.h) stops
 // dead or jumps in velocity at every interior waypoint. With a blend radius r each interior
 // corner x_i is replaced by a blend that
 //   * leaves the incoming geodesic at the point a_i whose chord distance

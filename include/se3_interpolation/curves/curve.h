@@ -1,3 +1,10 @@
+// curves/: the constructions, each written once over the geometry G (geometry/): curve.h (this
+// header: the Curve<G> interface, time scaling, the times rule), bezier.h (geodesic polygons,
+// de Casteljau, Bézier), bspline.h (de Boor), hermite.h (Crouch Case 1), chart_cubic.h (the
+// pieces of the C² spline), interpolating_solver.h (its Newton solve), interpolating_spline.h
+// (natural / clamped / start), blended_spline.h (Pobegailo C^n), corner_blend.h (blended
+// corners of a geodesic polygon), start_join.h (the joining quintic of replanning).
+//
 // The curve interface shared by every construction, and time reparameterisation.
 //
 // A Curve<G> is a map t ↦ G::Point<double> on [startTime(), endTime()] (seconds).
@@ -16,6 +23,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/geometry/tangent_space.h"
 #include "se3_interpolation/math/jet.h"
 
 namespace se3_interpolation
@@ -151,5 +159,12 @@ private:
   double t0_;
   double scale_;
 };
+
+/// (T1), (T2) of a curve at time t (one-sided at a breakpoint).
+template <class G>
+TangentMotion<G> tangentMotion(const Curve<G>& curve, double t, Side side = Side::kRight)
+{
+  return tangentMotion<G>(curve.jet(Jet<2>::variable(t), side));
+}
 
 }  // namespace se3_interpolation

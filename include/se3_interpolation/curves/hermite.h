@@ -2,7 +2,7 @@
 // §3 Case 1), and the rule that estimates the velocities when a request gives none.
 //
 // On each segment [t_i, t_{i+1}], h = t_{i+1} − t_i, the curve is the cubic Bézier curve of the
-// generalised de Casteljau algorithm (thesis Alg. 4.1.2, polynomial_curves.h) in
+// generalised de Casteljau algorithm (thesis Alg. 4.1.2, bezier.h) in
 // λ = (t − t_i)/h with control points
 //   b_0 = x_i,  b_1 = exp(x_i, h v_i / 3),  b_2 = exp(x_{i+1}, −h v_{i+1} / 3),  b_3 = x_{i+1},   (H1)
 // the tangents v_i in G's representation (velocity (T1), tangent_space.h). Crouch Thm 2.5
@@ -37,21 +37,6 @@ namespace se3_interpolation
 {
 namespace detail
 {
-/// Whether every coordinate of a point is finite.
-inline bool allFinite(const Pose<double>& x)
-{
-  return x.p.allFinite() && x.q.coeffs().allFinite();
-}
-template <class D>
-bool allFinite(const Eigen::MatrixBase<D>& x)
-{
-  return x.allFinite();
-}
-inline bool allFinite(const Quaternion<double>& q)
-{
-  return q.coeffs().allFinite();
-}
-
 /// At least two points, one finite time per point, strictly increasing; all points with the
 /// same tangent dimension. Messages name `waypoints` / `times` and the index.
 template <class G>

@@ -55,6 +55,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -70,6 +71,7 @@
 #include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/geometry/tangent_space.h"
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/name_table.h"
 #include "se3_interpolation/math/banded_lu.h"
 
 namespace se3_interpolation
@@ -80,6 +82,17 @@ enum class EndCondition
   kNatural,  ///< "natural": zero acceleration at both ends
   kClamped,  ///< "clamped": the given start and end velocities
   kStart     ///< "start": the given start velocity and acceleration (Crouch Case 2)
+};
+
+/// The names of EndCondition (the request's `end_condition`).
+template <>
+struct NameTable<EndCondition>
+{
+  static constexpr std::array<std::pair<const char*, EndCondition>, 3> kNames = { {
+      { "natural", EndCondition::kNatural },
+      { "clamped", EndCondition::kClamped },
+      { "start", EndCondition::kStart },
+  } };
 };
 
 /// Limits of the iterative solve (natural / clamped).
@@ -93,20 +106,6 @@ struct SplineSolverOptions
 
 namespace detail
 {
-inline const char* endConditionName(EndCondition c)
-{
-  switch (c)
-  {
-    case EndCondition::kNatural:
-      return "natural";
-    case EndCondition::kClamped:
-      return "clamped";
-    case EndCondition::kStart:
-      return "start";
-  }
-  return "";
-}
-
 inline std::string scientific(double x)
 {
   std::ostringstream s;
@@ -344,7 +343,7 @@ public:
 
   std::string prefix() const
   {
-    return std::string("curve 'interpolating' (end_condition '") + endConditionName(condition_) + "'): ";
+    return std::string("curve 'interpolating' (end_condition '") + toString(condition_) + "'): ";
   }
 
   /// The curve for solved frame coordinates z.

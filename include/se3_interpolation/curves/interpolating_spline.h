@@ -141,7 +141,7 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
 }
 
 /// The `interpolating` curve for an end condition (SPEC, Curves). Tangents are in G's
-/// representation at the first / last point (se3_velocity.h converts request twists); unused
+/// representation at the first / last point (geometry/pose.h converts request twists); unused
 /// ones are ignored. Throws InvalidInputError (bad input, naming the field) or ConvergenceError.
 template <class G>
 std::shared_ptr<const Curve<G>> makeInterpolatingSpline(const std::vector<typename G::template Point<double>>& points,

@@ -29,7 +29,7 @@
 
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
 {

@@ -10,7 +10,7 @@
 // Since G::log(x, ·) inverts G::exp(x, ·) near x, v is the tangent with
 // d/ds G::exp(x, s v)|_{s=0} = ċ(t), in G's representation (geometry.h). Along a geodesic
 // of G, y(s) = s v exactly, so a = 0: this is "the acceleration that vanishes along the
-// geodesics of G". In the geometries of this library (derivations in se3_velocity.h):
+// geodesics of G". In the geometries of this library (derivations in screw_se3.h, double_geodesic_se3.h):
 //   ScrewSe3:           a = d/dt of the body twist (Rᵀω, Rᵀṗ) = (Rᵀω̇, Rᵀ(p̈ − ω × ṗ)),
 //                       because the body twist is ξ = J_r(y) y' with J_r(y) = I − ½ ad_y + O(|y|²),
 //                       so ξ'(0) = y''(0) − ½ [y'(0), y'(0)] = y''(0);
@@ -30,10 +30,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/QR>
 
-#include "se3_interpolation/curves/curve.h"
-#include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/geometry/geodesic.h"
 #include "se3_interpolation/math/jet.h"
 
 namespace se3_interpolation
@@ -84,13 +82,6 @@ TangentMotion<G> tangentMotion(const typename G::template Point<Jet<2>>& x)
   return m;
 }
 
-/// (T1), (T2) of a curve at time t (one-sided at a breakpoint).
-template <class G>
-TangentMotion<G> tangentMotion(const Curve<G>& curve, double t, Side side = Side::kRight)
-{
-  return tangentMotion<G>(curve.jet(Jet<2>::variable(t), side));
-}
-
 /// Size of G's tangent representation at x (6 on SE(3), 3 on SO(3), n on R^n, m + 1 on S^m).
 template <class G>
 Eigen::Index tangentDimension(const typename G::template Point<double>& x)
@@ -99,7 +90,7 @@ Eigen::Index tangentDimension(const typename G::template Point<double>& x)
 }
 
 /// Orthonormal coordinates on the tangent spaces: the default for geometries whose tangent
-/// representation is a coordinate system (Lie groups, R^n).
+/// representation is a coordinate system (Lie groups, R^n); the sphere specialises it (sphere.h).
 template <class G>
 struct TangentFrame
 {
@@ -110,34 +101,5 @@ struct TangentFrame
     return Eigen::MatrixXd::Identity(n, n);
   }
 };
-
-/// S^m: T_x S^m = x^⊥ ⊂ R^{m+1}; the last m columns of the Householder reflection taking x
-/// to a multiple of e_1.
-template <>
-struct TangentFrame<Sphere>
-{
-  static constexpr bool kIdentity = false;
-  static Eigen::MatrixXd basis(const Eigen::VectorXd& x)
-  {
-    const Eigen::MatrixXd column = x;
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(column);
-    const Eigen::MatrixXd q = qr.householderQ();
-    return q.rightCols(x.size() - 1);
-  }
-};
-
-/// A scale for absolute tolerances on points: 1 + the size of the point's coordinates.
-inline double pointMagnitude(const Pose<double>& x)
-{
-  return 1.0 + x.p.norm();
-}
-inline double pointMagnitude(const Quaternion<double>& /*q*/)
-{
-  return 1.0;
-}
-inline double pointMagnitude(const Eigen::VectorXd& x)
-{
-  return 1.0 + x.norm();
-}
 
 }  // namespace se3_interpolation

@@ -1,3 +1,7 @@
+// math/: numbers and closed forms, no geometry policy: jet.h (truncated Taylor arithmetic, exact
+// derivatives), lie_groups.h (this header: Pose, SO(3)/SE(3) Exp/Log and slerp with their jets),
+// banded_lu.h (the banded LU of the C² systems), quadrature.h (Gauss–Legendre, golden section).
+//
 // Closed-form exponential and logarithm maps of SO(3) (unit quaternions) and SE(3).
 //
 // Conventions (as Sophus):
@@ -337,5 +341,42 @@ Eigen::Matrix<S, 3, 3> hat(const Vector3<S>& w)
   m << S(0), -w.z(), w.y(), w.z(), S(0), -w.x(), -w.y(), w.x(), S(0);
   return m;
 }
+
+// Jets along one-parameter subgroups (the first de Casteljau / de Boor level x·Exp(α(t) L)
+// with x, L constant and α a jet of time: closed forms, no jet × jet products).
+namespace detail
+{
+/// The second-order jet of f(α(t)) from f, f' and f'' at α_0 = α(t_0) (Faà di Bruno at order 2:
+/// c_1 = α_1 f', c_2 = α_2 f' + α_1² f''/2, with α = (α_0, α_1, α_2) the jet's coefficients).
+inline Jet<2> composeJet(double f, double d1, double d2, const Jet<2>& alpha)
+{
+  Jet<2> r{ Jet<2>::NoInit{} };
+  const double a1 = alpha.coefficient(1);
+  r.coefficient(0) = f;
+  r.coefficient(1) = a1 * d1;
+  r.coefficient(2) = alpha.coefficient(2) * d1 + 0.5 * a1 * a1 * d2;
+  return r;
+}
+
+/// The jet of a rotation q(α(t)) = q_a Exp(α ω) with constant q_a and ω: along a one-parameter
+/// subgroup dq/dα = q (0, ω/2) and d²q/dα² = q (0, ω/2)² = −(|ω|²/4) q, so the jet needs one
+/// double evaluation of q and one quaternion product of doubles (no jet × jet products).
+inline Quaternion<Jet<2>> rotationLineJet(const Quaternion<double>& q, const Vector3<double>& omega,
+                                          const Jet<2>& alpha)
+{
+  const Quaternion<double> d1 = q * Quaternion<double>(0.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z());
+  const double k2 = -0.25 * omega.squaredNorm();
+  return Quaternion<Jet<2>>(composeJet(q.w(), d1.w(), k2 * q.w(), alpha), composeJet(q.x(), d1.x(), k2 * q.x(), alpha),
+                            composeJet(q.y(), d1.y(), k2 * q.y(), alpha), composeJet(q.z(), d1.z(), k2 * q.z(), alpha));
+}
+
+/// The jet of a vector p(α(t)) from p, dp/dα and d²p/dα² at α_0.
+inline Vector3<Jet<2>> vectorJet(const Vector3<double>& p, const Vector3<double>& d1, const Vector3<double>& d2,
+                                 const Jet<2>& alpha)
+{
+  return Vector3<Jet<2>>(composeJet(p.x(), d1.x(), d2.x(), alpha), composeJet(p.y(), d1.y(), d2.y(), alpha),
+                         composeJet(p.z(), d1.z(), d2.z(), alpha));
+}
+}  // namespace detail
 
 }  // namespace se3_interpolation

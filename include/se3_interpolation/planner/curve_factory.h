@@ -12,14 +12,14 @@
 #include "se3_interpolation/curves/corner_blend.h"
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/planner/names.h"
 
 namespace se3_interpolation
 {
 namespace detail
 {
-/// A request velocity as G's velocity tangent (T1) at x: twists through se3_velocity.h; sphere
+/// A request velocity as G's velocity tangent (T1) at x: twists through geometry/pose.h; sphere
 /// tangents are already G's ambient vectors.
 template <class G>
 typename G::template Tangent<double> velocityTangent(const Pose<double>& x, const Twist& v)

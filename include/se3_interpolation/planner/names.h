@@ -1,22 +1,18 @@
-// The names of the request's string fields (curve, geometry, end_condition, parameterization,
-// timing): one table per enum, read by the planner, the node's parameters and the CLI, so that
-// a name is spelled in one place. parseName gives the default for "" and refuses an unknown
-// name with an InvalidInputError naming the field and listing the known names.
+// The names of the request's string fields (curve, geometry, parameterization, timing): one
+// table per enum (name_table.h), read by the planner, the node's parameters and the CLI, so that
+// a name is spelled in one place. end_condition's table lives with its enum in
+// curves/interpolating_solver.h (curves/ must not include planner/).
 #pragma once
 
 #include <array>
 #include <string>
 #include <utility>
 
-#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/name_table.h"
 #include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
-/// The name table of enum E: NameTable<E>::kNames, an array of (name, value).
-template <class E>
-struct NameTable;
-
 template <>
 struct NameTable<CurveType>
 {
@@ -40,16 +36,6 @@ struct NameTable<GeometryType>
 };
 
 template <>
-struct NameTable<EndCondition>
-{
-  static constexpr std::array<std::pair<const char*, EndCondition>, 3> kNames = { {
-      { "natural", EndCondition::kNatural },
-      { "clamped", EndCondition::kClamped },
-      { "start", EndCondition::kStart },
-  } };
-};
-
-template <>
 struct NameTable<Parameterization>
 {
   static constexpr std::array<std::pair<const char*, Parameterization>, 3> kNames = { {
@@ -67,38 +53,5 @@ struct NameTable<Timing>
       { "time_optimal", Timing::kTimeOptimal },
   } };
 };
-
-/// The name of `value` in its table.
-template <class E>
-const char* toString(E value)
-{
-  for (const auto& n : NameTable<E>::kNames)
-    if (n.second == value)
-      return n.first;
-  return "";
-}
-
-/// "a, b, c": the known names of E, for messages.
-template <class E>
-std::string knownNames()
-{
-  std::string known;
-  for (const auto& n : NameTable<E>::kNames)
-    known += (known.empty() ? "" : ", ") + std::string(n.first);
-  return known;
-}
-
-/// The value named `name`; "" gives `default_value`. Unknown names throw InvalidInputError
-/// naming `field`, quoting the name (at most a prefix) and listing the known ones.
-template <class E>
-E parseName(const std::string& name, const std::string& field, E default_value)
-{
-  if (name.empty())
-    return default_value;
-  for (const auto& n : NameTable<E>::kNames)
-    if (name == n.first)
-      return n.second;
-  throw InvalidInputError(field + ": unknown value " + quotedText(name) + " (expected one of: " + knownNames<E>() + ")");
-}
 
 }  // namespace se3_interpolation

@@ -1,3 +1,8 @@
+// planner/: the request, written once over the space: request.h (request, validated request,
+// result, defaults, limits), names.h (the request's name tables), validation.h (one function per
+// rule), work_estimate.h (the bounded work per request), curve_factory.h (curve name →
+// construction), planner.h (this header: generate<Space>).
+//
 // The trajectory planner: request → validation → timing → curve → stretch → samples, written
 // once over the space (planner/request.h): poses in either SE(3) geometry, and the sphere S^m.
 //

@@ -24,7 +24,7 @@
 
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
 {

@@ -1,3 +1,7 @@
+// ros/ (not in the core library): conversions.h (toMsg/fromMsg between messages and core
+// types), node_parameters.h (the node's parameters validated into a struct),
+// interpolation_node.h (this header: the node class, also loaded as a nodelet).
+//
 // se3_interpolation_node: the ROS face of the planner.
 //
 // Service ~generate (GenerateTrajectory), waypoint buffer (~waypoint, ~waypoints,

@@ -1,3 +1,5 @@
+// timing/: time parameterisation beyond the uniform stretch: time_optimal.h (this header).
+//
 // Time-optimal timing along a fixed path under velocity and acceleration norm bounds.
 //
 // The path is a curve C(s) on [s_0, s_1], its own time axis s (the waypoint times) serving
@@ -64,7 +66,6 @@
 
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/analysis/sphere_kinematics.h"
 
 namespace se3_interpolation
 {
@@ -194,7 +195,7 @@ PathJet pathJetAt(const Curve<G>& curve, double s, Side side)
 /// On S^m only the angular channel moves: (x′, D²x/ds²).
 inline PathJet pathJetAt(const Curve<Sphere>& curve, double s, Side side)
 {
-  const SphereKinematics k = sphereKinematicsAt(curve, s, side);
+  const SphereKinematics k = kinematicsAt(curve, s, side);
   return { ChannelJet(), channelJet(k.velocity, k.acceleration) };
 }
 
@@ -215,8 +216,8 @@ bool velocityJumps(const Curve<G>& curve, double s)
 
 inline bool velocityJumps(const Curve<Sphere>& curve, double s)
 {
-  const SphereKinematics l = sphereKinematicsAt(curve, s, Side::kLeft);
-  const SphereKinematics r = sphereKinematicsAt(curve, s, Side::kRight);
+  const SphereKinematics l = kinematicsAt(curve, s, Side::kLeft);
+  const SphereKinematics r = kinematicsAt(curve, s, Side::kRight);
   return (l.velocity - r.velocity).norm() > kCornerTolerance * (l.velocity.norm() + r.velocity.norm());
 }
 

@@ -12,6 +12,7 @@
 #include "se3_interpolation/curves/blended_spline.h"
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/planner/planner.h"
+#include "allocation_counter.h"
 #include "test_utils.h"
 
 using namespace se3_interpolation;
@@ -375,6 +376,7 @@ TEST(BlendingPolynomials, MinimiseTheEnergyJnAmongCompetitorsWithTheSameBoundary
 TEST(BlendingPolynomials, RejectOrderZero)
 {
   EXPECT_THROW(BlendingPolynomial::increasing(0), InvalidInputError);
+  EXPECT_THROW(BlendingPolynomial::decreasing(kMaxBlendingContinuity + 1), InvalidInputError);
   EXPECT_THROW(BlendedSpline<Euclidean>({ Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0) }, { 0.0, 1.0 }, 0),
                InvalidInputError);
 }
@@ -773,4 +775,30 @@ TEST(Blended, PlannerBuildsTheBlendedCurveWithTheRequestedContinuity)
   request.continuity = 0;  // default 2
   const auto by_default = makeCurve<ScrewSe3>(validateRequest(request, PlannerLimits()), request.times);
   EXPECT_EQ(dynamic_cast<const BlendedSpline<ScrewSe3>&>(*by_default).continuity(), 2);
+}
+
+// Issue 11: evaluating a blended spline (value and second-order jet) allocates nothing, at every
+// continuity, in the SE(3) geometries (whose points are fixed-size); the blending polynomials'
+// powers live on the stack.
+TEST(Blended, EvaluationAllocatesNothing)
+{
+  std::mt19937 rng(41);
+  std::vector<Pose<double>> x;
+  for (int i = 0; i < 6; ++i)
+    x.push_back(test::randomPose(rng));
+  const std::vector<double> t{ 0.0, 0.4, 1.5, 1.9, 3.0, 3.2 };
+  for (int n = 1; n <= kMaxBlendingContinuity; ++n)
+  {
+    const BlendedSpline<DoubleGeodesicSe3> dg(x, t, n);
+    const BlendedSpline<ScrewSe3> screw(x, t, n);
+    double sink = 0.0;
+    const long before = test::allocationCount().load();
+    for (double s = 0.0; s <= 3.2; s += 0.05)
+    {
+      sink += dg.value(s).p.x() + screw.value(s).p.y();
+      sink += dg.jet(Jet<2>::variable(s), Side::kRight).p.z().coefficient(2) + screw.jet(Jet<2>::variable(s), Side::kRight).q.w().coefficient(1);
+    }
+    EXPECT_EQ(test::allocationCount().load() - before, 0) << "continuity " << n;
+    EXPECT_TRUE(std::isfinite(sink));
+  }
 }

@@ -4,35 +4,11 @@
 // geodesic's rotation-only transition derivatives agree with the generic 21-jet ones.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <random>
 
 #include "se3_interpolation/curves/interpolating_spline.h"
+#include "allocation_counter.h"
 #include "test_utils.h"
-
-namespace
-{
-std::atomic<long> g_allocations{ 0 };
-}  // namespace
-
-// Counting replacements of the global allocation functions (this test binary only).
-void* operator new(std::size_t size)
-{
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size))
-    return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept
-{
-  std::free(p);
-}
-void operator delete(void* p, std::size_t /*size*/) noexcept
-{
-  std::free(p);
-}
 
 using namespace se3_interpolation;
 
@@ -59,9 +35,9 @@ long solveAllocations(std::size_t n, double max_angle, EndCondition condition)
   for (std::size_t i = 0; i < n; ++i)
     t[i] = 0.5 * static_cast<double>(i) + 0.1 * static_cast<double>(i % 3);
   const Vector6<double> v0 = Vector6<double>::Constant(0.1), v1 = Vector6<double>::Constant(-0.2);
-  const long before = g_allocations.load();
+  const long before = test::allocationCount().load();
   const auto curve = solveC2Spline<G>(x, t, condition, v0, v1);
-  const long after = g_allocations.load();
+  const long after = test::allocationCount().load();
   EXPECT_EQ(curve->startRates().size(), n - 1);
   return after - before;
 }

@@ -18,7 +18,7 @@
 
 #include "se3_interpolation/curves/interpolating_spline.h"
 #include "se3_interpolation/analysis/kinematics.h"
-#include "se3_interpolation/geometry/se3_velocity.h"
+#include "se3_interpolation/geometry/geometry.h"
 #include "test_utils.h"
 
 using namespace se3_interpolation;

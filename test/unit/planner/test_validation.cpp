@@ -85,24 +85,6 @@ TEST(Validation, DefaultsComeFromRequestDefaults)
   EXPECT_EQ(s.sampling.sample_count, 100u);
 }
 
-TEST(Validation, EveryNameTableRoundTripsAndRefusesUnknownNames)
-{
-  EXPECT_EQ(parseName("bspline", "curve", CurveType::kBezier), CurveType::kBspline);
-  EXPECT_EQ(parseName("", "curve", CurveType::kBezier), CurveType::kBezier);
-  EXPECT_STREQ(toString(CurveType::kPiecewiseGeodesic), "piecewise_geodesic");
-  EXPECT_STREQ(toString(GeometryType::kScrew), "screw");
-  EXPECT_STREQ(toString(EndCondition::kStart), "start");
-  EXPECT_STREQ(toString(Parameterization::kCentripetal), "centripetal");
-  EXPECT_STREQ(toString(Timing::kTimeOptimal), "time_optimal");
-  for (const auto& n : NameTable<CurveType>::kNames)
-    EXPECT_EQ(parseName(n.first, "curve", CurveType::kBezier), n.second) << n.first;
-  EXPECT_EQ(knownNames<Timing>(), "stretch, time_optimal");
-
-  const std::string e = errorOf([] { parseName("bspine", "~curve", CurveType::kBezier); });
-  EXPECT_EQ(e, "~curve: unknown value 'bspine' (expected one of: piecewise_geodesic, bezier, bspline, "
-               "interpolating, hermite, blended)");
-}
-
 TEST(Validation, SameRuleSameMessageInBothSpaces)
 {
   TrajectoryRequest p = poseRequest();

@@ -13,8 +13,6 @@
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/planner/planner.h"
-#include "se3_interpolation/analysis/sphere_kinematics.h"
-#include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "se3_interpolation/planner/validation.h"
 #include "test_utils.h"

@@ -1,0 +1,183 @@
+// planner/planner.h: requests through the planner with interpolating and Hermite curves: the
+// waypoints are passed, request twists reach the curve, stretching meets each bound, waypoint
+// times follow the parameterisation, and errors name the field.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
+#include "spline_test_utils.h"
+#include "test_utils.h"
+
+using namespace se3_interpolation;
+using namespace se3_interpolation::test;
+
+// ---- the planner: requests, timing, stretching ----------------------------------------------
+
+namespace
+{
+TrajectoryRequest requestThrough(const std::vector<Pose<double>>& x, const std::string& curve)
+{
+  TrajectoryRequest r;
+  r.waypoints = x;
+  r.curve = curve;
+  return r;
+}
+}  // namespace
+
+TEST(Planner, InterpolatingAndHermiteRequestsPassTheirWaypoints)
+{
+  std::mt19937 rng(170);
+  const std::vector<Pose<double>> x = randomPolygon(rng, 7);
+  const std::vector<double> t = randomTimes(rng, 7);
+  for (const char* geometry : { "screw", "double_geodesic" })
+    for (const char* curve : { "interpolating", "hermite" })
+    {
+      TrajectoryRequest r = requestThrough(x, curve);
+      r.geometry = geometry;
+      r.times = t;
+      r.sample_times = t;
+      const TrajectoryResult out = generate(r, PlannerLimits());
+      for (std::size_t i = 0; i < x.size(); ++i)
+        EXPECT_LT(poseDistance(out.samples[i].pose, x[i]), 1e-10) << geometry << " " << curve << " " << i;
+    }
+}
+
+TEST(Planner, RequestTwistsReachTheCurve)
+{
+  std::mt19937 rng(171);
+  const std::vector<Pose<double>> x = randomPolygon(rng, 5);
+  const std::vector<double> t = randomTimes(rng, 5);
+  for (const char* geometry : { "screw", "double_geodesic" })
+  {
+    TrajectoryRequest r = requestThrough(x, "interpolating");
+    r.geometry = geometry;
+    r.times = t;
+    r.sample_times = { t.front(), t.back() };
+    r.end_condition = "clamped";
+    r.start_velocity = randomTwist(rng, 0.5);
+    r.end_velocity = randomTwist(rng, 0.5);
+    TrajectoryResult out = generate(r, PlannerLimits());
+    EXPECT_LT(twistError(out.samples.front().velocity, r.start_velocity), 1e-9) << geometry;
+    EXPECT_LT(twistError(out.samples.back().velocity, r.end_velocity), 1e-9) << geometry;
+
+    r.curve = "hermite";
+    r.sample_times = t;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      r.velocities.push_back(randomTwist(rng, 0.5));
+    out = generate(r, PlannerLimits());
+    for (std::size_t i = 0; i < x.size(); ++i)
+      EXPECT_LT(twistError(out.samples[i].velocity, r.velocities[i]), 1e-9) << geometry << " " << i;
+  }
+}
+
+TEST(Planner, StretchingMeetsEachBoundWithinOnePercentAndNeverExceedsIt)
+{
+  std::mt19937 rng(172);
+  const std::vector<Pose<double>> x = randomPolygon(rng, 6);
+  struct Bound
+  {
+    double TrajectoryRequest::*field;
+    int quantity;  // 0 linear speed, 1 angular speed, 2 linear acceleration, 3 angular acceleration
+    double value;
+  };
+  const std::vector<Bound> bounds{ { &TrajectoryRequest::max_linear_velocity, 0, 0.5 },
+                                   { &TrajectoryRequest::max_angular_velocity, 1, 0.3 },
+                                   { &TrajectoryRequest::max_linear_acceleration, 2, 0.2 },
+                                   { &TrajectoryRequest::max_angular_acceleration, 3, 0.1 } };
+  for (const char* curve : { "interpolating", "hermite" })
+    for (const Bound& bound : bounds)
+    {
+      TrajectoryRequest r = requestThrough(x, curve);
+      r.geometry = "screw";
+      r.*bound.field = bound.value;
+      r.sample_count = 20001;
+      const TrajectoryResult out = generate(r, PlannerLimits());
+      EXPECT_GT(out.time_scale, 1.0);
+      double peak = 0.0;
+      for (const TrajectorySample& s : out.samples)
+      {
+        const double q[] = { s.velocity.linear.norm(), s.velocity.angular.norm(), s.acceleration.linear.norm(),
+                             s.acceleration.angular.norm() };
+        peak = std::max(peak, q[bound.quantity]);
+      }
+      EXPECT_LE(peak, bound.value * (1.0 + 1e-9)) << curve << " bound " << bound.quantity;
+      EXPECT_GE(peak, 0.99 * bound.value) << curve << " bound " << bound.quantity;
+    }
+}
+
+TEST(Planner, WaypointTimesFollowTheParameterisation)
+{
+  // Segment distances sqrt(|Δp|² + (ρ Δθ)²) with ρ = 2: 5 (translation 3-4-5), 2 · 1.2 = 2.4
+  // (rotation only), sqrt(1.2² + (2 · 0.5)²) = sqrt(2.44).
+  TrajectoryRequest r;
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  r.waypoints = { Pose<double>(),
+                  Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(3, 4, 0)),
+                  Pose<double>(so3Exp<double>(Eigen::Vector3d(1.2 * z)), Eigen::Vector3d(3, 4, 0)),
+                  Pose<double>(so3Exp<double>(Eigen::Vector3d(1.7 * z)), Eigen::Vector3d(3, 4, 1.2)) };
+  r.rotation_scale = 2.0;
+  const std::vector<double> d{ 5.0, 2.4, std::sqrt(2.44) };
+  auto expected = [&](double (*step)(double), double total) {
+    std::vector<double> c{ 0.0 };
+    for (double di : d)
+      c.push_back(c.back() + step(di));
+    for (double& ci : c)
+      ci *= total / c.back();
+    return c;
+  };
+  auto check = [&](const std::string& parameterization, double duration, const std::vector<double>& ref) {
+    r.parameterization = parameterization;
+    r.duration = duration;
+    const std::vector<double> times = waypointTimes(validateRequest(r, PlannerLimits()));
+    ASSERT_EQ(times.size(), ref.size());
+    for (std::size_t i = 0; i < ref.size(); ++i)
+      EXPECT_NEAR(times[i], ref[i], 1e-12) << parameterization << " " << i;
+  };
+  check("", 0.0, expected([](double x) { return x; }, 3.0));  // chord is the default; 1 s per segment
+  check("chord", 7.0, expected([](double x) { return x; }, 7.0));
+  check("uniform", 0.0, { 0.0, 1.0, 2.0, 3.0 });
+  check("uniform", 4.5, { 0.0, 1.5, 3.0, 4.5 });
+  check("centripetal", 2.0, expected([](double x) { return std::sqrt(x); }, 2.0));
+  // rotation_scale 0 means the default 1 m/rad: the second segment becomes 1.2.
+  r.rotation_scale = 0.0;
+  r.parameterization = "chord";
+  r.duration = 0.0;
+  const std::vector<double> times = waypointTimes(validateRequest(r, PlannerLimits()));
+  const double total = 5.0 + 1.2 + std::sqrt(1.44 + 0.25);
+  EXPECT_NEAR(times[1], 3.0 * 5.0 / total, 1e-12);
+  EXPECT_NEAR(times[2], 3.0 * 6.2 / total, 1e-12);
+}
+
+TEST(Planner, RequestErrorsNameTheField)
+{
+  std::mt19937 rng(173);
+  const std::vector<Pose<double>> x = randomPolygon(rng, 4);
+  auto message = [&](TrajectoryRequest r) {
+    try
+    {
+      generate(r, PlannerLimits());
+    }
+    catch (const InterpolationError& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  TrajectoryRequest r = requestThrough(x, "hermite");
+  r.velocities.resize(3);
+  EXPECT_NE(message(r).find("velocities: 3 given for 4 waypoints"), std::string::npos) << message(r);
+  r.velocities.resize(4);
+  r.velocities[2].angular.y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(r).find("velocities[2].angular.y"), std::string::npos) << message(r);
+  r.velocities[2].angular = Eigen::Vector3d(0.0, 0.0, 1e3);  // far too fast for its segment
+  EXPECT_NE(message(r).find("velocities[2]: too large"), std::string::npos) << message(r);
+  r = requestThrough(x, "interpolating");
+  r.end_condition = "free";
+  EXPECT_NE(message(r).find("end_condition: unknown value 'free'"), std::string::npos) << message(r);
+  r.end_condition = "clamped";
+  r.start_velocity.linear.x() = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message(r).find("start_velocity.linear.x"), std::string::npos) << message(r);
+}
