@@ -617,8 +617,8 @@ TEST(OtherGeometries, StepsNearerTheAntipodeThanTheConjugateGapAreRefused)
   {
     const NearAntipodalData d = nearAntipodal(2e-8, h);
     const auto c = solveC2Spline<Sphere>(d.x, d.t, EndCondition::kNatural, zero, zero);
-    const SphereKinematics l = sphereKinematicsAt(*c, d.t[1], Side::kLeft);
-    const SphereKinematics r = sphereKinematicsAt(*c, d.t[1], Side::kRight);
+    const SphereKinematics l = kinematicsAt(*c, d.t[1], Side::kLeft);
+    const SphereKinematics r = kinematicsAt(*c, d.t[1], Side::kRight);
     EXPECT_LT((l.velocity - r.velocity).norm(), 1e-6 * (l.velocity.norm() + r.velocity.norm())) << h;
     EXPECT_LT((l.acceleration - r.acceleration).norm(), 1e-6 * (l.acceleration.norm() + r.acceleration.norm()))
         << h << ": " << l.acceleration.transpose() << " | " << r.acceleration.transpose();
