@@ -29,19 +29,37 @@ void requireResolvable(const std::vector<double>& ts, const std::string& field)
                               " (fewer samples or a longer duration)");
 }
 
-/// A position or twist part: components named .x, .y, .z.
-void requireFinite(const Eigen::Vector3d& v, const std::string& field)
-{
-  static const char* kAxis[] = { ".x", ".y", ".z" };
-  for (int i = 0; i < 3; ++i)
-    requireFinite(v[i], field + kAxis[i]);
-}
-
 /// A vector of R^{m+1} (sphere points and tangents): components named [j].
 void requireFinite(const Eigen::VectorXd& v, const std::string& field)
 {
   for (Eigen::Index j = 0; j < v.size(); ++j)
     requireFinite(v[j], indexedField(field, static_cast<std::size_t>(j)));
+}
+
+/// A finite number of magnitude at most kMaxMagnitude.
+void requireBounded(double x, const std::string& field)
+{
+  requireFinite(x, field);
+  if (!(std::abs(x) <= kMaxMagnitude))
+    throw InvalidInputError(field + ": " + formatNumber(x) + " is beyond the magnitude limit " +
+                            formatNumber(kMaxMagnitude) + " (larger values can overflow the curve's acceleration)");
+}
+
+/// A position or twist part of bounded magnitude: components named .x, .y, .z.
+void requireBounded(const Eigen::Vector3d& v, const std::string& field)
+{
+  static const char* kAxis[] = { ".x", ".y", ".z" };
+  for (int i = 0; i < 3; ++i)
+    if (!(std::abs(v[i]) <= kMaxMagnitude))
+      requireBounded(v[i], field + kAxis[i]);
+}
+
+/// A sphere tangent of bounded magnitude: components named [j].
+void requireBounded(const Eigen::VectorXd& v, const std::string& field)
+{
+  for (Eigen::Index j = 0; j < v.size(); ++j)
+    if (!(std::abs(v[j]) <= kMaxMagnitude))
+      requireBounded(v[j], indexedField(field, static_cast<std::size_t>(j)));
 }
 
 /// A norm within [kMinUnitNorm, kMaxUnitNorm], else InvalidInputError naming `field`;
@@ -109,11 +127,11 @@ std::vector<Eigen::VectorXd> validWaypoints(const std::vector<Eigen::VectorXd>& 
   return out;
 }
 
-/// A twist: finite.
+/// A twist: finite, of bounded magnitude.
 Twist validVelocity(const Twist& raw, const Pose<double>& /*at*/, const std::string& field)
 {
-  requireFinite(raw.linear, field + ".linear");
-  requireFinite(raw.angular, field + ".angular");
+  requireBounded(raw.linear, field + ".linear");
+  requireBounded(raw.angular, field + ".angular");
   return raw;
 }
 
@@ -125,7 +143,7 @@ Eigen::VectorXd validVelocity(const Eigen::VectorXd& raw, const Eigen::VectorXd&
   if (raw.size() != x.size())
     throw InvalidInputError(field + ": has " + std::to_string(raw.size()) + " components; expected " +
                             std::to_string(x.size()) + " (a tangent vector of R^" + std::to_string(x.size()) + ")");
-  requireFinite(raw, field);
+  requireBounded(raw, field);
   const double normal = raw.dot(x);
   if (std::abs(normal) > kMaxNormalFraction * raw.norm())
     throw InvalidInputError(field + ": is not tangent to the sphere at its waypoint (normal component " +
@@ -249,7 +267,7 @@ void applyStartState(const StartState& /*raw*/, int /*raw_degree*/, ValidatedSph
 
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
 {
-  requireFinite(raw.p, field + ".position");
+  requireBounded(raw.p, field + ".position");
   return Pose<double>(validQuaternion(raw.q, field + ".orientation"), raw.p);
 }
 

@@ -135,6 +135,17 @@ constexpr int kPolishSteps = 2;
 /// with margin (rounding level, about 1e-15, in the unit tests' configurations).
 constexpr double kContinuityTolerance = 1e-9;
 
+/// The C^2 solve on S^m refuses a waypoint step closer than this to pi (the sphere's first
+/// conjugate point, where D_i is singular). Measured (natural splines on S^2 through x0, x1 at
+/// pi - gap from x0 after h, and a third point; 60 random configurations per gap and h in
+/// 1e-6 ... 1 s): the acceleration at x1 from its two sides, both evaluated from the ambient jet,
+/// differs by up to 2e-8 of its size at a gap of 1e-8 rad, 1e-7 at 1e-7 rad (h = 1e-5 s),
+/// 2e-6 at 1e-10 and 1e-11 rad (h = 1e-3 s), 0.15 at 1e-10 rad and 1 (the value itself) at
+/// 1e-12 rad (h = 2.5e-6 s): the rounding of the segment's terms, which grow with the condition
+/// of D_i, swamps the acceleration. verifyContinuity, on the scale of those terms, passes all of
+/// these but the last. Below 1e-8 rad such steps are refused, naming the waypoints.
+constexpr double kMinSphereConjugateGap = 1e-8;
+
 /// c q for a constant unit quaternion c and a quaternion of jets q (Hamilton product, double ×
 /// jet products only).
 inline Quaternion<Jet<2>> constantTimes(const Quaternion<double>& c, const Quaternion<Jet<2>>& q)
@@ -239,6 +250,16 @@ public:
     {
       Segment& s = segments_[i];
       s.h = t_[i + 1] - t_[i];
+      if constexpr (std::is_same<G, Sphere>::value)
+      {
+        const double gap = EIGEN_PI - logs_[i].norm();
+        if (gap < kMinSphereConjugateGap)
+          throw ConvergenceError(prefix() + "the step from " + indexedField("waypoints", i) + " to " +
+                                 indexedField("waypoints", i + 1) + " is " + scientific(gap) +
+                                 " rad from the antipode, closer than " + scientific(kMinSphereConjugateGap) +
+                                 " rad (the sphere's conjugate point, where the spline's acceleration is lost "
+                                 "to rounding); add a waypoint between them or use curve 'hermite'");
+      }
       s.log = toFrame(i, logs_[i]);
       transition(i, &s.d, &s.q);
       if (!s.d.allFinite() || !s.q.allFinite())

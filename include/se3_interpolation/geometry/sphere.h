@@ -97,20 +97,34 @@ struct SphereKinematics
   Eigen::VectorXd acceleration;  ///< ẍ − ⟨x, ẍ⟩ x
 };
 
-/// From the second-order jet of a sphere curve at one instant.
+/// The kinematics of the second-order jet x of a sphere curve at one instant, taken of x/|x|
+/// as a jet: ẍ − ⟨x, ẍ⟩ x is the covariant acceleration only for a jet on the sphere to second
+/// order, and a jet computed through exp near the conjugate point leaves it at first order by
+/// rounding (a relative acceleration jump of 1e-4 at an interior waypoint of a C² spline at
+/// 1e-7 rad from the antipode, 1e-7 normalised: interpolating_solver.h, kMinSphereConjugateGap).
+/// With c_k the jet's coefficients divided by |c_0|, x/|x| has the coefficients
+/// c_0, c_1 − ⟨c_0, c_1⟩ c_0 and c_2 − (⟨c_0, c_2⟩ + |c_1|²/2 − 3⟨c_0, c_1⟩²/2) c_0 − ⟨c_0, c_1⟩ c_1.
 inline SphereKinematics sphereKinematicsFromJet(const VectorX<Jet<2>>& x)
 {
   SphereKinematics k;
   const Eigen::Index n = x.size();
   k.point.resize(n);
   k.velocity.resize(n);
-  Eigen::VectorXd ambient(n);
+  Eigen::VectorXd c1(n), c2(n);
   for (Eigen::Index i = 0; i < n; ++i)
   {
     k.point[i] = x[i].value();
-    k.velocity[i] = x[i].coefficient(1);
-    ambient[i] = 2.0 * x[i].coefficient(2);
+    c1[i] = x[i].coefficient(1);
+    c2[i] = x[i].coefficient(2);
   }
+  const double r = k.point.norm();
+  k.point /= r;
+  c1 /= r;
+  c2 /= r;
+  const double a = k.point.dot(c1);
+  k.velocity = c1 - a * k.point;
+  const Eigen::VectorXd ambient =
+      2.0 * (c2 - (k.point.dot(c2) + 0.5 * c1.squaredNorm() - 1.5 * a * a) * k.point - a * c1);
   k.acceleration = ambient - k.point.dot(ambient) * k.point;
   return k;
 }

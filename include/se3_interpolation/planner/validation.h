@@ -20,6 +20,17 @@ constexpr double kMaxUnitNorm = 1.01;
 /// means the vector belongs to another point.
 constexpr double kMaxNormalFraction = 0.01;
 
+/// Positions (m) and the components of every velocity and acceleration of a request (twists:
+/// m/s, rad/s, m/s^2, rad/s^2; sphere tangents: rad/s, rad/s^2) are accepted up to this
+/// magnitude. A curve's acceleration is made of terms up to 6 |dp|/h^2 (interpolating,
+/// chart_cubic.h (C2)) and 6 |v|/h (hermite), with h >= 1 ns (validateTimes), so a magnitude M
+/// gives terms up to about 1.2e19 M; the energy integrates their square over at most
+/// 2 kRosDurationMaxSeconds. With M = 1e100 that is 1.2e119, squared times 4.3e9 s about
+/// 6e247: below the largest double (1.8e308) with a factor 1e30 to spare for the families' own
+/// factors (degrees, knot ratios). Beyond it a finite request could evaluate to an infinite
+/// acceleration (the fuzz_curves finding: a hermite velocity of 1.8e308 m/s).
+constexpr double kMaxMagnitude = 1e100;
+
 /// Checks every field of a request in space Space (PoseSpace or SphereSpace); throws
 /// InvalidInputError / NonUniqueGeodesicError / LimitExceededError naming the field and index.
 /// Nothing is computed for a rejected request.

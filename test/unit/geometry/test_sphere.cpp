@@ -543,3 +543,26 @@ TEST(SpherePlanner, ErrorsNameTheFieldAndIndex)
   r.times = { 0.0, 1.0, 2.0, 3.0, 4.0 };  // with explicit times the body dwells
   EXPECT_EQ(errorOf(r), "no error");
 }
+
+// sphereKinematicsFromJet takes the kinematics of x/|x|: a jet that leaves the sphere radially
+// (by rounding, near the conjugate point) has the kinematics of its projection. Here
+// x(s) = (1 + e s + d s^2) gamma(s) with gamma the great circle cos(th) e1 + sin(th) e2,
+// th = w s + b s^2/2: velocity w e2 and covariant acceleration b e2 (the tangential part; the
+// normal part -w^2 e1 is removed), whatever e and d.
+TEST(SphereKinematics, JetOffTheSphereHasTheKinematicsOfItsProjection)
+{
+  const double w = 0.7, b = -1.3;
+  for (const double e : { 0.0, 1e-3, 0.25 })
+  {
+    const double d = 3.0 * e;
+    const Jet<2> s = Jet<2>::variable(0.0);
+    const Jet<2> radius = 1.0 + e * s + d * s * s;
+    const Jet<2> th = w * s + 0.5 * b * s * s;
+    VectorX<Jet<2>> x(3);
+    x << radius * cos(th), radius * sin(th), Jet<2>(0.0);
+    const SphereKinematics k = sphereKinematicsFromJet(x);
+    EXPECT_LT((k.point - Eigen::Vector3d(1, 0, 0)).norm(), 1e-15) << e;
+    EXPECT_LT((k.velocity - Eigen::Vector3d(0, w, 0)).norm(), 1e-15) << e << ": " << k.velocity.transpose();
+    EXPECT_LT((k.acceleration - Eigen::Vector3d(0, b, 0)).norm(), 1e-15) << e << ": " << k.acceleration.transpose();
+  }
+}

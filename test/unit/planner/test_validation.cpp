@@ -289,3 +289,45 @@ TEST(Validation, ResponseOutputsAreNamedOnceEachFromTheirTable)
     }
   }
 }
+
+// Fuzz finding fuzz_curves-infinite-acceleration (now a seed of test/fuzz/corpus): a hermite
+// request with a finite end velocity of 1.8e308 m/s passed validation and the curve's linear
+// acceleration, (-6 L + 2 h v0 + 4 h v1)/h^2 at the end, overflowed to infinity. Positions and
+// the components of every velocity and acceleration are limited to kMaxMagnitude (1e100).
+TEST(Validation, MagnitudesBeyondTheLimitAreRefused)
+{
+  TrajectoryRequest p = poseRequest();
+  p.waypoints.pop_back();
+  p.curve = "hermite";
+  p.velocities.resize(2);
+  p.velocities[1].linear.y() = 1.7976931348623157e308;
+  EXPECT_EQ(validationError(p), "velocities[1].linear.y: 1.7976931348623157e+308 is beyond the magnitude limit 1e+100 "
+                                "(larger values can overflow the curve's acceleration)");
+  p.velocities[1].linear.y() = 0.0;
+  p.velocities[0].angular.x() = std::nextafter(-1e100, -INFINITY);
+  EXPECT_TRUE(startsWith(validationError(p), "velocities[0].angular.x: ")) << validationError(p);
+  EXPECT_NE(validationError(p).find("is beyond the magnitude limit 1e+100"), std::string::npos);
+  p.velocities[0].angular.x() = 0.0;
+  p.start_acceleration.linear.z() = 2e100;
+  EXPECT_TRUE(startsWith(validationError(p), "start_acceleration.linear.z: 2e+100 is beyond")) << validationError(p);
+  p.start_acceleration.linear.z() = 0.0;
+  p.waypoints[1].p.x() = -2e100;
+  EXPECT_TRUE(startsWith(validationError(p), "waypoints[1].position.x: -2e+100 is beyond")) << validationError(p);
+  SphereRequest s = sphereRequest();
+  s.curve = "hermite";
+  s.velocities = { Eigen::Vector3d(0, 2e100, 0), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero() };
+  EXPECT_TRUE(startsWith(validationError(s), "velocities[0][1]: 2e+100 is beyond")) << validationError(s);
+
+  // At the limit (inclusive) and the shortest step, 1 ns, the curve stays finite: a pure
+  // translation, where the hermite cubic is the classical one, ends with the acceleration
+  // (-6 L + 4 h v1)/h^2 = (-6 + 4e-9 * 1e100)/1e-18 = 4e109 m/s^2.
+  p.waypoints[1].p.x() = 1.0;
+  p.times = { 0.0, 1e-9 };
+  p.velocities[1].linear.x() = 1e100;
+  p.sample_count = 2;
+  const TrajectoryResult out = generate(p, PlannerLimits());
+  ASSERT_EQ(out.samples.size(), 2u);
+  const Eigen::Vector3d a = out.samples.back().acceleration.linear;
+  EXPECT_NEAR(a.x() / 4e109, 1.0, 1e-9) << a.transpose();
+  EXPECT_TRUE(std::isfinite(out.figures.energy));
+}
