@@ -69,6 +69,13 @@
 
 namespace se3_interpolation
 {
+/// The largest chart excursion h·max(|P'(0)|, |P'(h)|) (max norm, rad or m) of a segment of the
+/// start spline: its cubic terms (|ω|²|v| in se3Exp) and their second-order jets (÷ h² ≤ 1e18,
+/// h ≥ 1 ns) then stay far inside double range ((1e60)³ · 1e18 = 1e198 < 1.8e308). The forward
+/// construction amplifies the start data from segment to segment; finite data beyond this bound
+/// evaluated to NaN (fuzz_curves finding: chart velocities of 1e149 on the screw geometry).
+constexpr double kMaxStartChartExcursion = 1e60;
+
 /// `interpolating` with end_condition natural or clamped (file comment). `start_velocity` and
 /// `end_velocity` (G's representation, at the first / last point) are used only when clamped.
 template <class G>
@@ -128,10 +135,13 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
       v = Tangent(b * (b.transpose() * Eigen::VectorXd(v)));
       a = Tangent(b * (b.transpose() * Eigen::VectorXd(a)));
     }
-    if (!end[i].allFinite() || !v.allFinite() || !a.allFinite())
+    const double excursion =
+        h * std::max(start[i].template lpNorm<Eigen::Infinity>(), end[i].template lpNorm<Eigen::Infinity>());
+    if (!(excursion <= kMaxStartChartExcursion) || !v.allFinite() || !a.allFinite())
       throw ConvergenceError("curve 'interpolating' (end_condition 'start'): the velocity carried to " +
                              indexedField("waypoints", i + 1) +
-                             " is not finite: the C^2 spline with these start data exists but its velocities leave "
+                             " is beyond the range where the curve can be evaluated: the C^2 spline with these start "
+                             "data exists but its velocities leave "
                              "double range (the forward construction, Algorithm 7.4.1, amplifies the start data "
                              "from segment to segment: by 2 + sqrt3 in the abelian case, quadratically in the "
                              "velocity on a curved group), or the data are not finite; use end_condition "

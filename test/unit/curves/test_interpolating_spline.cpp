@@ -443,6 +443,46 @@ TYPED_TEST(Se3Interpolation, StartSplineIsC2UntilItsGrowingDataLeaveDoubleRange)
 
 // ---- failures of the solve -------------------------------------------------------------------
 
+// fuzz_curves finding (now the corpus seed screw_start_overflow): on the screw geometry, start
+// data of 3.5e30 rad/s grow quadratically from segment to segment (chart velocities 9e60, 1e90,
+// 2e149); the data stayed finite, but se3Exp's cubic terms overflowed and the curve evaluated to
+// NaN. The construction now refuses chart excursions beyond kMaxStartChartExcursion, naming the
+// waypoint.
+TEST(InterpolatingErrors, StartDataThatOverflowTheChartAreRefusedNotEvaluatedToNaN)
+{
+  auto q = [](double x, double y, double z, double w) { return Quaternion<double>(w, x, y, z).normalized(); };
+  const std::vector<Pose<double>> x{
+    Pose<double>(q(0, 0, 0, 1), Eigen::Vector3d(0, 0, 0)),
+    Pose<double>(q(0.049643371727140964, 0, 0, 0.99203990708293766), Eigen::Vector3d(-8, 6.5625, 6.5625)),
+    Pose<double>(q(0.35272653217485861, 0.35272653217485861, -0.86669947905822409, 0),
+                 Eigen::Vector3d(-5.375, -5.375, -5.375)),
+    Pose<double>(q(0.57017786497743972, 0.57017786497743972, 0.15713563208039677, 0.57017786497743972),
+                 Eigen::Vector3d(-8, -6.25, 0)),
+  };
+  const std::vector<double> t{ 0.0, 1.01545, 2.45453, 3.0 };
+  Twist v0;
+  v0.linear = Eigen::Vector3d(2.1875, -0.8125, 3.5295369653413445e30);
+  v0.angular = Eigen::Vector3d(3.5295369653413445e30, 3.5295369653413445e30, 3.5245852051841973e30);
+  try
+  {
+    const auto c = spline<ScrewSe3>(x, t, EndCondition::kStart, v0);
+    for (double s = 0.0; s <= 3.0; s += 0.01)
+      ASSERT_TRUE(c->value(s).p.allFinite()) << "a NaN position at t = " << s;
+    FAIL() << "expected ConvergenceError";
+  }
+  catch (const ConvergenceError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("the velocity carried to waypoints[1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("leave double range"), std::string::npos) << e.what();
+  }
+  // Moderate start data on the same waypoints still give the C^2 spline through them.
+  Twist moderate;
+  moderate.angular = Eigen::Vector3d(0.3, -0.2, 0.1);
+  const auto c = spline<ScrewSe3>(x, t, EndCondition::kStart, moderate);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    EXPECT_LT(poseDistance(c->value(t[i]), x[i]), 1e-9);
+}
+
 TEST(InterpolatingErrors, IterationLimitThrowsConvergenceError)
 {
   std::mt19937 rng(160);
