@@ -19,15 +19,7 @@
 # $SE3_WS/readme_check.log. Assumes the dependencies are installed and $SE3_WS is built
 # (scripts/run_tests.sh runs it after the build).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-if [ -z "${SE3_ROS_PORT:-}" ]; then
-  for candidate in $(seq 11398 11497); do
-    if /usr/bin/python3 -c 'import socket, sys; socket.socket().bind(("127.0.0.1", int(sys.argv[1])))' \
-        "$candidate" 2>/dev/null; then
-      SE3_ROS_PORT=$candidate
-      break
-    fi
-  done
-fi
+SE3_ROS_PORT=${SE3_ROS_PORT:-$(se3_free_port)}
 export SE3_ROS_PORT=${SE3_ROS_PORT:?no free port in 11398 ... 11497; set SE3_ROS_PORT}
 export ROS_MASTER_URI=http://localhost:$SE3_ROS_PORT
 readme="$SE3_ROOT/README.md"

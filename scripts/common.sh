@@ -22,6 +22,19 @@ SE3_APT_PACKAGES=(
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev
 )
 
+# Prints the first local TCP port from 11398 to 11497 that is free to bind (the ROS master of a
+# check or benchmark: never the default 11311); prints nothing if none is.
+se3_free_port() {
+  local candidate
+  for candidate in $(seq 11398 11497); do
+    if /usr/bin/python3 -c 'import socket, sys; socket.socket().bind(("127.0.0.1", int(sys.argv[1])))' \
+        "$candidate" 2>/dev/null; then
+      echo "$candidate"
+      return 0
+    fi
+  done
+}
+
 se3_install_deps() {
   local missing=()
   for p in "${SE3_APT_PACKAGES[@]}"; do

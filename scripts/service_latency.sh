@@ -22,14 +22,7 @@ waypoints=${1:-1000}
 samples=${2:-100000}
 repetitions=${3:-3}
 
-port=""
-for candidate in $(seq 11398 11497); do
-  if /usr/bin/python3 -c 'import socket, sys; socket.socket().bind(("127.0.0.1", int(sys.argv[1])))' \
-      "$candidate" 2>/dev/null; then
-    port=$candidate
-    break
-  fi
-done
+port=$(se3_free_port)
 [ -n "$port" ] || { echo "no free port in 11398 ... 11497" >&2; exit 2; }
 export ROS_MASTER_URI=http://localhost:$port
 
