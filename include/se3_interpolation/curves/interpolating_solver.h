@@ -134,6 +134,16 @@ constexpr int kPolishSteps = 2;
 /// curve through exp and log; a solution of the rows whose D_i, Q_i describe the curve meets it
 /// with margin (rounding level, about 1e-15, in the unit tests' configurations).
 constexpr double kContinuityTolerance = 1e-9;
+/// The continuity a user sees, which verifyContinuity asks too: the jump of the state
+/// (velocity and acceleration, stacked) at an interior waypoint at most this fraction of
+/// 1 + the size of both sides' states (SI units: a floor of 1e-7 m/s, rad/s, m/s², rad/s²).
+/// kContinuityTolerance, relative to the terms, is not enough where the terms are far larger than
+/// the value: near the sphere's conjugate point the terms' rounding is amplified by the condition
+/// of D_i (1/gap) and a short step makes the terms 6|L|/h² dwarf the acceleration (fuzz_c2
+/// findings: π − 1e-6 rad in 2.5e-6 s, terms 3e12 and an acceleration of 6e6 that jumped by 43,
+/// 7e-6 of the state, passed it). fuzz_c2 checks 1e-6 of the same, through the ambient
+/// kinematics: ten times this, for the rounding of the other evaluation path.
+constexpr double kStateContinuityTolerance = 1e-7;
 
 /// The C^2 solve on S^m refuses a waypoint step closer than this to pi (the sphere's first
 /// conjugate point, where D_i is singular). Measured (natural splines on S^2 through x0, x1 at
@@ -386,7 +396,8 @@ private:
   /// The C^2 conditions checked on the curve itself: at every interior waypoint its one-sided
   /// chart velocities and accelerations (chartState, evaluated through the geometry's exp and
   /// log, not through D_i, E_i, Q_i) must agree to kContinuityTolerance of the size of the terms
-  /// they are made of (|L|/h and 6 |L|/h^2 of both segments, and the two sides themselves).
+  /// they are made of (|L|/h and 6 |L|/h^2 of both segments, and the two sides themselves), and
+  /// to kStateContinuityTolerance of the state itself (the continuity a user measures).
   /// The solve meets its rows with the transition derivatives D_i, Q_i; near a conjugate point
   /// of the geometry (a step within ~1e-6 of pi on S^m, where D_i is singular) their rounding is
   /// amplified by the condition of D_i and the converged rows no longer describe the curve
@@ -406,13 +417,18 @@ private:
           6.0 * l0 / (h0 * h0) + 6.0 * l1 / (h1 * h1) + left.tail(m).norm() + right.tail(m).norm();
       const double velocity_jump = (left.head(m) - right.head(m)).norm();
       const double acceleration_jump = (left.tail(m) - right.tail(m)).norm();
+      const double state_size = 1.0 + left.norm() + right.norm();
+      const double state_jump = (left - right).norm();
       if (!(velocity_jump <= kContinuityTolerance * velocity_size) ||
-          !(acceleration_jump <= kContinuityTolerance * acceleration_size))
+          !(acceleration_jump <= kContinuityTolerance * acceleration_size) ||
+          !(state_jump <= kStateContinuityTolerance * state_size))
         throw ConvergenceError(
             prefix() + "the solved spline is not C^2 at " + indexedField("waypoints", i) +
-            " to the accuracy of double precision (relative velocity jump " +
-            scientific(velocity_jump / velocity_size) + ", acceleration jump " +
-            scientific(acceleration_jump / acceleration_size) + "): the steps from " +
+            " to the accuracy of double precision (velocity jump " + scientific(velocity_jump) +
+            ", acceleration jump " + scientific(acceleration_jump) + ", " +
+            scientific(state_jump / state_size) + " of the state and " +
+            scientific(std::max(velocity_jump / velocity_size, acceleration_jump / acceleration_size)) +
+            " of the terms): the steps from " +
             indexedField("waypoints", i - 1) + " to " + indexedField("waypoints", i + 1) +
             " are too close to a conjugate point of the geometry (nearly antipodal points) for their "
             "time steps; add waypoints between them or use curve 'hermite'");

@@ -692,3 +692,110 @@ TEST(OtherGeometries, NearAntipodalWellConditionedStepsStaySolvedAndC2)
     EXPECT_LT((l.acceleration - left.tail(3)).norm(), 2e-2 * acceleration_scale);
   }
 }
+
+namespace
+{
+/// The jump of the stacked ambient state (velocity, covariant acceleration) of a sphere curve
+/// at t, relative to 1 + the size of both sides: the measure of fuzz_c2's continuity check.
+double relativeStateJump(const Curve<Sphere>& c, double t)
+{
+  const SphereKinematics l = kinematicsAt(c, t, Side::kLeft);
+  const SphereKinematics r = kinematicsAt(c, t, Side::kRight);
+  Eigen::VectorXd left(2 * l.velocity.size()), right(2 * r.velocity.size());
+  left << l.velocity, l.acceleration;
+  right << r.velocity, r.acceleration;
+  return (left - right).norm() / (1.0 + left.norm() + right.norm());
+}
+}  // namespace
+
+// Found by fuzz_c2 (fuzz_c2-sphere-s2-acceleration-jump and -s4-, now seeds of
+// test/fuzz/corpus_c2; decoded with fuzz_c2.cpp's reader): natural splines on S^2 and S^4 whose
+// first step is pi - 1e-6 rad in 2.5e-6 s (S^2) and 2.25e-5 s (S^4), beyond
+// kMinSphereConjugateGap, then a step of about 1.9 and 2.1 rad in 0.625 and 1.5 s. The solved
+// curve passed the check on the scale of its terms (6 pi/h^2 = 3e12), yet its acceleration at
+// waypoints[1] jumped by 43 on 6e6 (S^2; 7e-6 of the state) and by 0.67 on 2.7e5 (S^4;
+// 2.5e-6): the terms' rounding, amplified by the condition of D_0 (~1/gap), swamps the value.
+// verifyContinuity now asks the state's own continuity too (kStateContinuityTolerance), so
+// these are refused naming waypoints[1].
+TEST(OtherGeometries, SphereSplinesWhoseStateJumpsByRoundingAreRefused)
+{
+  auto vector = [](std::initializer_list<double> v) {
+    Eigen::VectorXd x(static_cast<Eigen::Index>(v.size()));
+    Eigen::Index i = 0;
+    for (double c : v)
+      x[i++] = c;
+    return x;
+  };
+  const std::vector<std::pair<std::vector<Eigen::VectorXd>, std::vector<double>>> findings{
+    { { vector({ 0.57573739305282234, 0.56652559476397724, -0.58955509048609012 }),
+        vector({ -0.57573697282587422, -0.5665251812606602, 0.5895558982139647 }),
+        vector({ 0.17055801024859291, -0.96907960368518697, -0.1783106470780744 }) },
+      { -1.125, -1.1249975000000001, -0.49999750000000009 } },
+    { { vector({ -0.67808839075063865, 0.085428458677245814, -0.67808839075063865, 0.042714229338622907,
+                 -0.26696393336639318 }),
+        vector({ 0.67808912573066304, -0.08542837986142926, 0.67808776515009472, -0.04271418993071463,
+                 0.26696368706696644 }),
+        vector({ -0.52950046096879844, -0.22692876898662792, -0.15816247535431643, 0.79768900613481331,
+                 -0.082519552358773784 }) },
+      { -1.6875, -1.6874775, -0.18747749999999996 } },
+  };
+  for (const auto& finding : findings)
+  {
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(finding.first[0].size());
+    std::string what;
+    try
+    {
+      const auto c = solveC2Spline<Sphere>(finding.first, finding.second, EndCondition::kNatural, zero, zero);
+      ADD_FAILURE() << "returned, with a relative state jump of " << relativeStateJump(*c, finding.second[1])
+                    << " at waypoints[1]";
+      continue;
+    }
+    catch (const ConvergenceError& e)
+    {
+      what = e.what();
+    }
+    EXPECT_NE(what.find("the solved spline is not C^2 at waypoints[1]"), std::string::npos) << what;
+    EXPECT_NE(what.find("of the state"), std::string::npos) << what;
+  }
+}
+
+// Every near-antipodal spline the solve returns is C^2 by fuzz_c2's measure: 400 random
+// configurations of the findings' shape on S^2 ... S^4 (a first step pi - gap, gap from 1e-8 to
+// 1e-2 rad, in h from 1e-6 to 1 s; a second step to a random point after 1e-3 ... 10 s), both
+// end conditions. Either refused (a ConvergenceError) or continuous to 1e-6 of the state.
+TEST(OtherGeometries, NearAntipodalSplinesAreRefusedOrC2ByTheStateMeasure)
+{
+  std::mt19937 rng(1500);
+  std::uniform_real_distribution<double> exponent(0.0, 1.0);
+  int solved = 0, refused = 0;
+  for (int k = 0; k < 400; ++k)
+  {
+    const int dim = 3 + k % 3;
+    const Eigen::VectorXd x0 = test::randomUnitVectorX(rng, dim);
+    const Eigen::MatrixXd b = TangentFrame<Sphere>::basis(x0);
+    const Eigen::VectorXd u = b * test::randomUnitVectorX(rng, dim - 1);
+    const double gap = std::pow(10.0, -8.0 + 6.0 * exponent(rng));
+    const double h0 = std::pow(10.0, -6.0 + 6.0 * exponent(rng));
+    const double h1 = std::pow(10.0, -3.0 + 4.0 * exponent(rng));
+    const double a = M_PI - gap;
+    const std::vector<Eigen::VectorXd> x{ x0, Eigen::VectorXd(std::cos(a) * x0 + std::sin(a) * u),
+                                          test::randomUnitVectorX(rng, dim) };
+    const std::vector<double> t{ 0.0, h0, h0 + h1 };
+    const EndCondition condition = k % 2 == 0 ? EndCondition::kNatural : EndCondition::kClamped;
+    const Eigen::VectorXd v0 = b * test::randomUnitVectorX(rng, dim - 1);
+    Eigen::VectorXd v1 = test::randomUnitVectorX(rng, dim);
+    v1 -= v1.dot(x[2]) * x[2];
+    try
+    {
+      const auto c = solveC2Spline<Sphere>(x, t, condition, v0, v1);
+      ++solved;
+      EXPECT_LT(relativeStateJump(*c, t[1]), 1e-6) << "gap " << gap << " h0 " << h0 << " h1 " << h1;
+    }
+    catch (const ConvergenceError&)
+    {
+      ++refused;
+    }
+  }
+  // most are solved: the refusal is for rounding, not for the shape
+  EXPECT_GT(solved, 300) << refused << " refused";
+}
