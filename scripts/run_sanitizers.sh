@@ -2,21 +2,24 @@
 # Builds the core and every unit test with AddressSanitizer + UndefinedBehaviorSanitizer (plain
 # CMake, no ROS: test/sanitize/CMakeLists.txt) into $SE3_WS/sanitize, runs each test binary
 # (gtest XML reports in $SE3_WS/sanitize/test_results), then runs the libFuzzer targets, each
-# over a copy of its seed corpus: every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves,
-# fuzz_c2, fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
-# ${SE3_FUZZ_MAX_SECONDS:-200} s each (a target that reaches fewer inputs in that time FAILS, so
-# that the README's "each per-layer target sees 1e5 inputs per CI run" stays true), and the
-# whole-request target fuzz_generate, much slower per input, for ${SE3_FUZZ_SECONDS:-30} s. Each
-# run's input count and rate are printed. The last line is `sanitizers: N passed, N failed` (the
-# unit test cases plus each fuzz run as one test); exits non-zero on any failure, sanitizer
-# report or fuzzer finding.
+# twice over its seed corpus:
+#  - the replay: every seed once (fixed findings' inputs included);
+#  - the exploration, from the fixed seed ${SE3_FUZZ_SEED:-1} (reproducible: a passing run stays
+#    passing): every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves, fuzz_c2,
+#    fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
+#    ${SE3_FUZZ_MAX_SECONDS:-400} s each, and the whole-request target fuzz_generate, much slower
+#    per input, for ${SE3_FUZZ_SECONDS:-30} s. Each run's input count, time and rate are printed.
+# Each replay and each exploration is one test: a failing seed, a finding (printed with its
+# input) or a per-layer target that reaches fewer inputs than asked within its time fails it.
+# The last line is `sanitizers: N passed, N failed` (the unit test cases plus those); exits
+# non-zero on any failure.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 
 build="$SE3_WS/sanitize"
 results="$build/test_results"
 fuzz_runs=${SE3_FUZZ_RUNS:-100000}
-fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-200}
+fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-400}
 fuzz_seconds=${SE3_FUZZ_SECONDS:-30}
 mkdir -p "$build"
 echo "sanitized build (clang++, ASan + UBSan) in $build"
@@ -79,25 +82,12 @@ done
 
 echo "unit tests done at ${SECONDS} s"
 
-# target, seed corpus, largest input: fuzz_generate's 12 waypoints and every other field take
-# ~170 bytes (inputs up to 512, reached quickly with -len_control=10), fuzz_c2's 6 points ~100;
-# YAML documents up to 2 KB (the CLI's test requests are below 700 bytes).
-fuzz_targets=(
-  "fuzz_lie test/fuzz/corpus_lie 128"
-  "fuzz_validate test/fuzz/corpus 512"
-  "fuzz_curves test/fuzz/corpus 512"
-  "fuzz_c2 test/fuzz/corpus_c2 256"
-  "fuzz_sphere test/fuzz/corpus_sphere 512"
-  "fuzz_yaml test/cli/data 2048"
-  "fuzz_generate test/fuzz/corpus 512"
-)
 # A fixed seed makes a CI run reproducible (a finding replays with the same command); a long
 # exploratory run sets SE3_FUZZ_SEED=0 (libFuzzer then picks a random seed).
 fuzz_seed=${SE3_FUZZ_SEED:-1}
 fuzz_total=0
 fuzz_findings=0
-for entry in "${fuzz_targets[@]}"; do
-  read -r target seeds max_len <<<"$entry"
+while read -r target seeds max_len <&3; do
   # Per-layer targets: a number of inputs (with a time cap); the whole request: a time.
   budget=(-runs="$fuzz_runs" -max_total_time="$fuzz_max_seconds")
   need=$fuzz_runs
@@ -122,11 +112,14 @@ for entry in "${fuzz_targets[@]}"; do
     echo "FAIL $target replay: a seed input fails (log: $replay_log)"
     grep -E "^$target:|ERROR: |runtime error:|SUMMARY:" "$replay_log" | head -n 20 || true
   fi
-  # Exploration: new inputs from the seeds. Its findings are reported with their inputs (and go
-  # to test/fuzz/findings/ until fixed); they are not counted as failed tests.
+  # Exploration: new inputs from the seeds, from the fixed seed. A finding or fewer inputs than
+  # asked fails it.
   status=0
   start=$SECONDS
-  "$build/$target" "${budget[@]}" -seed="$fuzz_seed" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
+  # Without allocation stacks in ASan's reports (a finding's input replays with them): ASan's
+  # stack unwinding at every malloc and free slows the allocating numeric targets (README).
+  ASAN_OPTIONS=${SE3_FUZZ_ASAN_OPTIONS:-malloc_context_size=0} \
+    "$build/$target" "${budget[@]}" -seed="$fuzz_seed" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
     -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
   seconds=$((SECONDS - start))
   runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
@@ -134,17 +127,20 @@ for entry in "${fuzz_targets[@]}"; do
   runs=${runs:-0}
   fuzz_total=$((fuzz_total + runs))
   if [ "$status" -eq 0 ] && [ "$runs" -ge "$need" ] && [ -z "$(ls -A "$artifacts")" ]; then
+    passed=$((passed + 1))
     echo "explored $target: $runs inputs in $seconds s (${rate}/s), no finding; corpus $(find "$corpus" -type f | wc -l) files"
   elif [ "$status" -eq 0 ] && [ -z "$(ls -A "$artifacts")" ]; then
-    echo "explored $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need asked" \
+    failed=$((failed + 1))
+    echo "FAIL explored $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need asked" \
       "(SE3_FUZZ_RUNS, SE3_FUZZ_MAX_SECONDS; log: $log)"
   else
+    failed=$((failed + 1))
     fuzz_findings=$((fuzz_findings + 1))
     echo "FINDING $target: exit status $status after $runs inputs (log: $log; inputs: $artifacts)"
     grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
   fi
-done
-echo "fuzzing: $fuzz_total inputs explored, $fuzz_findings targets with findings (not counted as failed tests)"
+done 3< <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
+echo "fuzzing: $fuzz_total inputs explored, $fuzz_findings targets with findings"
 
 echo "done in ${SECONDS} s"
 echo "sanitizers: $passed passed, $failed failed"
