@@ -27,6 +27,8 @@ double analyticPieces(const WorkShape& r)
       return 1.0;
     case CurveType::kBspline:
       return std::max(1.0, n - static_cast<double>(r.degree));
+    case CurveType::kPiecewiseGeodesic:
+      return r.corner_blends ? std::max(1.0, 2.0 * n - 3.0) : std::max(1.0, n - 1.0);
     default:
       return std::max(1.0, n - 1.0);
   }
@@ -45,7 +47,7 @@ double evaluationCost(const WorkShape& r)
   switch (r.curve)
   {
     case CurveType::kPiecewiseGeodesic:
-      return 1.0;
+      return r.corner_blends ? kCornerBlendEvaluationCost : 1.0;
     case CurveType::kBezier:
     {
       const double d = static_cast<double>(r.waypoints) - 1.0;
@@ -74,15 +76,33 @@ double expectedSamples(const WorkShape& r, double span)
   return static_cast<double>(r.sample_count);
 }
 
+/// measureCurve's evaluations on a curve of `pieces` analytic pieces.
+double figureEvaluations(double pieces)
+{
+  const double sub = static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(pieces)));
+  return pieces * (2.0 + kNodesPerSubinterval * sub) + kGoldenEvaluations;
+}
+
 WorkEstimate estimateWork(const WorkShape& r, double samples)
 {
   WorkEstimate w;
   w.pieces = analyticPieces(r);
   w.evaluation_cost = evaluationCost(r);
-  const double sub = static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(w.pieces)));
-  w.figure_evaluations = w.pieces * (2.0 + kNodesPerSubinterval * sub) + kGoldenEvaluations;
+  w.figure_evaluations = figureEvaluations(w.pieces);
+  if (r.timing == Timing::kTimeOptimal)
+  {
+    w.timing_intervals = kTimeOptimalIntervalsPerPiece * w.pieces + kTimeOptimalMinIntervals;
+    w.timing_evaluations = kTimeOptimalEvaluationsPerInterval * w.timing_intervals + kTimeOptimalSearchEvaluations;
+    if (r.start_state)
+      w.figure_evaluations += figureEvaluations(w.timing_intervals);
+  }
+  else if (r.start_state)
+  {
+    w.figure_evaluations *= 2.0;
+  }
+  w.timing_units = w.timing_evaluations * w.evaluation_cost + kTimeOptimalUnitsPerInterval * w.timing_intervals;
   w.samples = samples;
-  w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost +
+  w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units +
             kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);
   return w;
 }
@@ -93,8 +113,11 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
     return;
   const std::string n = std::to_string(r.waypoints);
   std::string what;
-  if (w.samples > w.figure_evaluations)
+  if (w.samples > w.figure_evaluations && w.samples * w.evaluation_cost > w.timing_units)
     what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
+  else if (w.timing_units > w.figure_evaluations * w.evaluation_cost)
+    what = "timing: 'time_optimal' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +
+           " waypoints of curve '" + toString(r.curve) + "'";
   else if (r.curve == CurveType::kBezier)
     what = "waypoints: " + n + " waypoints make a bezier of degree " + std::to_string(r.waypoints - 1);
   else if (r.curve == CurveType::kBspline)
@@ -102,9 +125,9 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
   else
     what = "waypoints: " + n + " waypoints for curve '" + toString(r.curve) + "'";
   throw LimitExceededError(what + " cost about " + formatNumber(std::round(w.total)) + " units of work (" +
-                           formatNumber(w.figure_evaluations + w.samples) + " curve evaluations of " +
-                           formatNumber(w.evaluation_cost) + " geodesic steps each); the limit (~max_work) is " +
-                           formatNumber(limits.max_work));
+                           formatNumber(w.figure_evaluations + w.samples + w.timing_evaluations) +
+                           " curve evaluations of " + formatNumber(w.evaluation_cost) +
+                           " geodesic steps each); the limit (~max_work) is " + formatNumber(limits.max_work));
 }
 
 }  // namespace se3_interpolation

@@ -13,6 +13,13 @@
 //   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
 //   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2
 //   with d = N - 1 (de Casteljau over all N points); bspline m (m + 1) / 2 (de Boor, degree m).
+// Corner blends (blend_radius on piecewise_geodesic) make up to 2N - 3 pieces, legs and
+// blends in turn, and an evaluation costs kCornerBlendEvaluationCost (measured).
+// Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
+// G = 17 P + 512 intervals, with 4 G + 2048 curve evaluations and 3 units of its own (the
+// passes' bisections, the checks) per interval;
+// replanning from a moving state (start_state) measures the figures again on the timed curve:
+// the stretched one (P pieces) or the time-optimal one (G pieces, one per grid interval).
 // Building the curve costs about kConstructionUnitsPerWaypoint per waypoint (times, logs, the
 // C^2 solve's sweeps). The figures' effort is thus linear in the pieces; what grows as N^2 is
 // the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
@@ -33,6 +40,24 @@ namespace se3_interpolation
 constexpr double kSecondsPerWorkUnit = 8e-7;
 /// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
 constexpr double kConstructionUnitsPerWaypoint = 10.0;
+/// Work units of one evaluation of a corner-blended polyline (blend_radius), measured like
+/// blended's 2: 1.7 us per evaluation over its legs and blends against blended's 1.3 us
+/// (piecewise_geodesic alone: 0.08 us) on the loaded development machine.
+constexpr double kCornerBlendEvaluationCost = 3.0;
+/// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
+/// of T): at most 17 per piece plus 512.
+constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
+constexpr double kTimeOptimalMinIntervals = 512.0;
+/// time_optimal's curve evaluations: per grid interval (its ends' and middle's path jets, the
+/// corner checks, the checks' searches where the bounds switch), and the searches that
+/// concentrate on few pieces (counted: 2.2 (piecewise_geodesic) ... 2.6 (hermite) per interval
+/// on 2000 waypoints, up to 3871 in all on the 513 intervals of a two-piece curve).
+constexpr double kTimeOptimalEvaluationsPerInterval = 4.0;
+constexpr double kTimeOptimalSearchEvaluations = 2048.0;
+/// time_optimal's work per grid interval besides the evaluations (bisections of the controllable
+/// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
+/// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
+constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
 /// The estimate of one request: curve evaluations for the figures, per-evaluation cost,
 /// samples, and their total in work units.
@@ -40,7 +65,10 @@ struct WorkEstimate
 {
   double pieces = 0.0;
   double evaluation_cost = 0.0;       ///< geodesic steps per evaluation
-  double figure_evaluations = 0.0;    ///< evaluations of measureCurve
+  double figure_evaluations = 0.0;    ///< evaluations of measureCurve (every pass)
+  double timing_intervals = 0.0;      ///< time_optimal's grid intervals (0: stretch)
+  double timing_evaluations = 0.0;    ///< evaluations of time_optimal
+  double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations
   double samples = 0.0;
   double total = 0.0;                 ///< work units
 };
@@ -54,6 +82,9 @@ struct WorkShape
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = RequestDefaults::kSampleCount;
+  bool corner_blends = false;  ///< blend_radius > 0
+  Timing timing = RequestDefaults::kTiming;
+  bool start_state = false;  ///< replanning from a given state (the figures are measured again)
 };
 
 /// The shape of a validated request of any space.
@@ -67,6 +98,9 @@ WorkShape workShape(const BasicValidatedRequest<Space>& r)
   w.sample_times = r.sampling.sample_times;
   w.sample_period = r.sampling.sample_period;
   w.sample_count = r.sampling.sample_count;
+  w.corner_blends = r.blend_radius > 0.0;
+  w.timing = r.timing;
+  w.start_state = r.start_state.has_value();
   return w;
 }
 
@@ -80,9 +114,9 @@ WorkEstimate estimateWork(const WorkShape& r, double samples);
 /// periods within `span` (the waypoint times' span).
 double expectedSamples(const WorkShape& r, double span);
 
-/// Throws LimitExceededError naming the dominant field (waypoints for bezier, degree for
-/// bspline, the sampling field when samples dominate, else waypoints) if `w.total` exceeds
-/// limits.max_work.
+/// Throws LimitExceededError naming the dominant field (the sampling field when samples
+/// dominate, timing when time_optimal's share does, waypoints for bezier, degree for bspline,
+/// else waypoints) if `w.total` exceeds limits.max_work.
 void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits);
 
 }  // namespace se3_interpolation
