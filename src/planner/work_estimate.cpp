@@ -98,7 +98,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   }
   else if (r.start_state)
   {
-    w.figure_evaluations *= 2.0;
+    // measured again on the joined curve, and once more if the bounds stretch it
+    w.figure_evaluations *= 3.0;
   }
   w.timing_units = w.timing_evaluations * w.evaluation_cost + kTimeOptimalUnitsPerInterval * w.timing_intervals;
   w.samples = samples;

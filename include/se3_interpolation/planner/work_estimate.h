@@ -18,8 +18,9 @@
 // Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
 // G = 17 P + 512 intervals, with 4 G + 2048 curve evaluations and 3 units of its own (the
 // passes' bisections, the checks) per interval;
-// replanning from a moving state (start_state) measures the figures again on the timed curve:
-// the stretched one (P pieces) or the time-optimal one (G pieces, one per grid interval).
+// replanning (start_state) measures the figures again on the curve joined to the start state:
+// twice more under stretch (before and after the stretch, P pieces), once more on the
+// time-optimal curve (G pieces, one per grid interval).
 // Building the curve costs about kConstructionUnitsPerWaypoint per waypoint (times, logs, the
 // C^2 solve's sweeps). The figures' effort is thus linear in the pieces; what grows as N^2 is
 // the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
