@@ -102,19 +102,21 @@ TEST(WorkEstimate, BoundsTheEvaluationsOfTheFigures)
 
 // time_optimal's evaluations, counted through the wrapper: TOPP-RA's passes and checks on the
 // path, then (replanning from a moving state) the figures of the timed curve, whose pieces are
-// the grid's intervals. Both within the estimate, for every family and piece count, with and
-// without corner blends.
+// the grid's intervals. Both within the estimate, for every family and piece count (up to 40
+// waypoints, a bezier up to 9: under the sanitizers larger ones take a minute), with and without
+// corner blends (up to 2N - 3 pieces: a corner whose legs are collinear to
+// rounding is not blended).
 TEST(WorkEstimate, BoundsTheEvaluationsOfTimeOptimalTiming)
 {
   timing::RateBounds bounds;
   bounds.velocity = { 0.5, 0.8 };
   bounds.acceleration = { 1.0, 2.0 };
   for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
-    for (std::size_t n : { 3u, 9u, 40u, 200u })
+    for (std::size_t n : { 3u, 9u, 40u })
       for (double blend_radius : { 0.0, 0.2 })
       {
-        if ((std::string(curve) == "bezier" && n > 40) ||
-            (blend_radius > 0.0 && std::string(curve) != "piecewise_geodesic"))
+        if ((blend_radius > 0.0 && std::string(curve) != "piecewise_geodesic") ||
+            (std::string(curve) == "bezier" && n > 9))
           continue;
         TrajectoryRequest r = polygonRequest(n, curve);
         r.blend_radius = blend_radius;
@@ -129,7 +131,11 @@ TEST(WorkEstimate, BoundsTheEvaluationsOfTimeOptimalTiming)
 
         WorkShape shape = workShape(v);
         const WorkEstimate w = estimateWork(shape, 0.0);
-        EXPECT_EQ(w.pieces, static_cast<double>(counting->breakpoints().size() - 1)) << curve << " " << n;
+        const double pieces = static_cast<double>(counting->breakpoints().size() - 1);
+        if (blend_radius > 0.0)
+          EXPECT_LE(pieces, w.pieces) << n;
+        else
+          EXPECT_EQ(pieces, w.pieces) << curve << " " << n;
         EXPECT_GE(w.timing_intervals, static_cast<double>(timed->breakpoints().size() - 1)) << curve << " " << n;
         EXPECT_LE(static_cast<double>(timing), w.timing_evaluations) << curve << " " << n << " " << blend_radius;
         shape.start_state = true;
