@@ -35,6 +35,29 @@ se3_free_port() {
   done
 }
 
+# One libFuzzer exploration, with the options of CI's and of the long run (README "Sanitizers and
+# fuzzing"): se3_fuzz_explore BINARY CORPUS ARTIFACTS LOG MAX_LEN SEED [LIMIT FLAGS...]. ASan
+# reports carry no allocation stacks (a finding's input replays with them): ASan's stack unwinding
+# at every malloc and free slows the allocating numeric targets. Sets se3_fuzz_status (the exit
+# status), se3_fuzz_runs (inputs run), se3_fuzz_seconds and se3_fuzz_finding: non-empty for a
+# finding, an exit status or an input libFuzzer wrote (crash-, timeout-, leak-, oom-); a
+# slow-unit- input (one input above 10 s of wall time, e.g. on a loaded machine) is not one.
+se3_fuzz_explore() {
+  local binary=$1 corpus=$2 artifacts=$3 log=$4 max_len=$5 seed=$6 start=$SECONDS
+  shift 6
+  se3_fuzz_status=0
+  ASAN_OPTIONS=${SE3_FUZZ_ASAN_OPTIONS:-malloc_context_size=0} \
+    "$binary" "$@" -seed="$seed" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
+    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || se3_fuzz_status=$?
+  se3_fuzz_seconds=$((SECONDS - start))
+  se3_fuzz_runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
+  se3_fuzz_runs=${se3_fuzz_runs:-0}
+  se3_fuzz_finding=""
+  if [ "$se3_fuzz_status" -ne 0 ] || [ -n "$(find "$artifacts" -type f ! -name 'slow-unit-*')" ]; then
+    se3_fuzz_finding=yes
+  fi
+}
+
 se3_install_deps() {
   local missing=()
   for p in "${SE3_APT_PACKAGES[@]}"; do

@@ -9,6 +9,8 @@
 #   scripts/fuzz_long_run.sh fuzz_lie=4500000 fuzz_validate=3500000 fuzz_generate=300
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
+# At nice 19 (every target inherits it), so that the machine stays usable meanwhile.
+renice -n 19 -p $$ >/dev/null
 build="$SE3_WS/sanitize"
 out="$SE3_WS/fuzz_long_run"
 rm -rf "$out"
@@ -21,26 +23,16 @@ done
 
 # One target's run in the background: its row goes to $out/$target.row.
 run_target() {
-  local target=$1 seeds=$2 max_len=$3 amount=$4 limit status=0 start runs seconds finding
-  local corpus="$out/corpus_$target" artifacts="$out/artifacts_$target" log="$out/$target.log"
+  local target=$1 seeds=$2 max_len=$3 amount=$4 limit finding=none
+  local corpus="$out/corpus_$target" artifacts="$out/artifacts_$target"
   mkdir -p "$artifacts"
   cp -r "$SE3_ROOT/$seeds" "$corpus"
   limit=(-runs="$amount")
   [ "$target" = fuzz_generate ] && limit=(-max_total_time="$amount")
-  start=$SECONDS
-  ASAN_OPTIONS=${SE3_FUZZ_ASAN_OPTIONS:-malloc_context_size=0} nice -n 19 \
-    "$build/$target" "${limit[@]}" -seed=0 -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
-    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
-  seconds=$((SECONDS - start))
-  runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
-  runs=${runs:-0}
-  finding=none
-  # slow-unit- inputs (above 10 s of wall time at nice 19 beside other jobs) are not findings
-  if [ "$status" -ne 0 ] || [ -n "$(find "$artifacts" -type f ! -name 'slow-unit-*')" ]; then
-    finding="yes (exit status $status, inputs: $artifacts)"
-  fi
-  echo "$target $runs $seconds $((runs / (seconds > 0 ? seconds : 1))) $(find "$SE3_ROOT/$seeds" -type f | wc -l) $(find "$corpus" -type f | wc -l) $finding" \
-    >"$out/$target.row"
+  se3_fuzz_explore "$build/$target" "$corpus" "$artifacts" "$out/$target.log" "$max_len" 0 "${limit[@]}"
+  [ -z "$se3_fuzz_finding" ] || finding="yes (exit status $se3_fuzz_status, inputs: $artifacts)"
+  echo "$target $se3_fuzz_runs $se3_fuzz_seconds $((se3_fuzz_runs / (se3_fuzz_seconds > 0 ? se3_fuzz_seconds : 1)))" \
+    "$(find "$SE3_ROOT/$seeds" -type f | wc -l) $(find "$corpus" -type f | wc -l) $finding" >"$out/$target.row"
 }
 
 running=0

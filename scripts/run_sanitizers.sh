@@ -114,33 +114,23 @@ while read -r target seeds max_len <&3; do
   fi
   # Exploration: new inputs from the seeds, from the fixed seed. A finding or fewer inputs than
   # asked fails it.
-  status=0
-  start=$SECONDS
-  # Without allocation stacks in ASan's reports (a finding's input replays with them): ASan's
-  # stack unwinding at every malloc and free slows the allocating numeric targets (README).
-  ASAN_OPTIONS=${SE3_FUZZ_ASAN_OPTIONS:-malloc_context_size=0} \
-    "$build/$target" "${budget[@]}" -seed="$fuzz_seed" -rss_limit_mb=2048 -timeout=60 -max_len="$max_len" -len_control=10 \
-    -print_final_stats=1 -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || status=$?
-  seconds=$((SECONDS - start))
-  runs=$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+)/\1/p' "$log" | tail -n 1)
+  se3_fuzz_explore "$build/$target" "$corpus" "$artifacts" "$log" "$max_len" "$fuzz_seed" "${budget[@]}"
+  runs=$se3_fuzz_runs
+  seconds=$se3_fuzz_seconds
   rate=$((runs / (seconds > 0 ? seconds : 1)))
-  runs=${runs:-0}
   fuzz_total=$((fuzz_total + runs))
-  # A finding is an exit status or an input libFuzzer wrote (crash-, timeout-, leak-, oom-);
-  # a slow-unit- input (one input above 10 s of wall time, e.g. on a loaded machine) is only shown.
-  findings_written=$(find "$artifacts" -type f ! -name 'slow-unit-*' | head -n 1)
   find "$artifacts" -type f -name 'slow-unit-*' -exec echo "$target: slow input (not a finding):" {} \;
-  if [ "$status" -eq 0 ] && [ "$runs" -ge "$need" ] && [ -z "$findings_written" ]; then
+  if [ -z "$se3_fuzz_finding" ] && [ "$runs" -ge "$need" ]; then
     passed=$((passed + 1))
     echo "explored $target: $runs inputs in $seconds s (${rate}/s), no finding; corpus $(find "$corpus" -type f | wc -l) files"
-  elif [ "$status" -eq 0 ] && [ -z "$findings_written" ]; then
+  elif [ -z "$se3_fuzz_finding" ]; then
     failed=$((failed + 1))
     echo "FAIL explored $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need asked" \
       "(SE3_FUZZ_RUNS, SE3_FUZZ_MAX_SECONDS; log: $log)"
   else
     failed=$((failed + 1))
     fuzz_findings=$((fuzz_findings + 1))
-    echo "FINDING $target: exit status $status after $runs inputs (log: $log; inputs: $artifacts)"
+    echo "FINDING $target: exit status $se3_fuzz_status after $runs inputs (log: $log; inputs: $artifacts)"
     grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
   fi
 done 3< <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")

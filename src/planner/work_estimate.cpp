@@ -28,7 +28,9 @@ double analyticPieces(const WorkShape& r)
     case CurveType::kBspline:
       return std::max(1.0, n - static_cast<double>(r.degree));
     case CurveType::kPiecewiseGeodesic:
-      return r.corner_blends ? std::max(1.0, 2.0 * n - 3.0) : std::max(1.0, n - 1.0);
+      if (r.corner_blends)
+        return std::max(1.0, 2.0 * n - 3.0);  // legs and blends in turn
+      [[fallthrough]];
     default:
       return std::max(1.0, n - 1.0);
   }
