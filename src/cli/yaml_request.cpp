@@ -1,5 +1,6 @@
 #include "yaml_request.h"
 
+#include <map>
 #include <set>
 
 #include "se3_interpolation/planner/names.h"
@@ -147,12 +148,40 @@ Pose<double> toPose(const YAML::Node& node, const std::string& field)
   }
   return p;
 }
+/// Refuses a key given twice in one mapping, in `node` and every mapping below it: yaml-cpp keeps
+/// the first value and would drop the second silently. Names the key by its field path and both
+/// lines (1-based).
+void rejectRepeatedKeys(const YAML::Node& node, const std::string& field)
+{
+  if (node.IsSequence())
+  {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      rejectRepeatedKeys(node[i], indexedField(field, i));
+    return;
+  }
+  if (!node.IsMap())
+    return;
+  std::map<std::string, int> first_line;
+  for (const auto& kv : node)
+  {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("(a non-scalar key)");
+    const std::string name = field + (field.empty() ? "" : ".") + key;
+    const int line = kv.first.Mark().line + 1;
+    const auto seen = first_line.emplace(key, line);
+    if (!seen.second)
+      throw InvalidInputError(name + ": repeated key at line " + std::to_string(line) + " (first given at line " +
+                              std::to_string(seen.first->second) + "); give each key once");
+    rejectRepeatedKeys(kv.second, name);
+  }
+}
+
 /// The document check and every field the pose and sphere requests share, by name.
 template <class Request>
 void readCommonFields(const YAML::Node& root, Request* r)
 {
   if (!root || root.IsNull())
     throw InvalidInputError("request: the YAML document is empty");
+  rejectRepeatedKeys(root, "");
   // The service looks these up with tf2; the command-line tool has no TF.
   if (root.IsMap() && root["waypoint_frames"])
     throw InvalidInputError("waypoint_frames: the command-line tool has no TF to look frames up in; give their "

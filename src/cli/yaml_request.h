@@ -6,7 +6,9 @@
 // geometry_msgs/PoseArray {header: {..}, poses: [..]} and vectors/quaternions as maps {x, y, z(, w)}
 // where a missing component is 0 ({w: 1} is the identity, {} the zero quaternion, which validation
 // refuses). A waypoint without `orientation` is the identity rotation; `position` is required.
-// Unknown keys are errors (they are usually typos). Errors are InvalidInputError
+// Unknown keys are errors (they are usually typos), and so is a key given twice in one mapping
+// (yaml-cpp would keep the first value silently): the error names the key and its line. Errors
+// are InvalidInputError
 // naming the field and index.
 #pragma once
 

@@ -420,6 +420,50 @@ TEST(Cli, ServiceSpellingRefusals)
   }
 }
 
+// A key given twice in one mapping, at any depth: yaml-cpp keeps the first value, so the second
+// would be dropped silently. The error names the key's field path and both lines.
+TEST(Cli, RepeatedKeysAreErrorsNamingTheKeyAndLine)
+{
+  const std::string two = "  - {position: [0, 0, 0]}\n  - {position: [1, 0, 0]}\n";
+  const std::pair<std::string, const char*> cases[] = {
+    { "waypoints:\n" + two + "duration: 1\nduration: 5\n", "duration: repeated key at line 5 (first given at line 4)" },
+    { "waypoints:\n  - position: [0, 0, 0]\n    position: [2, 0, 0]\n  - {position: [1, 0, 0]}\n",
+      "waypoints[0].position: repeated key at line 3 (first given at line 2)" },
+    { "waypoints:\n  - position: [0, 0, 0]\n  - position: [1, 0, 0]\n    orientation: [0, 0, 0, 1]\n"
+      "    orientation: [0, 0, 1, 0]\n",
+      "waypoints[1].orientation: repeated key at line 5 (first given at line 4)" },
+    { "waypoints:\n  - {position: {x: 0, y: 1, x: 2}}\n  - {position: [1, 0, 0]}\n",
+      "waypoints[0].position.x: repeated key at line 2" },
+    { "waypoints:\n" + two +
+          "start_state:\n  pose: {position: [0, 0, 0]}\n  velocity: {linear: [1, 0, 0]}\n"
+          "  velocity: {linear: [0, 1, 0]}\n",
+      "start_state.velocity: repeated key at line 7 (first given at line 6)" },
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}], header: {frame_id: a, frame_id: b}}\n",
+      "waypoints.header.frame_id: repeated key at line 1" },
+  };
+  const std::string out = testing::TempDir() + "repeated_must_not_exist.csv";
+  for (const auto& c : cases)
+  {
+    std::remove(out.c_str());
+    const CliRun r = run(writeTemp("repeated.yaml", c.first) + " -o " + out);
+    EXPECT_EQ(r.status, 2) << c.first;
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << "\n" << r.err;
+    EXPECT_FALSE(exists(out)) << c.first;
+    EXPECT_FALSE(exists(out + ".tmp")) << c.first;
+  }
+  // To the standard output: nothing written there either.
+  const CliRun stdout_run = run(writeTemp("repeated.yaml", "waypoints:\n" + two + "curve: bezier\ncurve: bspline\n"));
+  EXPECT_EQ(stdout_run.status, 2);
+  EXPECT_NE(stdout_run.err.find("curve: repeated key at line 5"), std::string::npos) << stdout_run.err;
+  EXPECT_TRUE(stdout_run.out.empty()) << stdout_run.out;
+  // The sphere space reads the same document check.
+  const CliRun sphere = run(writeTemp("repeated_sphere.yaml", "waypoints: [[1, 0, 0], [0, 1, 0]]\ntimes: [0, 1]\n"
+                                                              "times: [0, 2]\n") +
+                            " --space sphere");
+  EXPECT_EQ(sphere.status, 2);
+  EXPECT_NE(sphere.err.find("times: repeated key at line 3 (first given at line 2)"), std::string::npos) << sphere.err;
+}
+
 namespace
 {
 std::string writeFile(const std::string& name, const std::string& text)
