@@ -1,0 +1,626 @@
+// The invariants every outcome of generate() must satisfy, whatever the request (README "What
+// each curve accepts"): a served request gives a motion that is finite, sign-continuous, starts
+// in its start state, keeps every bound on a dense evaluation of the continuous motion (after
+// the reported recovery interval when the start state itself exceeds one), passes the waypoints
+// its curve promises, has derivatives that agree with finite differences of its poses and
+// figures that agree with the measured peaks; a refused request throws a std::invalid_argument
+// whose message names a request field. Shared by test_request_space.cpp (the grid and the
+// random sweep of the request space).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/math/lie_groups.h"
+#include "se3_interpolation/planner/planner.h"
+
+namespace se3_interpolation
+{
+namespace test
+{
+/// Sanitizer builds run a reduced, deterministic subset of the cases.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+/// The request fields an error message may name (srv/GenerateTrajectory.srv; `start_state` is the
+/// CLI's name of the service's `from_current`).
+inline const std::vector<std::string>& requestFieldNames()
+{
+  static const std::vector<std::string> kNames = {
+    "waypoints",         "times",           "curve",          "geometry",
+    "degree",            "knots",           "continuity",     "end_condition",
+    "start_velocity",    "end_velocity",    "start_acceleration", "velocities",
+    "parameterization",  "rotation_scale",  "duration",       "max_linear_velocity",
+    "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "timing",
+    "sample_times",      "sample_period",   "sample_count",   "blend_radius",
+    "start_state",       "from_current",    "outputs",
+  };
+  return kNames;
+}
+
+inline bool isIdentifierChar(char c)
+{
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+/// Whether `text` contains `word` as a whole identifier (so "times" is not found in "sample_times").
+inline bool containsWord(const std::string& text, const std::string& word)
+{
+  for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
+  {
+    const bool before = at == 0 || !isIdentifierChar(text[at - 1]);
+    const std::size_t end = at + word.size();
+    const bool after = end == text.size() || !isIdentifierChar(text[end]);
+    if (before && after)
+      return true;
+  }
+  return false;
+}
+
+/// The request fields named in an error message.
+inline std::vector<std::string> namedFields(const std::string& message)
+{
+  std::vector<std::string> named;
+  for (const std::string& f : requestFieldNames())
+    if (containsWord(message, f))
+      named.push_back(f);
+  return named;
+}
+
+/// BasicResult::recovery_time when the core has it (the interval after a start state that itself
+/// exceeds a bound, in which that bound may still be exceeded), else 0.
+template <class R, class = void>
+struct HasRecoveryTime : std::false_type
+{
+};
+template <class R>
+struct HasRecoveryTime<R, std::void_t<decltype(std::declval<const R&>().recovery_time)>> : std::true_type
+{
+};
+template <class R>
+double recoveryTime(const R& result)
+{
+  if constexpr (HasRecoveryTime<R>::value)
+    return static_cast<double>(result.recovery_time);
+  else
+    return 0.0;
+}
+
+/// One broken invariant: what (a short kind, for grouping), how much (the ratio or error that
+/// broke it) and where.
+struct Violation
+{
+  std::string kind;
+  double magnitude = 0.0;
+  std::string detail;
+};
+
+/// Which waypoints the curve of a request passes, at result.waypoint_times.
+enum class PassedWaypoints
+{
+  kAll,
+  kFirstAndLast
+};
+
+inline PassedWaypoints passedWaypoints(const TrajectoryRequest& r)
+{
+  const std::string curve = r.curve.empty() ? "interpolating" : r.curve;
+  if (curve == "interpolating" || curve == "hermite" || curve == "blended")
+    return PassedWaypoints::kAll;
+  if (curve == "piecewise_geodesic" && !(r.blend_radius > 0.0))
+    return PassedWaypoints::kAll;
+  return PassedWaypoints::kFirstAndLast;
+}
+
+/// Options of the checker: the dense evaluation's size and the finite-difference points.
+struct CheckOptions
+{
+  std::size_t dense_points = 3000;
+  std::size_t difference_points = 24;
+  std::uint32_t seed = 1;
+};
+
+/// Peak rates measured on the dense evaluation (|ṗ|, |ω|, |p̈|, |ω̇|).
+struct MeasuredPeaks
+{
+  double value[4] = { 0.0, 0.0, 0.0, 0.0 };
+};
+
+inline double rateOf(const TrajectorySample& s, int j)
+{
+  switch (j)
+  {
+    case 0:
+      return s.velocity.linear.norm();
+    case 1:
+      return s.velocity.angular.norm();
+    case 2:
+      return s.acceleration.linear.norm();
+    default:
+      return s.acceleration.angular.norm();
+  }
+}
+
+inline const char* kBoundFields[4] = { "max_linear_velocity", "max_angular_velocity", "max_linear_acceleration",
+                                       "max_angular_acceleration" };
+inline const char* kFigureFields[4] = { "max_linear_speed", "max_angular_speed", "max_linear_acceleration",
+                                        "max_angular_acceleration" };
+
+inline double boundOf(const TrajectoryRequest& r, int j)
+{
+  const double b[4] = { r.max_linear_velocity, r.max_angular_velocity, r.max_linear_acceleration,
+                        r.max_angular_acceleration };
+  return b[j];
+}
+
+inline double figureOf(const CurveFigures& f, int j)
+{
+  const double v[4] = { f.max_linear_speed, f.max_angular_speed, f.max_linear_acceleration,
+                        f.max_angular_acceleration };
+  return v[j];
+}
+
+inline std::string num(double x)
+{
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+inline bool finitePose(const Pose<double>& x)
+{
+  return x.p.allFinite() && x.q.coeffs().allFinite();
+}
+
+inline bool finiteSample(const TrajectorySample& s)
+{
+  return std::isfinite(s.time) && finitePose(s.pose) && s.velocity.linear.allFinite() &&
+         s.velocity.angular.allFinite() && s.acceleration.linear.allFinite() && s.acceleration.angular.allFinite();
+}
+
+/// |a − b| ≤ tol (|a| + |b| + 1)·… : the absolute-plus-relative error of two vectors.
+inline double relativeGap(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
+{
+  return (a - b).norm() / (1.0 + std::max(a.norm(), b.norm()));
+}
+
+inline double poseGap(const Pose<double>& a, const Pose<double>& b)
+{
+  const double dp = (a.p - b.p).norm() / (1.0 + std::max(a.p.norm(), b.p.norm()));
+  return std::max(dp, rotationAngle(Quaternion<double>(a.q.conjugate() * b.q)));
+}
+
+/// The normalised requested waypoint i (validation normalises the quaternion).
+inline Pose<double> normalisedWaypoint(const TrajectoryRequest& r, std::size_t i)
+{
+  Pose<double> x = r.waypoints[i];
+  x.q.normalize();
+  return x;
+}
+
+/// Checks a served request's result; returns the broken invariants (empty: all hold).
+inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, const TrajectoryResult& result,
+                                              const CheckOptions& options = CheckOptions())
+{
+  std::vector<Violation> v;
+  auto fail = [&v](const std::string& kind, double magnitude, const std::string& detail) {
+    v.push_back({ kind, magnitude, detail });
+  };
+
+  // --- Finite numbers, times, quaternions -------------------------------------------------
+  const double t0 = result.start_time;
+  const double T = result.duration;
+  if (!std::isfinite(t0) || !std::isfinite(T) || !(T > 0.0))
+  {
+    fail("span", T, "start_time " + num(t0) + ", duration " + num(T));
+    return v;
+  }
+  const double t1 = t0 + T;
+  const double time_tol = 1e-12 * std::max(1.0, std::max(std::abs(t0), std::abs(t1)));
+  if (result.samples.empty())
+    fail("samples", 0.0, "no samples");
+  if (!result.state_at)
+  {
+    fail("state_at", 0.0, "no state_at");
+    return v;
+  }
+  const bool explicit_sample_times = !request.sample_times.empty();
+  for (std::size_t i = 0; i < result.samples.size(); ++i)
+  {
+    const TrajectorySample& s = result.samples[i];
+    if (!finiteSample(s))
+    {
+      fail("finite", 0.0, "samples[" + std::to_string(i) + "] not finite");
+      return v;
+    }
+    if (s.time < t0 - time_tol || s.time > t1 + time_tol)
+      fail("sample time", s.time, "samples[" + std::to_string(i) + "].time " + num(s.time) + " outside [" + num(t0) +
+                                      ", " + num(t1) + "]");
+    if (i > 0)
+    {
+      const double prev = result.samples[i - 1].time;
+      if (explicit_sample_times ? s.time < prev : !(s.time > prev))
+        fail("sample order", s.time - prev, "samples[" + std::to_string(i) + "].time " + num(s.time) +
+                                                " not after " + num(prev));
+      const double dot = s.pose.q.coeffs().dot(result.samples[i - 1].pose.q.coeffs());
+      if (dot < 0.0)
+        fail("quaternion sign", dot, "samples[" + std::to_string(i) + "]: dot with the previous " + num(dot));
+    }
+    const double qn = std::abs(s.pose.q.norm() - 1.0);
+    if (qn > 1e-9)
+      fail("unit quaternion", qn, "samples[" + std::to_string(i) + "]: |q| - 1 = " + num(qn));
+  }
+  if (!result.samples.empty() && result.samples.front().pose.q.w() < 0.0)
+    fail("quaternion sign", result.samples.front().pose.q.w(), "first sample has w < 0");
+  if (!explicit_sample_times && !result.samples.empty())
+  {
+    if (std::abs(result.samples.front().time - t0) > time_tol || std::abs(result.samples.back().time - t1) > time_tol)
+      fail("sample ends", 0.0, "samples span [" + num(result.samples.front().time) + ", " +
+                                   num(result.samples.back().time) + "], trajectory [" + num(t0) + ", " + num(t1) +
+                                   "]");
+  }
+  const double figures[] = { result.figures.length, result.figures.rotation_length, result.figures.energy,
+                             result.figures.max_linear_speed, result.figures.max_angular_speed,
+                             result.figures.max_linear_acceleration, result.figures.max_angular_acceleration,
+                             result.time_scale };
+  for (double f : figures)
+    if (!std::isfinite(f) || f < 0.0)
+    {
+      fail("figures", f, "a figure is " + num(f));
+      return v;
+    }
+
+  // --- The start state ------------------------------------------------------------------
+  if (request.start_state)
+  {
+    const StartState& s = *request.start_state;
+    Pose<double> sp = s.pose;
+    sp.q.normalize();
+    auto compare = [&](const TrajectorySample& x, const char* where) {
+      const double dp = poseGap(x.pose, sp);
+      const double dv = std::max(relativeGap(x.velocity.linear, s.velocity.linear),
+                                 relativeGap(x.velocity.angular, s.velocity.angular));
+      const double da = std::max(relativeGap(x.acceleration.linear, s.acceleration.linear),
+                                 relativeGap(x.acceleration.angular, s.acceleration.angular));
+      if (dp > 1e-9 || dv > 1e-9 || da > 1e-9)
+        fail("start state", std::max({ dp, dv, da }),
+             std::string(where) + ": pose " + num(dp) + ", velocity " + num(dv) + ", acceleration " + num(da) +
+                 " from the start state");
+    };
+    compare(result.state_at(t0), "state_at(start_time)");
+    if (!result.samples.empty() && std::abs(result.samples.front().time - t0) <= time_tol)
+      compare(result.samples.front(), "samples[0]");
+  }
+
+  // --- Dense evaluation: bounds, recovery, peaks --------------------------------------------
+  // The dense times: evenly spaced over the motion, evenly spaced within every waypoint interval
+  // (uneven times make short, fast segments), the sample and waypoint times; then each peak is
+  // refined on a fine grid around the dense point where it was largest.
+  std::vector<double> ts;
+  const std::size_t m = std::max<std::size_t>(options.dense_points, 2);
+  ts.reserve(2 * m + result.samples.size() + result.waypoint_times.size());
+  for (std::size_t i = 0; i < m; ++i)
+    ts.push_back(t0 + T * static_cast<double>(i) / static_cast<double>(m - 1));
+  for (const TrajectorySample& s : result.samples)
+    ts.push_back(s.time);
+  std::vector<double> knots{ t0 };
+  for (double t : result.waypoint_times)
+    if (std::isfinite(t) && t > knots.back() && t <= t1)
+      knots.push_back(t);
+  const std::size_t per_interval = std::max<std::size_t>(8, m / std::max<std::size_t>(knots.size(), 1));
+  for (std::size_t k = 0; k + 1 < knots.size(); ++k)
+    for (std::size_t i = 0; i <= per_interval; ++i)
+      ts.push_back(knots[k] + (knots[k + 1] - knots[k]) * static_cast<double>(i) / static_cast<double>(per_interval));
+  for (double& t : ts)
+    t = std::min(std::max(t, t0), t1);
+  std::sort(ts.begin(), ts.end());
+  ts.erase(std::unique(ts.begin(), ts.end()), ts.end());
+
+  const double recovery = recoveryTime(result);
+  const TrajectorySample first = result.state_at(t0);
+  bool exceeded_at_start[4] = { false, false, false, false };
+  bool any_exceeded = false;
+  for (int j = 0; j < 4; ++j)
+  {
+    const double b = boundOf(request, j);
+    exceeded_at_start[j] = request.start_state && b > 0.0 && rateOf(first, j) > b * (1.0 + 1e-6);
+    any_exceeded = any_exceeded || exceeded_at_start[j];
+  }
+  if (!std::isfinite(recovery) || recovery < 0.0 || recovery > T * (1.0 + 1e-12))
+    fail("recovery_time", recovery, "recovery_time " + num(recovery) + " outside [0, duration " + num(T) + "]");
+  if (!any_exceeded && recovery != 0.0)
+    fail("recovery_time", recovery, "recovery_time " + num(recovery) + " without a start state above a bound");
+
+  MeasuredPeaks peaks;
+  std::size_t peak_at[4] = { 0, 0, 0, 0 };
+  double worst[4] = { 0.0, 0.0, 0.0, 0.0 };
+  double worst_t[4] = { 0.0, 0.0, 0.0, 0.0 };
+  double worst_increase[4] = { 0.0, 0.0, 0.0, 0.0 };
+  bool bad_state = false;
+  // Evaluates a sequence of times in order: peaks, bounds, and inside the recovery interval the
+  // exceeded quantities, which may not grow while they are above their bound.
+  auto evaluate = [&](const std::vector<double>& times, bool track_peaks) {
+    double previous[4] = { 0.0, 0.0, 0.0, 0.0 };
+    bool in_recovery_prev = false;
+    for (std::size_t i = 0; i < times.size() && !bad_state; ++i)
+    {
+      const double t = times[i];
+      const TrajectorySample s = result.state_at(t);
+      if (!finiteSample(s))
+      {
+        fail("finite", t, "state_at(" + num(t) + ") not finite");
+        bad_state = true;
+        return;
+      }
+      const double qn = std::abs(s.pose.q.norm() - 1.0);
+      if (qn > 1e-9)
+        fail("unit quaternion", qn, "state_at(" + num(t) + "): |q| - 1 = " + num(qn));
+      const bool in_recovery = any_exceeded && t <= t0 + recovery;
+      for (int j = 0; j < 4; ++j)
+      {
+        const double r = rateOf(s, j);
+        if (r > peaks.value[j])
+        {
+          peaks.value[j] = r;
+          if (track_peaks)
+            peak_at[j] = i;
+        }
+        const double b = boundOf(request, j);
+        if (b > 0.0)
+        {
+          if (in_recovery && exceeded_at_start[j])
+          {
+            if (in_recovery_prev && r > b && r > previous[j] * (1.0 + 1e-9) + 1e-12)
+              worst_increase[j] = std::max(worst_increase[j], r / previous[j] - 1.0);
+          }
+          else if (r > b * (1.0 + 1e-6) && r / b > worst[j])
+          {
+            worst[j] = r / b;
+            worst_t[j] = t;
+          }
+        }
+        previous[j] = r;
+      }
+      in_recovery_prev = in_recovery;
+    }
+  };
+  evaluate(ts, true);
+  if (bad_state)
+    return v;
+  for (int j = 0; j < 4; ++j)
+  {
+    const std::size_t i = peak_at[j];
+    const double lo = ts[i > 0 ? i - 1 : 0];
+    const double hi = ts[std::min(i + 1, ts.size() - 1)];
+    std::vector<double> fine;
+    for (int k = 0; k <= 64; ++k)
+      fine.push_back(lo + (hi - lo) * k / 64.0);
+    evaluate(fine, false);
+  }
+  if (bad_state)
+    return v;
+  for (int j = 0; j < 4; ++j)
+  {
+    if (worst[j] > 0.0)
+      fail(std::string("bound ") + kBoundFields[j], worst[j],
+           std::string(kBoundFields[j]) + " " + num(boundOf(request, j)) + " exceeded " + num(worst[j]) +
+               "x at t = " + num(worst_t[j]) + " of [" + num(t0) + ", " + num(t1) + "] (recovery_time " +
+               num(recovery) + ")");
+    if (worst_increase[j] > 0.0)
+      fail(std::string("recovery ") + kBoundFields[j], worst_increase[j],
+           std::string(kBoundFields[j]) + " exceeded at the start grows by " + num(worst_increase[j]) +
+               " (relative) inside the recovery interval");
+  }
+
+  // Figures equal the dense peaks (the dense evaluation may miss a peak slightly).
+  // Below 1e-12 of the largest rate a peak is rounding noise.
+  const double noise =
+      1e-12 * std::max({ 1.0, peaks.value[0], peaks.value[1], peaks.value[2], peaks.value[3] });
+  for (int j = 0; j < 4; ++j)
+  {
+    const double f = figureOf(result.figures, j);
+    const double measured = peaks.value[j];
+    if (f < measured * (1.0 - 1e-6) - noise)
+      fail(std::string("figure ") + kFigureFields[j], measured / f,
+           std::string("figures.") + kFigureFields[j] + " " + num(f) + " below the measured peak " + num(measured));
+    else if (f > measured * (1.0 + 1e-3) + std::max(1e-12, noise))
+      fail(std::string("figure ") + kFigureFields[j], f / measured,
+           std::string("figures.") + kFigureFields[j] + " " + num(f) + " above the measured peak " + num(measured));
+  }
+
+  // --- Waypoints passed -------------------------------------------------------------------
+  const std::size_t n = request.waypoints.size();
+  if (result.waypoint_times.size() != n)
+    fail("waypoint_times", static_cast<double>(result.waypoint_times.size()),
+         "waypoint_times has " + std::to_string(result.waypoint_times.size()) + " entries for " + std::to_string(n) +
+             " waypoints");
+  else
+  {
+    for (std::size_t i = 1; i < n; ++i)
+      if (!(result.waypoint_times[i] >= result.waypoint_times[i - 1]))
+        fail("waypoint_times", result.waypoint_times[i], "waypoint_times not increasing at " + std::to_string(i));
+    if (std::abs(result.waypoint_times.back() - t1) > 1e-9 * std::max(1.0, std::abs(t1)))
+      fail("waypoint_times", result.waypoint_times.back() - t1,
+           "last waypoint time " + num(result.waypoint_times.back()) + " is not the end " + num(t1));
+    const PassedWaypoints passed = passedWaypoints(request);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const bool promised = passed == PassedWaypoints::kAll || i + 1 == n || (i == 0 && !request.start_state);
+      if (!promised)
+        continue;
+      const double t = result.waypoint_times[i];
+      if (!std::isfinite(t) || t < t0 - time_tol || t > t1 + time_tol)
+      {
+        fail("waypoint_times", t, "waypoint_times[" + std::to_string(i) + "] = " + num(t) + " outside the motion");
+        continue;
+      }
+      const TrajectorySample s = result.state_at(std::min(std::max(t, t0), t1));
+      // A time mapped through a timing profile carries its rounding: allow its effect.
+      const double slack = 1e-9 * std::max(1.0, std::abs(t)) * (s.velocity.linear.norm() + s.velocity.angular.norm());
+      const double gap = poseGap(s.pose, normalisedWaypoint(request, i));
+      if (gap > 1e-8 + slack)
+        fail("waypoint passed", gap, "waypoints[" + std::to_string(i) + "] missed by " + num(gap) + " at t = " +
+                                         num(t));
+    }
+    // With a start state, curves that pass only their ends end at the last waypoint and start at
+    // the start state (checked above).
+  }
+  {
+    const TrajectorySample end = result.state_at(t1);
+    const double gap = poseGap(end.pose, normalisedWaypoint(request, n - 1));
+    if (gap > 1e-8)
+      fail("waypoint passed", gap, "the motion ends " + num(gap) + " from the last waypoint");
+  }
+
+  // --- Derivatives against finite differences of the poses ----------------------------------
+  std::mt19937 rng(options.seed);
+  std::uniform_real_distribution<double> where(0.0, 1.0);
+  const double pos_scale = 1.0 + std::max(result.figures.length, 0.0);
+  double worst_v = 0.0, worst_a = 0.0;
+  std::string worst_v_at, worst_a_at;
+  for (std::size_t k = 0; k < options.difference_points; ++k)
+  {
+    // The step: small against the motion and against its local time scales |v|/|a| and 1/|ω|
+    // (a fast rotation turns the stencil's points too far apart).
+    const double u = where(rng);
+    const TrajectorySample here = result.state_at(t0 + T * (0.01 + 0.98 * u));
+    double h = T * 2e-5;
+    const double vl = here.velocity.linear.norm(), al = here.acceleration.linear.norm();
+    const double va = here.velocity.angular.norm(), aa = here.acceleration.angular.norm();
+    if (al > 0.0 && vl > 0.0)
+      h = std::min(h, 1e-2 * vl / al);
+    if (aa > 0.0 && va > 0.0)
+      h = std::min(h, 1e-2 * va / aa);
+    if (va > 0.0)
+      h = std::min(h, 1e-2 / va);
+    if (!(h > 1e-9 * std::max(1.0, std::abs(t0) + T)))
+      continue;
+    const double t = std::min(std::max(t0 + T * (0.01 + 0.98 * u), t0 + 4 * h), t1 - 4 * h);
+    if (t - 3 * h < t0 || t + 3 * h > t1)
+      continue;
+    TrajectorySample f[7];
+    for (int i = 0; i < 7; ++i)
+      f[i] = result.state_at(t + (i - 3) * h);
+    const Pose<double>& c = f[3].pose;
+    Eigen::Vector3d p[7], phi[7];
+    for (int i = 0; i < 7; ++i)
+    {
+      p[i] = f[i].pose.p - c.p;
+      const Quaternion<double> rel(f[i].pose.q * c.q.conjugate());
+      phi[i] = rotationAngle(rel) < 3.0 ? so3Log(rel) : Eigen::Vector3d(1e300, 0, 0);
+    }
+    auto check = [&](const Eigen::Vector3d* x, const Eigen::Vector3d& vel, const Eigen::Vector3d& acc,
+                     double magnitude_scale, const char* channel) {
+      // Fourth-order central, second-order one-sided differences.
+      const Eigen::Vector3d vc = (-x[5] + 8.0 * x[4] - 8.0 * x[2] + x[1]) / (12.0 * h);
+      const Eigen::Vector3d vf = (-3.0 * x[3] + 4.0 * x[4] - x[5]) / (2.0 * h);
+      const Eigen::Vector3d vb = (3.0 * x[3] - 4.0 * x[2] + x[1]) / (2.0 * h);
+      const Eigen::Vector3d ac = (-x[5] + 16.0 * x[4] - 30.0 * x[3] + 16.0 * x[2] - x[1]) / (12.0 * h * h);
+      const Eigen::Vector3d af = (2.0 * x[3] - 5.0 * x[4] + 4.0 * x[5] - x[6]) / (h * h);
+      const Eigen::Vector3d ab = (2.0 * x[3] - 5.0 * x[2] + 4.0 * x[1] - x[0]) / (h * h);
+      double vmax = 0.0, amax = 0.0;
+      for (int i = 1; i < 6; ++i)
+      {
+        vmax = std::max(vmax, channel[0] == 'l' ? f[i].velocity.linear.norm() : f[i].velocity.angular.norm());
+        amax = std::max(amax, channel[0] == 'l' ? f[i].acceleration.linear.norm() : f[i].acceleration.angular.norm());
+      }
+      // Rounding of the pose differences: ε |x| / h and ε |x| / h².
+      // Rounding of the pose differences: ε |x| / h and ε |x| / h², and of the times themselves
+      // (ε |t| moves the pose by ε |t| |v|).
+      const double eps = 4e-16 * magnitude_scale + 4e-16 * std::abs(t) * vmax;
+      const double vtol = 1e-5 * (vmax + amax * h) + 30.0 * eps / h;
+      const double atol = 1e-5 * amax + 300.0 * eps / (h * h);
+      if ((vf - vb).norm() <= 0.1 * vtol)
+      {
+        const double e = (vc - vel).norm();
+        if (e > vtol && e / std::max(vtol, 1e-300) > worst_v)
+        {
+          worst_v = e / vtol;
+          worst_v_at = std::string(channel) + " velocity at t = " + num(t) + ": analytic " + num(vel.norm()) +
+                       ", differences " + num(vc.norm()) + ", error " + num(e);
+        }
+      }
+      if ((af - ab).norm() <= 0.1 * atol)
+      {
+        const double e = (ac - acc).norm();
+        if (e > atol && e / std::max(atol, 1e-300) > worst_a)
+        {
+          worst_a = e / atol;
+          worst_a_at = std::string(channel) + " acceleration at t = " + num(t) + ": analytic " + num(acc.norm()) +
+                       ", differences " + num(ac.norm()) + ", error " + num(e);
+        }
+      }
+    };
+    if (phi[0].x() > 1e299 || phi[6].x() > 1e299)
+      continue;  // rotating too fast for the step: no difference to take
+    check(p, f[3].velocity.linear, f[3].acceleration.linear, pos_scale + c.p.norm(), "linear");
+    check(phi, f[3].velocity.angular, f[3].acceleration.angular, 4.0, "angular");
+  }
+  if (worst_v > 0.0)
+    fail("velocity vs differences", worst_v, worst_v_at);
+  if (worst_a > 0.0)
+    fail("acceleration vs differences", worst_a, worst_a_at);
+  return v;
+}
+
+/// The outcome of one request: served (with the invariants it broke) or refused (with its message).
+struct Outcome
+{
+  bool served = false;
+  std::string message;  ///< the refusal's message
+  std::vector<Violation> violations;
+};
+
+/// Runs one request through generate() and the checker. A refusal must be a std::invalid_argument
+/// (the core's InterpolationError family) whose message names a request field; any other
+/// exception is a violation.
+inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits& limits,
+                           const CheckOptions& options = CheckOptions())
+{
+  Outcome out;
+  try
+  {
+    const TrajectoryResult result = generate(request, limits);
+    out.served = true;
+    out.violations = checkInvariants(request, result, options);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    out.message = e.what();
+    if (namedFields(out.message).empty())
+      out.violations.push_back({ "refusal names no field", 0.0, out.message });
+  }
+  catch (const std::exception& e)
+  {
+    out.message = e.what();
+    out.violations.push_back({ "exception not std::invalid_argument", 0.0, out.message });
+  }
+  catch (...)
+  {
+    out.message = "(non-standard exception)";
+    out.violations.push_back({ "non-standard exception", 0.0, out.message });
+  }
+  return out;
+}
+
+}  // namespace test
+}  // namespace se3_interpolation
