@@ -1,6 +1,10 @@
 #include "se3_interpolation/ros/interpolation_node.h"
 
+#include <malloc.h>
+#include <ros/connection_manager.h>
 #include <ros/master.h>
+#include <ros/network.h>
+#include <ros/xmlrpc_manager.h>
 #include <ros/this_node.h>
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 #include <tf2_msgs/TFMessage.h>
@@ -10,6 +14,7 @@
 #include <cstdint>
 #include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include "se3_interpolation/GenerationStatus.h"
 #include "se3_interpolation/ros/conversions.h"
@@ -22,6 +27,16 @@ namespace
 /// Longest error text the node logs or returns: exceptions from tf2 or roscpp may quote
 /// strings of any length.
 constexpr std::size_t kMaxMessageLength = 1024;
+
+/// ~waypoints messages waiting to be handled (each replaces the buffer, so few are worth keeping).
+constexpr std::size_t kWaypointsBacklog = 10;
+/// roscpp's queues in front of the backlogs: the intake empties them at once, so they only absorb
+/// a moment's stall of its thread; a loss there still counts (a header.seq gap). Bounded by the
+/// messages' size: a ~waypoints message may carry ~max_waypoints poses.
+constexpr std::uint32_t kWaypointIntakeQueue = 10000;
+constexpr std::uint32_t kWaypointsIntakeQueue = 100;
+/// Publishers whose header.seq the intake remembers per topic (forgotten all at once beyond).
+constexpr std::size_t kMaxTrackedPublishers = 1000;
 
 std::string bounded(const char* what)
 {
@@ -74,7 +89,6 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   tf_static_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf_static", 1, true);
   status_pub_ = private_nh_.advertise<GenerationStatus>("status", 1, true);
   clear_service_ = private_nh_.advertiseService("clear_waypoints", &InterpolationNode::clearWaypoints, this);
-  waypoints_sub_ = private_nh_.subscribe("waypoints", 10, &InterpolationNode::waypointsCallback, this);
 
   ros::NodeHandle service_nh(private_nh_);
   service_nh.setCallbackQueue(&service_queue_);
@@ -82,12 +96,19 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   service_spinner_ = std::make_unique<ros::AsyncSpinner>(params_.service_threads, &service_queue_);
   service_spinner_->start();
 
-  ros::NodeHandle waypoint_nh(private_nh_);
-  waypoint_nh.setCallbackQueue(&waypoint_queue_);
-  waypoint_sub_ = waypoint_nh.subscribe("waypoint", static_cast<std::uint32_t>(params_.waypoint_queue_size),
-                                        &InterpolationNode::waypointCallback, this);
-  waypoint_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &waypoint_queue_);
-  waypoint_spinner_->start();
+  // roscpp's queues only hand the messages over to the backlogs, whose drops are counted; a loss
+  // in roscpp's queue shows as a header.seq gap.
+  waypoint_backlog_ = std::make_unique<MessageBacklog<geometry_msgs::PoseStamped::ConstPtr>>(
+      static_cast<std::size_t>(params_.waypoint_queue_size),
+      [this](const geometry_msgs::PoseStamped::ConstPtr& msg) { waypointCallback(msg); });
+  waypoints_backlog_ = std::make_unique<MessageBacklog<geometry_msgs::PoseArray::ConstPtr>>(
+      kWaypointsBacklog, [this](const geometry_msgs::PoseArray::ConstPtr& msg) { waypointsCallback(msg); });
+  ros::NodeHandle intake_nh(private_nh_);
+  intake_nh.setCallbackQueue(&intake_queue_);
+  waypoint_sub_ = intake_nh.subscribe("waypoint", kWaypointIntakeQueue, &InterpolationNode::waypointIntake, this);
+  waypoints_sub_ = intake_nh.subscribe("waypoints", kWaypointsIntakeQueue, &InterpolationNode::waypointsIntake, this);
+  intake_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &intake_queue_);
+  intake_spinner_->start();
 
   ros::NodeHandle tf_nh(private_nh_);
   tf_nh.setCallbackQueue(&tf_queue_);
@@ -105,15 +126,19 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   reconfigure_server_->setCallback(
       [this](InterpolationNodeConfig& config, std::uint32_t level) { reconfigure(config, level); });
 
+  services_ = { generate_service_.getService(), clear_service_.getService(),
+                private_nh_.resolveName("set_parameters") };
+  ros::NodeHandle watchdog_nh(private_nh_);
+  watchdog_nh.setCallbackQueue(&watchdog_queue_);
   if (params_.master_check_period > 0.0)
   {
-    ros::NodeHandle watchdog_nh(private_nh_);
-    watchdog_nh.setCallbackQueue(&watchdog_queue_);
+    ros::param::get("/run_id", run_id_);
     watchdog_timer_ = watchdog_nh.createTimer(ros::Duration(params_.master_check_period),
                                               &InterpolationNode::watchdogCallback, this);
-    watchdog_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &watchdog_queue_);
-    watchdog_spinner_->start();
   }
+  maintenance_timer_ = watchdog_nh.createWallTimer(ros::WallDuration(1.0), &InterpolationNode::maintenanceCallback, this);
+  watchdog_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &watchdog_queue_);
+  watchdog_spinner_->start();
   ROS_INFO_STREAM("se3_interpolation_node ready: services " << generate_service_.getService() << ", "
                   << clear_service_.getService() << "; waypoints on " << waypoint_sub_.getTopic() << ", "
                   << waypoints_sub_.getTopic() << "; frames " << params_.frame_id << " -> " << params_.child_frame_id
@@ -128,10 +153,11 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
 InterpolationNode::~InterpolationNode()
 {
   reconfigure_server_.reset();
-  if (watchdog_spinner_)
-    watchdog_spinner_->stop();
+  watchdog_spinner_->stop();
   tf_spinner_->stop();
-  waypoint_spinner_->stop();
+  intake_spinner_->stop();
+  waypoint_backlog_.reset();
+  waypoints_backlog_.reset();
   service_spinner_->stop();
 }
 
@@ -394,6 +420,8 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
   status.max_linear_speed = res.max_linear_speed;
   status.max_angular_speed = res.max_angular_speed;
   status.energy = res.energy;
+  status.dropped_waypoint_messages = droppedWaypointMessages();
+  status.dropped_waypoints_messages = droppedWaypointsMessages();
   status_pub_.publish(status);
 }
 
@@ -447,29 +475,48 @@ void InterpolationNode::holdPlayback()
   playback_ = hold;
 }
 
-void InterpolationNode::noticeDrops(const std::string& publisher, std::uint32_t seq)
+std::uint64_t InterpolationNode::seqGap(std::map<std::string, std::uint32_t>* last_seq,
+                                       const std::string& publisher, std::uint32_t seq)
 {
-  auto it = last_seq_.find(publisher);
-  if (it != last_seq_.end() && seq > it->second + 1)
-  {
-    dropped_waypoints_ += seq - it->second - 1;
-    // Throttled: a flood of drops must not become a flood of log lines.
-    ROS_WARN_STREAM_THROTTLE(1.0, "~waypoint: " << seq - it->second - 1 << " messages from " << quotedText(publisher)
-                                                << " were dropped (header.seq jumped from " << it->second << " to "
-                                                << seq << "; " << dropped_waypoints_
-                                                << " dropped in all); raise ~waypoint_queue_size ("
-                                                << params_.waypoint_queue_size << ") or publish more slowly");
-  }
-  // A publisher that does not number its messages (seq constant) or restarted: no jump.
-  last_seq_[publisher] = seq;
+  if (last_seq->size() >= kMaxTrackedPublishers && last_seq->count(publisher) == 0)
+    last_seq->clear();
+  auto it = last_seq->find(publisher);
+  std::uint64_t gap = 0;
+  // A publisher that does not number its messages (seq constant) or restarted: no gap.
+  if (it != last_seq->end() && seq > it->second + 1)
+    gap = seq - it->second - 1;
+  (*last_seq)[publisher] = seq;
+  return gap;
 }
 
-void InterpolationNode::waypointCallback(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
+void InterpolationNode::waypointIntake(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event)
+{
+  const geometry_msgs::PoseStamped::ConstPtr& msg = event.getMessage();
+  waypoint_gaps_ += seqGap(&waypoint_seq_, event.getPublisherName(), msg->header.seq);
+  waypoint_backlog_->push(msg);
+}
+
+void InterpolationNode::waypointsIntake(const ros::MessageEvent<const geometry_msgs::PoseArray>& event)
+{
+  const geometry_msgs::PoseArray::ConstPtr& msg = event.getMessage();
+  waypoints_gaps_ += seqGap(&waypoints_seq_, event.getPublisherName(), msg->header.seq);
+  waypoints_backlog_->push(msg);
+}
+
+std::uint64_t InterpolationNode::droppedWaypointMessages() const
+{
+  return waypoint_gaps_ + waypoint_backlog_->dropped();
+}
+
+std::uint64_t InterpolationNode::droppedWaypointsMessages() const
+{
+  return waypoints_gaps_ + waypoints_backlog_->dropped();
+}
+
+void InterpolationNode::waypointCallback(const geometry_msgs::PoseStamped::ConstPtr& msg)
 {
   try
   {
-    const geometry_msgs::PoseStamped::ConstPtr& msg = event.getMessage();
-    noticeDrops(event.getPublisherName(), msg->header.seq);
     geometry_msgs::PoseStamped pose = *msg;
     std::string frame;
     {
@@ -736,25 +783,137 @@ void InterpolationNode::watchdogCallback(const ros::TimerEvent& /*event*/)
   {
     if (!ros::master::check())
       return;  // the master is away: wait for it to come back
-    // The service is registered once, at start-up: a master that does not know it has
-    // restarted since (roscpp re-registers nothing).
-    XmlRpc::XmlRpcValue args, result, payload;
-    args[0] = ros::this_node::getName();
-    args[1] = generate_service_.getService();
-    if (ros::master::execute("lookupService", args, result, payload, false))
+    if (!masterForgotUs())
       return;
-    ROS_FATAL_STREAM("the ROS master at " << ros::master::getURI() << " no longer knows "
-                                          << ros::this_node::getName() << " (its service "
-                                          << generate_service_.getService()
-                                          << " is not registered: the master restarted); shutting down with exit "
-                                             "status 1 so that the launch file's respawn registers the node anew");
-    exit_status_ = 1;
-    ros::requestShutdown();
+    ROS_WARN_STREAM("the ROS master at " << ros::master::getURI() << " no longer knows " << ros::this_node::getName()
+                                         << " (it restarted); registering again");
+    ROS_WARN_STREAM("registered again with the new master: " << registerAgain());
   }
   catch (const std::exception& e)
   {
     ROS_ERROR_STREAM_THROTTLE(10.0, "master watchdog: " << bounded(e.what()));
   }
+}
+
+bool InterpolationNode::masterForgotUs()
+{
+  // A failed call (the master gone again meanwhile) counts as forgotten: registering again is
+  // harmless (the master's registrations are idempotent) and is retried at the next check.
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = generate_service_.getService();
+  if (!ros::master::execute("lookupService", args, result, payload, false))
+    return true;
+  if (run_id_.empty())
+    return false;
+  XmlRpc::XmlRpcValue param_args, param_result, run_id;
+  param_args[0] = ros::this_node::getName();
+  param_args[1] = "/run_id";
+  if (!ros::master::execute("getParam", param_args, param_result, run_id, false) ||
+      run_id.getType() != XmlRpc::XmlRpcValue::TypeString)
+    return true;
+  if (static_cast<std::string>(run_id) == run_id_)
+    return false;
+  run_id_ = static_cast<std::string>(run_id);
+  return true;
+}
+
+namespace
+{
+/// Calls `method` of this process's own slave API (its XML-RPC server) and returns the value of
+/// its [code, message, value] answer; throws when it fails.
+XmlRpc::XmlRpcValue callOwnSlaveApi(const std::string& method, XmlRpc::XmlRpcValue& args)
+{
+  std::string host;
+  std::uint32_t port = 0;
+  if (!ros::network::splitURI(ros::XMLRPCManager::instance()->getServerURI(), host, port))
+    throw std::runtime_error("cannot parse this node's XML-RPC URI");
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue result;
+  if (!client.execute(method.c_str(), args, result) || result.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+      result.size() != 3 || static_cast<int>(result[0]) != 1)
+    throw std::runtime_error("this node's XML-RPC " + method + " failed");
+  return result[2];
+}
+}  // namespace
+
+std::string InterpolationNode::registerAgain()
+{
+  const std::string caller = ros::this_node::getName();
+  const std::string caller_api = ros::XMLRPCManager::instance()->getServerURI();
+  NodeParameters params;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params = params_;
+  }
+  writeNodeParameters(private_nh_, params);
+  std::size_t failed = 0;
+  auto registerOne = [&](const char* method, const std::string& name, const std::string& api) {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = caller;
+    args[1] = name;
+    args[2] = api;
+    args[3] = caller_api;
+    if (!ros::master::execute(method, args, result, payload, false))
+    {
+      ++failed;
+      ROS_WARN_STREAM("master " << method << " " << name << " failed; retried at the next check");
+    }
+    return payload;
+  };
+  // Publications first, so that the subscriptions below find this process's own publishers too.
+  XmlRpc::XmlRpcValue own_args;
+  own_args[0] = caller;
+  XmlRpc::XmlRpcValue publications = callOwnSlaveApi("getPublications", own_args);
+  for (int i = 0; i < publications.size(); ++i)
+    registerOne("registerPublisher", publications[i][0], publications[i][1]);
+  XmlRpc::XmlRpcValue subscriptions = callOwnSlaveApi("getSubscriptions", own_args);
+  for (int i = 0; i < subscriptions.size(); ++i)
+  {
+    const std::string topic = subscriptions[i][0];
+    XmlRpc::XmlRpcValue publishers = registerOne("registerSubscriber", topic, subscriptions[i][1]);
+    if (publishers.getType() != XmlRpc::XmlRpcValue::TypeArray)
+      continue;
+    // What the master would send a subscriber: connects to the publishers it knows.
+    XmlRpc::XmlRpcValue update;
+    update[0] = std::string("/master");
+    update[1] = topic;
+    update[2] = publishers;
+    callOwnSlaveApi("publisherUpdate", update);
+  }
+  const std::string service_api =
+      "rosrpc://" + ros::network::getHost() + ":" + std::to_string(ros::ConnectionManager::instance()->getTCPPort());
+  for (const std::string& service : services_)
+    registerOne("registerService", service, service_api);
+  std::ostringstream summary;
+  summary << publications.size() << " publications, " << subscriptions.size() << " subscriptions, "
+          << services_.size() << " services and the parameters under " << private_nh_.getNamespace();
+  if (failed > 0)
+    summary << " (" << failed << " registrations failed)";
+  return summary.str();
+}
+
+void InterpolationNode::maintenanceCallback(const ros::WallTimerEvent& /*event*/)
+{
+  const std::uint64_t waypoint = droppedWaypointMessages();
+  const std::uint64_t waypoints = droppedWaypointsMessages();
+  if (waypoint != reported_waypoint_drops_ || waypoints != reported_waypoints_drops_)
+  {
+    ROS_WARN_STREAM("dropped waypoint messages: ~waypoint " << waypoint - reported_waypoint_drops_
+                                                            << " since the last report (" << waypoint
+                                                            << " in all), ~waypoints "
+                                                            << waypoints - reported_waypoints_drops_ << " ("
+                                                            << waypoints
+                                                            << " in all); they came faster than the node handles "
+                                                               "them: raise ~waypoint_queue_size ("
+                                                            << params_.waypoint_queue_size
+                                                            << ") or publish more slowly");
+    reported_waypoint_drops_ = waypoint;
+    reported_waypoints_drops_ = waypoints;
+  }
+  // Large messages (floods, 1e5-sample trajectories and their serialised copies) are freed on
+  // many threads; glibc keeps the freed pages unless asked.
+  malloc_trim(0);
 }
 
 }  // namespace se3_interpolation

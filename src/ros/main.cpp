@@ -8,5 +8,5 @@ int main(int argc, char** argv)
   ros::init(argc, argv, "se3_interpolation_node");
   se3_interpolation::InterpolationNode node(ros::NodeHandle(), ros::NodeHandle("~"));
   ros::spin();
-  return node.exitStatus();
+  return 0;
 }

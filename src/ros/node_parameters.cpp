@@ -186,4 +186,37 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   return p;
 }
 
+void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p)
+{
+  nh.setParam("frame_id", p.frame_id);
+  nh.setParam("child_frame_id", p.child_frame_id);
+  nh.setParam("tf_rate", p.tf_rate);
+  nh.setParam("loop", p.loop);
+  nh.setParam("max_tf_samples", p.max_tf_samples);
+  nh.setParam("auto_generate", p.auto_generate);
+  nh.setParam("publish_tf", p.publish_tf);
+  nh.setParam("marker_axes", p.marker_axes);
+  nh.setParam("axis_length", p.axis_length);
+  nh.setParam("tf_timeout", p.tf_timeout);
+  nh.setParam("waypoint_queue_size", p.waypoint_queue_size);
+  nh.setParam("service_threads", p.service_threads);
+  nh.setParam("master_check_period", p.master_check_period);
+  nh.setParam("replan_from_current", p.replan_from_current);
+  nh.setParam("replan_lead", p.replan_lead);
+  nh.setParam("max_samples", static_cast<int>(p.limits.max_samples));
+  nh.setParam("max_waypoints", static_cast<int>(p.limits.max_waypoints));
+  nh.setParam("max_work", p.limits.max_work);
+  nh.setParam("curve", p.curve);
+  nh.setParam("geometry", p.geometry);
+  nh.setParam("parameterization", p.parameterization);
+  nh.setParam("timing", p.timing);
+  nh.setParam("max_linear_velocity", p.max_linear_velocity);
+  nh.setParam("max_angular_velocity", p.max_angular_velocity);
+  nh.setParam("max_linear_acceleration", p.max_linear_acceleration);
+  nh.setParam("max_angular_acceleration", p.max_angular_acceleration);
+  nh.setParam("duration", p.duration);
+  nh.setParam("sample_count", p.sample_count);
+  nh.setParam("blend_radius", p.blend_radius);
+}
+
 }  // namespace se3_interpolation

@@ -10,11 +10,13 @@
 // ~child_frame_id at ~tf_rate Hz plus static frames <child_frame_id>_<k>.
 //
 // Threading: ~generate runs on its own callback queue served by ~service_threads threads,
-// so a heavy request never delays a light one, the topics or TF. ~waypoint has its own queue
-// and thread (its tf2 lookups wait up to ~tf_timeout each without blocking anything else);
-// ~waypoints, ~clear_waypoints and dynamic_reconfigure's ~set_parameters run on the global queue
-// (main spins it; under a nodelet manager, the nodelet's queue); the TF timer (with the /tf
-// collision watch) and the master watchdog each have their own queue and thread. The run-time
+// so a heavy request never delays a light one, the topics or TF. ~waypoint and ~waypoints are
+// taken off roscpp's queues at once by one intake thread into bounded backlogs
+// (MessageBacklog), each handled by its own worker thread (a ~waypoint's tf2 lookup waits up to
+// ~tf_timeout without blocking anything else); ~clear_waypoints and dynamic_reconfigure's
+// ~set_parameters run on the global queue (main spins it; under a nodelet manager, the nodelet's
+// queue); the TF timer (with the /tf collision watch) and the master watchdog each have their
+// own queue and thread. The run-time
 // parameters are read and written under a mutex. The waypoint buffer and the latest
 // trajectory are shared under mutexes; publishing a trajectory is serialised.
 //
@@ -40,9 +42,23 @@
 // Nodelet: InterpolationNodelet (src/ros/interpolation_nodelet.cpp) owns one InterpolationNode on
 // the nodelet's handles; everything above holds there too.
 //
-// Master watchdog: every ~master_check_period s the node asks the master whether it still
-// knows the ~generate service; after a master restart it does not (roscpp never re-registers), so the node
-// logs why and shuts down with exit status 1, and the launch file's respawn starts it anew.
+// Dropped waypoint messages: every message of ~waypoint and ~waypoints that the node did not
+// handle is counted: those its backlog (~waypoint_queue_size, 10 for ~waypoints) dropped to make
+// room, and those lost before it (a gap in a publisher's header.seq). The counts are warned at
+// most once a second and carried by every ~status.
+//
+// Memory: no copy of a published message is kept (roscpp keeps the latched one), the queues are
+// bounded, and once a second the node returns freed heap memory to the system (malloc_trim), so
+// that its size returns after floods and large publications.
+//
+// Master restart: every ~master_check_period s the node asks the master whether it still knows
+// the ~generate service (and whether its /run_id changed). After a master restart it does not:
+// roscpp never registers again by itself, so the node does, and keeps running: it writes its
+// parameters in effect (the launch file's and later dynamic_reconfigure changes) back under its
+// private namespace, registers every publication and subscription of its process (including
+// tf2's, dynamic_reconfigure's and /rosout) and its services again, and connects its
+// subscriptions to the publishers the new master knows. Playback, the waypoint buffer, the
+// frames and the latched messages are untouched: a playing motion continues without a jump.
 #pragma once
 
 #include <ros/callback_queue.h>
@@ -63,10 +79,13 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/InterpolationNodeConfig.h"
 #include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/ros/message_backlog.h"
 #include "se3_interpolation/ros/node_parameters.h"
 
 namespace se3_interpolation
@@ -77,9 +96,6 @@ public:
   /// `nh` is the public handle, `private_nh` the private one (`~`).
   InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private_nh);
   ~InterpolationNode();
-
-  /// The process exit status main() should return: 0, or 1 after the watchdog shut down.
-  int exitStatus() const { return exit_status_; }
 
 private:
   /// What the TF timer replays: the latest published trajectory.
@@ -99,7 +115,11 @@ private:
 
   bool generate(GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
   bool clearWaypoints(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
-  void waypointCallback(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
+  /// Intake (roscpp's callbacks): count a header.seq gap, queue the message in its backlog.
+  void waypointIntake(const ros::MessageEvent<const geometry_msgs::PoseStamped>& event);
+  void waypointsIntake(const ros::MessageEvent<const geometry_msgs::PoseArray>& event);
+  /// The backlogs' handlers (their worker threads).
+  void waypointCallback(const geometry_msgs::PoseStamped::ConstPtr& msg);
   void waypointsCallback(const geometry_msgs::PoseArray::ConstPtr& msg);
   void tfTimerCallback(const ros::TimerEvent& event);
   void broadcastMovingFrame();
@@ -116,8 +136,18 @@ private:
   void startFromCurrent(const ros::Time& switch_time, const std::string& frame, const std::string& child,
                         TrajectoryRequest* r) const;
   void watchdogCallback(const ros::TimerEvent& event);
-  /// Warns when a publisher's header.seq jumps (messages dropped by the queue).
-  void noticeDrops(const std::string& publisher, std::uint32_t seq);
+  /// Whether the reachable master has forgotten this node: it does not know ~generate, or its
+  /// /run_id differs from the one seen at start-up.
+  bool masterForgotUs();
+  /// Registers everything again on a new master (see the header comment); returns a summary.
+  std::string registerAgain();
+  /// Once a second: warns about waypoint messages dropped since the last report, and returns
+  /// freed heap memory to the system.
+  void maintenanceCallback(const ros::WallTimerEvent& event);
+  /// Messages a publisher's header.seq skipped since its previous one (0 for the first, for a
+  /// restart and for publishers that do not number their messages); intake thread only.
+  std::uint64_t seqGap(std::map<std::string, std::uint32_t>* last_seq, const std::string& publisher,
+                       std::uint32_t seq);
 
   /// Validates, generates and (if asked) publishes; fills `res` and never throws.
   void generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
@@ -138,6 +168,9 @@ private:
   void tfWatchCallback(const ros::MessageEvent<const tf2_msgs::TFMessage>& event);
   /// Stops playback: the moving frame holds the pose it has now.
   void holdPlayback();
+  /// Dropped messages so far: ~waypoint's and ~waypoints' (backlog drops and header.seq gaps).
+  std::uint64_t droppedWaypointMessages() const;
+  std::uint64_t droppedWaypointsMessages() const;
   /// ~status for one generation; `source` is "service" or "auto_generation".
   void publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
                      const std::string& source);
@@ -155,6 +188,7 @@ private:
   ros::ServiceServer clear_service_;
   ros::Subscriber waypoint_sub_;
   ros::Subscriber waypoints_sub_;
+  std::vector<std::string> services_;  ///< resolved names of the services registered again
   ros::Publisher path_pub_;
   ros::Publisher trajectory_pub_;
   ros::Publisher markers_pub_;
@@ -170,16 +204,26 @@ private:
   ros::Timer tf_timer_;
   ros::CallbackQueue service_queue_;
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;
-  ros::CallbackQueue waypoint_queue_;
-  std::unique_ptr<ros::AsyncSpinner> waypoint_spinner_;
+  ros::CallbackQueue intake_queue_;
+  std::unique_ptr<ros::AsyncSpinner> intake_spinner_;
+  std::unique_ptr<MessageBacklog<geometry_msgs::PoseStamped::ConstPtr>> waypoint_backlog_;
+  std::unique_ptr<MessageBacklog<geometry_msgs::PoseArray::ConstPtr>> waypoints_backlog_;
   ros::CallbackQueue watchdog_queue_;
   std::unique_ptr<ros::AsyncSpinner> watchdog_spinner_;
   ros::Timer watchdog_timer_;
-  std::atomic<int> exit_status_{ 0 };
+  ros::WallTimer maintenance_timer_;
+  std::string run_id_;  ///< the master's /run_id at start-up ("" when it has none)
 
   std::mutex publish_mutex_;  ///< one trajectory published at a time (topics, /tf_static, playback)
-  std::map<std::string, std::uint32_t> last_seq_;  ///< per ~waypoint publisher (waypoint thread only)
-  std::uint64_t dropped_waypoints_ = 0;            ///< ~waypoint messages lost so far (waypoint thread only)
+  /// Per publisher, the latest header.seq of ~waypoint and of ~waypoints (intake thread only).
+  std::map<std::string, std::uint32_t> waypoint_seq_;
+  std::map<std::string, std::uint32_t> waypoints_seq_;
+  /// Messages lost before the backlogs (header.seq gaps), per topic.
+  std::atomic<std::uint64_t> waypoint_gaps_{ 0 };
+  std::atomic<std::uint64_t> waypoints_gaps_{ 0 };
+  /// The totals of the latest drop warning (maintenance thread only).
+  std::uint64_t reported_waypoint_drops_ = 0;
+  std::uint64_t reported_waypoints_drops_ = 0;
 
   std::mutex buffer_mutex_;
   std::vector<geometry_msgs::Pose> buffer_;

@@ -25,7 +25,7 @@ struct NodeParameters
   int marker_axes = 20;                      ///< sampled axes drawn in ~markers
   double axis_length = 0.1;                  ///< m, length of the drawn axes
   double tf_timeout = 0.1;                   ///< s, wait for a transform of a ~waypoint pose
-  int waypoint_queue_size = 100;             ///< ~waypoint subscriber queue (drops are warned)
+  int waypoint_queue_size = 100;             ///< ~waypoint messages waiting to be handled (drops counted)
   int service_threads = 4;                   ///< threads serving ~generate concurrently
   double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
   bool replan_from_current = true;           ///< auto-generation starts from the current motion
@@ -51,6 +51,11 @@ struct NodeParameters
 /// unknown name such as curve "bspine", or of the wrong type) is refused with a ROS warning
 /// naming the parameter, and the default is kept.
 NodeParameters loadNodeParameters(const ros::NodeHandle& nh);
+
+/// Writes every parameter of `p` to `nh` (the private handle) under the names and types
+/// loadNodeParameters reads, so that reading them back gives `p`: the values in effect, e.g.
+/// after a master restart lost the launch file's parameters.
+void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p);
 
 /// Why the string parameter `name` (without "~") cannot take `value`, naming "~<name>" and
 /// quoting at most kMaxQuotedLength characters of the value; "" when it can. Covers curve,
