@@ -34,7 +34,11 @@ constexpr std::size_t kWaypointsBacklog = 10;
 /// a moment's stall of its thread; a loss there still counts (a header.seq gap). Bounded by the
 /// messages' size: a ~waypoints message may carry ~max_waypoints poses.
 constexpr std::uint32_t kWaypointIntakeQueue = 10000;
-constexpr std::uint32_t kWaypointsIntakeQueue = 100;
+constexpr std::uint32_t kWaypointsIntakeQueue = 1000;
+/// Allocations from this size up are mapped and unmapped on their own (returned to the system
+/// when freed): glibc's default raises this threshold after each large free, after which large
+/// messages stay in the heap.
+constexpr int kMmapThreshold = 128 * 1024;
 /// Publishers whose header.seq the intake remembers per topic (forgotten all at once beyond).
 constexpr std::size_t kMaxTrackedPublishers = 1000;
 
@@ -83,6 +87,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   , tf_listener_(tf_buffer_)
   , buffer_frame_(params_.frame_id)
 {
+  mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);
   trajectory_pub_ = private_nh_.advertise<trajectory_msgs::MultiDOFJointTrajectory>("trajectory", 1, true);
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
@@ -103,12 +108,18 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
       [this](const geometry_msgs::PoseStamped::ConstPtr& msg) { waypointCallback(msg); });
   waypoints_backlog_ = std::make_unique<MessageBacklog<geometry_msgs::PoseArray::ConstPtr>>(
       kWaypointsBacklog, [this](const geometry_msgs::PoseArray::ConstPtr& msg) { waypointsCallback(msg); });
+  // One intake thread per topic: a burst on one never fills roscpp's queue of the other.
   ros::NodeHandle intake_nh(private_nh_);
   intake_nh.setCallbackQueue(&intake_queue_);
   waypoint_sub_ = intake_nh.subscribe("waypoint", kWaypointIntakeQueue, &InterpolationNode::waypointIntake, this);
-  waypoints_sub_ = intake_nh.subscribe("waypoints", kWaypointsIntakeQueue, &InterpolationNode::waypointsIntake, this);
   intake_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &intake_queue_);
   intake_spinner_->start();
+  ros::NodeHandle array_intake_nh(private_nh_);
+  array_intake_nh.setCallbackQueue(&array_intake_queue_);
+  waypoints_sub_ =
+      array_intake_nh.subscribe("waypoints", kWaypointsIntakeQueue, &InterpolationNode::waypointsIntake, this);
+  array_intake_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &array_intake_queue_);
+  array_intake_spinner_->start();
 
   ros::NodeHandle tf_nh(private_nh_);
   tf_nh.setCallbackQueue(&tf_queue_);
@@ -156,6 +167,7 @@ InterpolationNode::~InterpolationNode()
   watchdog_spinner_->stop();
   tf_spinner_->stop();
   intake_spinner_->stop();
+  array_intake_spinner_->stop();
   waypoint_backlog_.reset();
   waypoints_backlog_.reset();
   service_spinner_->stop();

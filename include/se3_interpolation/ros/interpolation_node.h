@@ -11,7 +11,7 @@
 //
 // Threading: ~generate runs on its own callback queue served by ~service_threads threads,
 // so a heavy request never delays a light one, the topics or TF. ~waypoint and ~waypoints are
-// taken off roscpp's queues at once by one intake thread into bounded backlogs
+// taken off roscpp's queues at once by an intake thread each into bounded backlogs
 // (MessageBacklog), each handled by its own worker thread (a ~waypoint's tf2 lookup waits up to
 // ~tf_timeout without blocking anything else); ~clear_waypoints and dynamic_reconfigure's
 // ~set_parameters run on the global queue (main spins it; under a nodelet manager, the nodelet's
@@ -48,8 +48,9 @@
 // most once a second and carried by every ~status.
 //
 // Memory: no copy of a published message is kept (roscpp keeps the latched one), the queues are
-// bounded, and once a second the node returns freed heap memory to the system (malloc_trim), so
-// that its size returns after floods and large publications.
+// bounded, large allocations are mapped on their own (a fixed M_MMAP_THRESHOLD, for the whole
+// process) and once a second the node returns freed heap memory to the system (malloc_trim),
+// so that its size returns after floods and large publications.
 //
 // Master restart: every ~master_check_period s the node asks the master whether it still knows
 // the ~generate service (and whether its /run_id changed). After a master restart it does not:
@@ -206,6 +207,8 @@ private:
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;
   ros::CallbackQueue intake_queue_;
   std::unique_ptr<ros::AsyncSpinner> intake_spinner_;
+  ros::CallbackQueue array_intake_queue_;  ///< ~waypoints' intake (intake_queue_: ~waypoint's)
+  std::unique_ptr<ros::AsyncSpinner> array_intake_spinner_;
   std::unique_ptr<MessageBacklog<geometry_msgs::PoseStamped::ConstPtr>> waypoint_backlog_;
   std::unique_ptr<MessageBacklog<geometry_msgs::PoseArray::ConstPtr>> waypoints_backlog_;
   ros::CallbackQueue watchdog_queue_;
@@ -215,7 +218,7 @@ private:
   std::string run_id_;  ///< the master's /run_id at start-up ("" when it has none)
 
   std::mutex publish_mutex_;  ///< one trajectory published at a time (topics, /tf_static, playback)
-  /// Per publisher, the latest header.seq of ~waypoint and of ~waypoints (intake thread only).
+  /// Per publisher, the latest header.seq of ~waypoint and of ~waypoints (their intake threads).
   std::map<std::string, std::uint32_t> waypoint_seq_;
   std::map<std::string, std::uint32_t> waypoints_seq_;
   /// Messages lost before the backlogs (header.seq gaps), per topic.
