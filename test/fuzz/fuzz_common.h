@@ -12,6 +12,18 @@
 // each field starts with a mode byte that picks how the value is drawn, e.g. a plausible
 // value, a value from a table of edge cases (NaN, +-Inf, denormals, +-DBL_MAX, ...) or eight raw
 // bytes. test/fuzz/make_corpus.py writes request seeds in this format.
+//
+// decode() can produce every field of the core request (TrajectoryRequest, the names of
+// srv/GenerateTrajectory.srv): waypoints (0 ... 13, so one waypoint with a start state too),
+// times, curve, geometry, degree, knots, continuity, end_condition, start_velocity, end_velocity,
+// start_acceleration, velocities, parameterization, rotation_scale, duration,
+// max_linear_velocity, max_angular_velocity, max_linear_acceleration, max_angular_acceleration,
+// timing, sample_times, sample_period, sample_count, blend_radius, start_state (the service's
+// from_current: on waypoints[0], near it or anywhere, at rest or moving, valid or not), and the
+// response's `outputs` (parsed with names.h's table by runRequestTarget). The service's
+// waypoint_frames, child_frame_id and publish belong to the node, not to the core request. The
+// fields read last (blend_radius, timing, start_state, outputs) were added last, so that the
+// earlier fields of the seed corpus keep their bytes.
 #pragma once
 
 #include <cmath>
@@ -21,10 +33,13 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -197,7 +212,45 @@ inline std::vector<double> sequence(ByteReader& in, std::size_t count)
   return v;
 }
 
-inline TrajectoryRequest decode(ByteReader& in)
+/// A start state (request.h, StartState) for the waypoints so far: none (mode 0, which missing
+/// bytes give), exactly on waypoints[0] (at rest or moving), near it, or anywhere.
+inline std::optional<StartState> startState(ByteReader& in, const std::vector<Pose<double>>& waypoints)
+{
+  const std::uint8_t mode = in.byte() % 6;
+  if (mode == 0)
+    return std::nullopt;
+  StartState s;
+  const std::vector<Pose<double>> none;
+  if (mode <= 2 && !waypoints.empty())
+  {
+    s.pose = waypoints.front();
+    if (mode == 2)  // near it: a small offset of the position and the rotation
+    {
+      s.pose.p += Eigen::Vector3d(in.small(), in.small(), in.small()) / 16.0;
+      s.pose.q = s.pose.q * Quaternion<double>(1.0, in.small() / 16.0, in.small() / 16.0, in.small() / 16.0);
+      s.pose.q.normalize();
+    }
+  }
+  else
+    s.pose = Pose<double>(quaternion(in, mode == 3 ? waypoints : none), vector3(in));
+  s.velocity = twist(in);
+  s.acceleration = twist(in);
+  return s;
+}
+
+/// The response's `outputs`: mostly empty or valid names, sometimes repeated or unknown ones.
+inline std::vector<std::string> outputs(ByteReader& in)
+{
+  std::vector<std::string> names;
+  const std::size_t n = in.byte() % 4;
+  for (std::size_t i = 0; i < n; ++i)
+    names.push_back(in.name({ "path", "trajectory" }));
+  return names;
+}
+
+/// The request (and, when `response_outputs` is given, the response's `outputs`; the bytes are
+/// read either way).
+inline TrajectoryRequest decode(ByteReader& in, std::vector<std::string>* response_outputs = nullptr)
 {
   static const std::vector<const char*> kCurves = { "piecewise_geodesic", "bezier", "bspline",
                                                     "interpolating",      "hermite", "blended" };
@@ -281,6 +334,10 @@ inline TrajectoryRequest decode(ByteReader& in)
   // Read last, so that the earlier fields of the seed corpus keep their bytes.
   r.blend_radius = in.optionalNumber();
   r.timing = in.name({ "stretch", "time_optimal" });
+  r.start_state = startState(in, r.waypoints);
+  std::vector<std::string> names = outputs(in);
+  if (response_outputs != nullptr)
+    *response_outputs = std::move(names);
   return r;
 }
 
@@ -328,6 +385,10 @@ inline std::string describe(const TrajectoryRequest& r)
        list(r.sample_times) + "\nsample_period: " + list(std::vector<double>{ r.sample_period }) +
        "\nsample_count: " + std::to_string(r.sample_count) + "\nblend_radius: " +
        list(std::vector<double>{ r.blend_radius }) + "\ntiming: '" + r.timing + "'\n";
+  if (r.start_state)
+    s += "start_state: {pose: {position: " + list(r.start_state->pose.p) + ", orientation: " +
+         list(r.start_state->pose.q.coeffs()) + "}, velocity: " + twist(r.start_state->velocity) +
+         ", acceleration: " + twist(r.start_state->acceleration) + "}\n";
   return s;
 }
 
@@ -421,13 +482,16 @@ int runRequestTarget(const char* target, const std::uint8_t* data, std::size_t s
 {
   g_target = target;
   ByteReader in(data, size);
-  const TrajectoryRequest request = decode(in);
+  std::vector<std::string> response_outputs;
+  const TrajectoryRequest request = decode(in, &response_outputs);
   g_request = &request;
   PlannerLimits limits;
   limits.max_samples = kFuzzMaxSamples;
   limits.max_waypoints = kFuzzMaxWaypoints;
   try
   {
+    // The response's outputs are checked by the same name table as the node's and the CLI's.
+    parseResponseOutputs(response_outputs);
     layer(request, limits, in);
   }
   catch (const InterpolationError&)

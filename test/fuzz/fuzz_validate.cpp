@@ -16,7 +16,9 @@ namespace
 void validate(const TrajectoryRequest& request, const PlannerLimits& limits, ByteReader&)
 {
   const ValidatedRequest v = validateRequest(request, limits);
-  if (v.waypoints.size() < 2 || v.waypoints.size() > limits.max_waypoints)
+  // A start state is put in front of the waypoints (unless waypoints[0] is the start pose).
+  const std::size_t most = limits.max_waypoints + (request.start_state ? 1 : 0);
+  if (v.waypoints.size() < 2 || v.waypoints.size() > most)
     fail("validated request with " + std::to_string(v.waypoints.size()) + " waypoints");
   for (const Pose<double>& x : v.waypoints)
     checkPose(x, "validated waypoints");
