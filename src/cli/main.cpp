@@ -41,14 +41,14 @@ constexpr int kUsageError = 2;
 constexpr std::size_t kMaxRequestBytes = 8u << 20;
 
 const char* const kUsage =
-    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work UNITS]\n";
+    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]\n";
 
 struct Arguments
 {
   std::string request;
   std::string output;
   std::string space = "pose";
-  se3_interpolation::PlannerLimits limits;  ///< --max-work raises or lowers limits.max_work
+  se3_interpolation::PlannerLimits limits;  ///< --max-work-seconds raises or lowers limits.max_work_seconds
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -61,13 +61,14 @@ Arguments parseArguments(int argc, char** argv)
       a.output = argv[++i];
     else if (arg == "--space" && i + 1 < argc)
       a.space = argv[++i];
-    else if (arg == "--max-work" && i + 1 < argc)
+    else if (arg == "--max-work-seconds" && i + 1 < argc)
     {
       const std::string value = argv[++i];
       char* end = nullptr;
-      a.limits.max_work = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !(a.limits.max_work > 0.0) || !std::isfinite(a.limits.max_work))
-        throw std::invalid_argument("--max-work: '" + value.substr(0, 40) + "' is not a positive number");
+      a.limits.max_work_seconds = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(a.limits.max_work_seconds > 0.0) ||
+          !std::isfinite(a.limits.max_work_seconds))
+        throw std::invalid_argument("--max-work-seconds: '" + value.substr(0, 40) + "' is not a positive number");
     }
     else if (arg == "-h" || arg == "--help")
     {

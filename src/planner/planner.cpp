@@ -6,6 +6,7 @@
 
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/curves/start_join.h"
+#include "se3_interpolation/deadline.h"
 #include "se3_interpolation/planner/curve_factory.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
@@ -58,9 +59,9 @@ double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*ro
 
 /// One sample of a pose curve; quaternions sign-continuous with `previous` (the first w ≥ 0).
 template <class G>
-TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySample* previous)
+TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySample* previous, Side side = Side::kRight)
 {
-  const Kinematics k = kinematicsAt(curve, t);
+  const Kinematics k = kinematicsAt(curve, t, side);
   TrajectorySample s{ t, k.pose, k.velocity, k.acceleration };
   const Quaternion<double> before = previous ? previous->pose.q : Quaternion<double>(1.0, 0.0, 0.0, 0.0);
   if (s.pose.q.coeffs().dot(before.coeffs()) < 0.0)
@@ -68,9 +69,10 @@ TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySampl
   return s;
 }
 
-SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* /*previous*/)
+SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* /*previous*/,
+                      Side side = Side::kRight)
 {
-  const SphereKinematics k = kinematicsAt(curve, t);
+  const SphereKinematics k = kinematicsAt(curve, t, side);
   return SphereSample{ t, k.point, k.velocity, k.acceleration };
 }
 
@@ -85,12 +87,30 @@ bool allFinite(const SphereSample& s)
   return s.point.allFinite() && s.velocity.allFinite() && s.acceleration.allFinite();
 }
 
+/// Samples taken between two checks of the request's deadline (deadline.h).
+constexpr std::size_t kSamplesPerDeadlineCheck = 1024;
+
 /// The bounds' field names for an error about the span they stretch the motion to.
 template <class Space>
 const char* boundFields()
 {
   return std::is_same_v<Space, SphereSpace> ? "max_angular_velocity or max_angular_acceleration"
                                             : "max_linear_velocity, max_angular_velocity or their accelerations";
+}
+
+/// The figures of a time-optimal motion: length and rotation length are the path's (timing does not
+/// change them); the rates and the energy are the timed motion's (TimingProfile).
+template <class Space>
+void setTimedFigures(const BasicValidatedRequest<Space>& r, const timing::TimingProfile& p, CurveFigures* fig)
+{
+  fig->max_linear_speed = p.max_speed[timing::kLinear];
+  fig->max_angular_speed = p.max_speed[timing::kAngular];
+  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
+  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
+  const double angular = p.acceleration_energy[timing::kAngular];
+  // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
+  fig->energy = p.acceleration_energy[timing::kLinear] +
+                (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
 }
 
 /// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].
@@ -113,16 +133,7 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
     curve = timed;
-    // Length and rotation length are the path's; the rates and the energy are the timed motion's.
-    const timing::TimingProfile& p = timed->profile();
-    fig.max_linear_speed = p.max_speed[timing::kLinear];
-    fig.max_angular_speed = p.max_speed[timing::kAngular];
-    fig.max_linear_acceleration = p.max_acceleration[timing::kLinear];
-    fig.max_angular_acceleration = p.max_acceleration[timing::kAngular];
-    const double angular = p.acceleration_energy[timing::kAngular];
-    // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
-    fig.energy = p.acceleration_energy[timing::kLinear] +
-                 (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
+    setTimedFigures(r, timed->profile(), &fig);
     return;
   }
   std::string cause = r.times.empty() ? "duration" : "times";
@@ -150,15 +161,48 @@ double weightedNorm(const Twist& v, double rho)
   return std::sqrt(v.linear.squaredNorm() + rho * rho * v.angular.squaredNorm());
 }
 
+bool isZero(const Twist& v)
+{
+  return v.linear.isZero(0.0) && v.angular.isZero(0.0);
+}
+
+/// Lengthenings of the joining segment under time_optimal (applyTimingFromStart), and the most
+/// each may multiply its duration by.
+constexpr int kJoinAttempts = 6;
+constexpr double kMaxJoinGrowth = 4.0;
+/// Samples of the joining segment at which its acceleration is compared with the bounds.
+constexpr int kJoinSamples = 32;
+
+/// The largest ratio of the acceleration of `curve` on [0, h] (at its own timing) to its bound,
+/// over both channels and kJoinSamples + 1 evenly spaced times; 0 without acceleration bounds.
+template <class G>
+double accelerationExcess(const ValidatedRequest& r, const Curve<G>& curve, double h)
+{
+  double excess = 0.0;
+  for (int k = 0; k <= kJoinSamples; ++k)
+  {
+    const Kinematics j = kinematicsAt(curve, h * k / kJoinSamples, k == kJoinSamples ? Side::kLeft : Side::kRight);
+    if (r.max_linear_acceleration > 0.0)
+      excess = std::max(excess, j.acceleration.linear.norm() / r.max_linear_acceleration);
+    if (r.max_angular_acceleration > 0.0)
+      excess = std::max(excess, j.acceleration.angular.norm() / r.max_angular_acceleration);
+  }
+  return excess;
+}
+
 /// The timing of a pose request with a start state (request.h, StartState): the curve through the
 /// start pose and the waypoints (times from 0), entered by the joining quintic (curves/start_join.h)
-/// unless it takes the start data itself. Stretch: the curve is stretched and the joining segment
-/// rebuilt over the stretched first segment, so the start state is kept exactly. time_optimal from
-/// a moving state: the path after the first segment is timed from the current path speed, the
-/// joining segment leads into it in 2 d / (speed at its start + speed at its end) (the time of a
-/// constant acceleration over the chord d), at most the rest-to-rest time 2 sqrt(d / a) of the
-/// linear acceleration bound. The joining segment's own rates are not bounded: it starts at the old
-/// motion's state, which may itself exceed the bounds.
+/// unless it takes the start data itself (`interpolating` with end_condition `start`). The motion's
+/// state at t = 0 is the start state exactly, whatever the timing:
+///  - a start at rest (zero velocity and acceleration): the joined curve stretched uniformly, or
+///    the time-optimal motion from rest along it;
+///  - a moving (or accelerating) start under `stretch`: the start velocity fixes the time scale,
+///    so a curve that exceeds a bound (k > 1) is refused naming `timing`;
+///  - a moving start under `time_optimal`: the time-optimal motion along the joined curve (whose
+///    joining segment lasts 2 d / (speed at its start + the curve's speed at its end), lengthened
+///    until its own timing keeps the acceleration bounds, see accelerationExcess) starting at its own path
+///    speed with its own acceleration (TimeOptimalOptions::start_speed = 1, hold_start): a start
+///    beyond the bounds recovers by braking, and the result reports when (recovery_time).
 template <class G>
 void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& times,
                           std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io, TrajectoryResult* out_io)
@@ -169,12 +213,13 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
   const StartState& s = *r.start_state;
   const double rho = r.rotation_scale;
   const double t1 = times[1];
+  const bool native = r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart;
+  const bool at_rest = isZero(s.velocity) && isZero(s.acceleration);
   auto join = [&s](std::shared_ptr<const Curve<G>> rest, double h, double from) {
     return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
                                                  std::move(rest), from);
   };
-  const double start_speed = weightedNorm(s.velocity, rho);
-  if (r.timing == Timing::kTimeOptimal && !(start_speed > 0.0))
+  if (r.timing == Timing::kTimeOptimal && at_rest)
   {
     // At rest: the time-optimal motion along the curve from the start pose, like any other.
     applyTiming<PoseSpace, G>(r, curve_io, fig_io, out_io);
@@ -184,35 +229,61 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     timing::RateBounds bounds;
     bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
     bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
-    const double path_speed = weightedNorm(kinematicsAt(*through, t1).velocity, rho);
+    double h = t1;
+    std::shared_ptr<const Curve<G>> path = through;
+    if (!native)
+    {
+      const Kinematics entry = kinematicsAt(*through, t1);
+      const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
+                                     std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
+      const double speeds = weightedNorm(s.velocity, rho) + weightedNorm(entry.velocity, rho);
+      if (chord > 0.0 && speeds > 0.0)
+        h = 2.0 * chord / speeds;
+      if (!(h > 0.0 && std::isfinite(h)))
+        h = t1;
+      path = join(through, h, t1);
+      // A joining segment whose own timing exceeds an acceleration bound bends too sharply for
+      // the start speed (the motion cannot leave its start velocity faster than the bounds allow):
+      // lengthened by the square root of the excess (accelerations scale about as 1/h²).
+      for (int attempt = 0; attempt < kJoinAttempts; ++attempt)
+      {
+        const double excess = accelerationExcess(r, *path, h);
+        if (!(excess > 1.0))
+          break;
+        h *= std::min(kMaxJoinGrowth, 1.1 * std::sqrt(excess));
+        path = join(through, h, t1);
+      }
+    }
     timing::TimeOptimalOptions options;
-    options.start_speed = path_speed > 0.0 ? start_speed / path_speed : 0.0;
-    auto timed = timing::makeTimeOptimalCurve<G>(std::make_shared<CurveTail<G>>(through, t1), bounds, options);
+    options.start_speed = 1.0;
+    options.hold_start = true;
+    auto timed = timing::makeTimeOptimalCurve<G>(path, bounds, options);
     out.time_scale = timed->profile().stretch;
-    const Kinematics entry = kinematicsAt(*timed, t1);
-    const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
-                                   std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
-    double h = 2.0 * chord / (start_speed + weightedNorm(entry.velocity, rho));
-    if (r.max_linear_acceleration > 0.0)
-      h = std::min(h, 2.0 * std::sqrt(chord / r.max_linear_acceleration));
-    validateTimeSpan(0.0, h + timed->endTime() - t1, boundFields<PoseSpace>());
-    curve = join(timed, h, t1);
+    out.recovery_time = timed->profile().recovery_end - timed->startTime();
+    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
+    const double offset = native ? 0.0 : h - t1;
     for (std::size_t i = 1; i < times.size(); ++i)
-      out.waypoint_times[i] = h + timed->profile().timeAt(times[i]) - t1;
-    *fig_io = measureCurve(*curve, rho);
+      out.waypoint_times[i] = timed->profile().timeAt(times[i] + offset);
+    curve = timed;
+    *fig_io = measureCurve(*path, rho);
+    setTimedFigures(r, timed->profile(), fig_io);
   }
   else
   {
-    const bool native = r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart;
     if (!native)
       curve = join(through, t1, t1);
     *fig_io = measureCurve(*curve, rho);
     std::string cause = r.times.empty() ? "duration" : "times";
     const double k = stretchFactor(r, *fig_io, &cause);
     validateTimeSpan(0.0, curve->endTime() * k, cause);
+    if (k > 1.0 && !at_rest)
+      throw InvalidInputError("timing: 'stretch' would slow the motion down " + formatNumber(k) + " times for " +
+                              cause + ", which would change the start state's velocity and acceleration; use "
+                              "timing 'time_optimal', which keeps the start state and brings the motion within "
+                              "the bounds");
     if (k > 1.0)
     {
-      curve = join(std::make_shared<TimeScaledCurve<G>>(through, k), k * t1, k * t1);
+      curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
       *fig_io = measureCurve(*curve, rho);
       for (double& t : out.waypoint_times)
         t *= k;
@@ -228,6 +299,30 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
   }
 }
 
+/// `end_condition: start` solves the spline forward from the start data, which amplifies them
+/// (each segment's end acceleration feeds the next): a curve more than kMaxStartLengthRatio times
+/// as long as its waypoint polygon (chord lengths, rotation_scale ρ) is refused rather than returned.
+constexpr double kMaxStartLengthRatio = 10.0;
+
+template <class Space>
+void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveFigures& fig)
+{
+  if (!(r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart))
+    return;
+  double polygon = 0.0;
+  for (std::size_t i = 1; i < r.waypoints.size(); ++i)
+    polygon += chordStep(r.waypoints[i - 1], r.waypoints[i], r.rotation_scale);
+  const double rho = std::is_same_v<Space, SphereSpace> ? 0.0 : r.rotation_scale;
+  const double length = fig.length + (fig.rotation_length > 0.0 ? rho * fig.rotation_length : 0.0) +
+                        (std::is_same_v<Space, SphereSpace> ? fig.rotation_length : 0.0);
+  if (length > kMaxStartLengthRatio * polygon + 1e-12)
+    throw InvalidInputError("end_condition: 'start' makes a curve " + formatNumber(length) +
+                            " long through waypoints whose polygon is " + formatNumber(polygon) +
+                            " long (more than " + formatNumber(kMaxStartLengthRatio) +
+                            " times: solving forward from the start data amplifies them); use end_condition "
+                            "'natural' or 'clamped', or waypoints and times that the start velocity leads into");
+}
+
 template <class Space, class G>
 BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits)
 {
@@ -241,6 +336,7 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
     if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
       out.blend_radii = blended->radii();
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
+  requireStableStartSolve(r, fig);
 
   out.waypoint_times = times;
   bool timed = false;
@@ -258,7 +354,9 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   out.waypoints = r.waypoints;
   out.control_points = curve->controlPoints();
   out.point_at = [curve](double t) { return curve->value(t); };
-  out.state_at = [curve](double t) { return sampleAt(*curve, t, nullptr); };
+  // At the start time from the left, as the first sample: the state the motion starts from.
+  const double t0 = curve->startTime();
+  out.state_at = [curve, t0](double t) { return sampleAt(*curve, t, nullptr, t == t0 ? Side::kLeft : Side::kRight); };
   // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
   // response as ∞ or NaN.
   const std::pair<const char*, double> figures[] = {
@@ -288,7 +386,11 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   out.samples.reserve(ts.size());
   for (std::size_t i = 0; i < ts.size(); ++i)
   {
-    out.samples.push_back(sampleAt(*curve, ts[i], i > 0 ? &out.samples.back() : nullptr));
+    checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "sampling");
+    // The first sample from the left: the state the motion starts from (a time-optimal motion
+    // from rest starts its acceleration there; timing/time_optimal.h, pathParameter).
+    out.samples.push_back(sampleAt(*curve, ts[i], i > 0 ? &out.samples.back() : nullptr,
+                                   i == 0 && ts[0] == curve->startTime() ? Side::kLeft : Side::kRight));
     if (!allFinite(out.samples.back()))
       throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
                                " s (the input is too close to a singular configuration)");
@@ -344,6 +446,8 @@ std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& r)
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits)
 {
+  const Deadline deadline(kDeadlineFactor * limits.max_work_seconds, limits.max_work_seconds);
+  const ScopedDeadline scope(deadline);
   return dispatch(validateRequest(request, limits), limits);
 }
 

@@ -41,7 +41,7 @@ const Range kRanges[] = {
   { "replan_lead", 0.0, true, 10.0, "must be in [0, 10] s" },
   { "max_samples", 2.0, true, kUnbounded, "must be >= 2" },
   { "max_waypoints", 2.0, true, kUnbounded, "must be >= 2" },
-  { "max_work", 0.0, false, kUnbounded, "must be > 0 work units" },
+  { "max_work_seconds", 0.0, false, kUnbounded, "must be > 0 s" },
   { "max_linear_velocity", 0.0, true, kUnbounded, "must be >= 0 m/s (0: unbounded)" },
   { "max_angular_velocity", 0.0, true, kUnbounded, "must be >= 0 rad/s (0: unbounded)" },
   { "max_linear_acceleration", 0.0, true, kUnbounded, "must be >= 0 m/s^2 (0: unbounded)" },
@@ -171,7 +171,7 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
   readNumber(nh, "replan_lead", &p.replan_lead);
   readLimit(nh, "max_samples", &p.limits.max_samples);
   readLimit(nh, "max_waypoints", &p.limits.max_waypoints);
-  readNumber(nh, "max_work", &p.limits.max_work);
+  readNumber(nh, "max_work_seconds", &p.limits.max_work_seconds);
   readString(nh, "curve", &p.curve);
   readString(nh, "geometry", &p.geometry);
   readString(nh, "parameterization", &p.parameterization);
@@ -205,7 +205,7 @@ void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p)
   nh.setParam("replan_lead", p.replan_lead);
   nh.setParam("max_samples", static_cast<int>(p.limits.max_samples));
   nh.setParam("max_waypoints", static_cast<int>(p.limits.max_waypoints));
-  nh.setParam("max_work", p.limits.max_work);
+  nh.setParam("max_work_seconds", p.limits.max_work_seconds);
   nh.setParam("curve", p.curve);
   nh.setParam("geometry", p.geometry);
   nh.setParam("parameterization", p.parameterization);

@@ -3,8 +3,8 @@
 #include <limits>
 #include <string>
 
+#include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {
@@ -32,6 +32,30 @@ constexpr double kLocalMaxTolerance = 1e-7;
 /// times), so that the final uniform stretch only absorbs what is left (typically < 1e-3).
 constexpr int kLocalPasses = 4;
 constexpr double kLocalTolerance = 1e-4;
+/// A motion that starts moving cannot be stretched uniformly (that would change its start
+/// velocity): its local passes continue, at most kFixedStartPasses in all, until every checked rate
+/// is within kFixedStartTolerance of its bound; from the fifth pass on each tightening carries a
+/// margin of kFixedStartMargin, so that the passes converge from above.
+constexpr int kFixedStartPasses = 16;
+constexpr double kFixedStartTolerance = 1e-8;
+constexpr double kFixedStartMargin = 1e-3;
+/// Grid refinement: an interval is halved while the path's rates change too much across it for
+/// the constraints at its ends to stand for its interior: in a bounded channel, Δ |C″| >
+/// kRefineTolerance |C′| (the direction or the speed of C′ turns by more than ~0.25 over the
+/// interval) or |C′| at its ends and middle differs by more than the factor 1 + kRefineTolerance,
+/// at most kMaxRefineDepth times, and the refined grid has at most kMaxRefineGrowth times the
+/// intervals of the uniform one (the final check and correction keep the bounds beyond that).
+constexpr double kRefineTolerance = 0.25;
+constexpr int kMaxRefineDepth = 24;
+constexpr std::size_t kMaxRefineGrowth = 16;
+/// The first interval of a motion whose start acceleration is held (TimeOptimalOptions::hold_start):
+/// this fraction of the first grid interval.
+constexpr double kHoldFraction = 1e-6;
+/// x_i above the controllable set by this relative amount is rounding, not a start to recover from.
+constexpr double kRoundingExcess = 1e-9;
+/// Grid points handled between two checks of the request's deadline (deadline.h).
+constexpr std::size_t kPointsPerDeadlineCheck = 256;
+constexpr const char* kPhase = "timing: 'time_optimal'";
 
 const char* const kVelocityName[2] = { "max_linear_velocity", "max_angular_velocity" };
 const char* const kAccelerationName[2] = { "max_linear_acceleration", "max_angular_acceleration" };
@@ -82,69 +106,165 @@ class Solver
 {
 public:
   Solver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options)
-    : path_(path), bounds_(bounds), start_x_(options.start_speed * options.start_speed)
+    : path_(path)
+    , bounds_(bounds)
+    , start_x_(options.start_speed * options.start_speed)
+    , hold_start_(options.hold_start)
   {
+    if (!(std::isfinite(start_x_) && start_x_ >= 0.0))
+      throw InvalidInputError("start_state: its speed along the path is " + formatNumber(options.start_speed) +
+                              " (it must be finite)");
     buildGrid(options);
     evaluateGrid();
   }
 
   TimingProfile solve()
   {
+    const bool fixed_start = start_x_ > 0.0 || hold_start_;
+    const int passes = fixed_start ? kFixedStartPasses : kLocalPasses;
     for (int pass = 0;; ++pass)
     {
       updateCaps();
       backward();
       forward();
-      if (pass == kLocalPasses || !tightenWhereTheMiddlesExceed())
+      if (pass == passes)
         break;
+      if (!tightenWhereTheMiddlesExceed())
+      {
+        // The middles hold: a fixed start must also hold on the whole check (no stretch after it).
+        if (!fixed_start || !tightenWhereTheCheckExceeds(pass >= kLocalPasses ? kFixedStartMargin : 0.0))
+          break;
+      }
     }
-    verifyAndStretch();
+    if (fixed_start)
+      verifyFixedStart();
+    else
+      verifyAndStretch();
     return std::move(profile_);
   }
 
 private:
+  bool bounded(int c) const { return bounds_.velocity[c] > 0.0 || bounds_.acceleration[c] > 0.0; }
+
+  /// The largest |C′| of each channel over some jets.
+  static void growLargest(const PathJet& j, std::array<double, 2>* largest)
+  {
+    for (int c = 0; c < 2; ++c)
+      (*largest)[c] = std::max((*largest)[c], j[c].bb);
+  }
+
+  /// Whether the constraints at the ends of [s_a, s_b] (length d) cannot stand for its interior.
+  bool needsSplit(const PathJet& a, const PathJet& m, const PathJet& b, double d) const
+  {
+    for (int c = 0; c < 2; ++c)
+    {
+      if (!bounded(c))
+        continue;
+      const double fastest = std::max({ a[c].bb, m[c].bb, b[c].bb, refine_floor_[c] });
+      const double slowest = std::max({ std::min({ a[c].bb, m[c].bb, b[c].bb }), refine_floor_[c] });
+      const double curvature = std::sqrt(std::max({ a[c].aa, m[c].aa, b[c].aa }));
+      if (d * curvature > kRefineTolerance * std::sqrt(fastest) ||
+          fastest > (1.0 + kRefineTolerance) * (1.0 + kRefineTolerance) * slowest)
+        return true;
+    }
+    return false;
+  }
+
+  /// Adds the grid points strictly inside (s_a, s_b) and the jets at the middles of the intervals
+  /// they make, halving where needsSplit says so.
+  void refine(double sa, const PathJet& ja, double sb, const PathJet& jb, int depth)
+  {
+    const double sm = 0.5 * (sa + sb);
+    const PathJet jm = path_.jet(sm, Side::kRight);
+    if (depth < kMaxRefineDepth && profile_.s.size() < grid_limit_ && sm > sa && sm < sb &&
+        needsSplit(ja, jm, jb, sb - sa))
+    {
+      refine(sa, ja, sm, jm, depth + 1);
+      addPoint(sm, jm, jm, false);
+      refine(sm, jm, sb, jb, depth + 1);
+      return;
+    }
+    middle_.push_back(jm);
+  }
+
+  void addPoint(double s, const PathJet& right, const PathJet& left, bool corner)
+  {
+    profile_.s.push_back(s);
+    right_.push_back(PointData{ right, right, kInf });
+    left_.push_back(PointData{ left, left, kInf });
+    corner_.push_back(corner);
+  }
+
+  /// The grid: max(intervals_per_piece, the piece's share of min_intervals) uniform intervals on
+  /// every analytic piece, refined where the path's rates vary (refine), with the jets the passes
+  /// and checks read: right- and left-sided at each point, and at the middle of each interval.
   void buildGrid(const TimeOptimalOptions& options)
   {
     std::vector<double> b = path_.breakpoints();
     b.erase(std::unique(b.begin(), b.end()), b.end());
+    if (b.size() < 2 || !(b.back() > b.front()) || !std::isfinite(b.back() - b.front()))
+      throw InvalidInputError("timing: 'time_optimal' needs a path of positive duration (this one spans " +
+                              formatNumber(b.empty() ? 0.0 : b.back() - b.front()) + " s)");
     const double total = b.back() - b.front();
     const std::size_t pieces = b.size() - 1;
-    std::vector<double>& s = profile_.s;
+    // The uniform grid's points and their jets first: the scale of each channel's |C′|.
+    std::vector<double> s;
+    std::vector<PathJet> right, left;
+    std::vector<bool> corner;
+    std::array<double, 2> largest{};
     for (std::size_t j = 0; j < pieces; ++j)
     {
+      checkDeadlineEvery(j, kPointsPerDeadlineCheck / 16, kPhase);
       const double length = b[j + 1] - b[j];
       const std::size_t share = static_cast<std::size_t>(
           std::ceil(static_cast<double>(options.min_intervals) * length / total));
       const std::size_t m = std::max<std::size_t>({ options.intervals_per_piece, share, 2 });
-      breakpoint_.push_back(s.size());
       for (std::size_t k = 0; k < m; ++k)
+      {
         s.push_back(b[j] + length * static_cast<double>(k) / static_cast<double>(m));
+        right.push_back(path_.jet(s.back(), Side::kRight));
+        left.push_back(k == 0 && j > 0 ? path_.jet(s.back(), Side::kLeft) : right.back());
+        corner.push_back(k == 0 && j > 0 && path_.isCorner(s.back()));
+        growLargest(right.back(), &largest);
+        growLargest(left.back(), &largest);
+      }
     }
-    breakpoint_.push_back(s.size());
     s.push_back(b.back());
+    right.push_back(path_.jet(b.back(), Side::kLeft));
+    left.push_back(right.back());
+    corner.push_back(false);
+    growLargest(right.back(), &largest);
+    for (int c = 0; c < 2; ++c)
+      refine_floor_[c] = kMoveTolerance * kMoveTolerance * largest[c];
+    grid_limit_ = kMaxRefineGrowth * s.size();
+    // Then the refined grid.
+    const std::size_t n = s.size();
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+      addPoint(s[i], right[i], left[i], corner[i]);
+      refine(s[i], right[i], s[i + 1], left[i + 1], 0);
+    }
+    addPoint(s[n - 1], right[n - 1], left[n - 1], false);
+    if (hold_start_)
+    {
+      // The held first interval [s_0, s_0 + ε]: a new point after s_0, and new middles on both sides.
+      const double s0 = profile_.s[0];
+      const double held = s0 + kHoldFraction * (profile_.s[1] - s0);
+      const PathJet j = path_.jet(held, Side::kRight);
+      profile_.s.insert(profile_.s.begin() + 1, held);
+      right_.insert(right_.begin() + 1, PointData{ j, j, kInf });
+      left_.insert(left_.begin() + 1, PointData{ j, j, kInf });
+      corner_.insert(corner_.begin() + 1, false);
+      middle_[0] = path_.jet(0.5 * (held + profile_.s[2]), Side::kRight);
+      middle_.insert(middle_.begin(), path_.jet(0.5 * (s0 + held), Side::kRight));
+    }
   }
 
   void evaluateGrid()
   {
-    const std::vector<double>& s = profile_.s;
-    const std::size_t n = s.size();
-    right_.resize(n);
-    left_.resize(n);
-    middle_.resize(n - 1);
-    corner_.assign(n, false);
+    const std::size_t n = profile_.s.size();
     factor_.assign(n, Rates{ 1.0, 1.0, 1.0, 1.0 });
-    std::vector<bool> at_breakpoint(n, false);
-    for (std::size_t i : breakpoint_)
-      at_breakpoint[i] = true;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      right_[i].raw = path_.jet(s[i], Side::kRight);
-      left_[i].raw = at_breakpoint[i] ? path_.jet(s[i], Side::kLeft) : right_[i].raw;
-      if (at_breakpoint[i] && i > 0 && i + 1 < n)
-        corner_[i] = path_.isCorner(s[i]);
-      if (i + 1 < n)
-        middle_[i] = path_.jet(0.5 * (s[i] + s[i + 1]), Side::kRight);
-    }
     // The largest |C′| of each channel: the scale of "moves".
     std::array<double, 2> largest{};
     for (std::size_t i = 0; i < n; ++i)
@@ -168,8 +288,8 @@ private:
           "(unbounded); timing 'time_optimal' needs bounds (at least an acceleration bound on the motion)");
     for (std::size_t i = 0; i < n; ++i)
     {
-      prepare(&right_[i], s[i]);
-      prepare(&left_[i], s[i]);
+      prepare(&right_[i], profile_.s[i]);
+      prepare(&left_[i], profile_.s[i]);
     }
   }
 
@@ -287,6 +407,7 @@ private:
     k_.assign(n, 0.0);
     for (std::size_t i = n - 1; i-- > 0;)
     {
+      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
       // K_0 = {0} for a start at rest; a moving start needs the whole controllable set at s_0.
       if (corner_[i] || (i == 0 && !(start_x_ > 0.0)))
         continue;
@@ -320,6 +441,11 @@ private:
     }
   }
 
+  /// The greedy forward pass (Pham & Pham, eq. 12) from x_0 = start_x_ (held for the first interval
+  /// with hold_start_). A start outside the controllable sets (faster than the bounds allow, or too
+  /// fast to brake for what lies ahead) is brought into them by the hardest braking the acceleration
+  /// bounds allow: the recovery, which ends at the grid point recovery_end_. A start that cannot be
+  /// brought to rest before a velocity corner or the end of the path is an error.
   void forward()
   {
     const std::size_t n = profile_.s.size();
@@ -329,16 +455,55 @@ private:
     x.assign(n, 0.0);
     u.assign(n - 1, 0.0);
     t.assign(n, profile_.s.front());
-    x[0] = std::min(start_x_, k_[0]);
+    x[0] = start_x_;
+    recovery_end_ = 0;
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
+      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
       const double d = delta(i);
       const double next = nextLimit(i);
-      const Interval c = controls(i, x[i], next);
-      // Rounding may leave x_i a hair outside K_i (no admissible control): hold the speed, or
-      // slow down to the next set; the final check corrects what that costs.
-      const double chosen = c.isEmpty() ? std::min(0.0, (next - x[i]) / (2.0 * d)) : c.hi;
-      x[i + 1] = std::min(std::max(x[i] + 2.0 * d * chosen, 0.0), next);
+      double chosen = 0.0;
+      bool recovering = false;
+      if (i == 0 && hold_start_)
+      {
+        recovering = x[0] > next * (1.0 + kRoundingExcess);
+      }
+      else
+      {
+        const Interval c = controls(i, x[i], next);
+        if (!c.isEmpty())
+        {
+          chosen = c.hi;
+        }
+        else if (x[i] <= std::min(k_[i], right_[i].x_max) * (1.0 + kRoundingExcess))
+        {
+          // Rounding left x_i a hair outside K_i: hold the speed, or slow down to the next set;
+          // the final check corrects what that costs.
+          chosen = std::min(0.0, (next - x[i]) / (2.0 * d));
+        }
+        else
+        {
+          recovering = true;
+          const Interval free = controls(i, x[i], kInf);
+          chosen = free.isEmpty() ? leastAccelerationControl(i, x[i], d)
+                                  : std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
+        }
+      }
+      double following = std::max(x[i] + 2.0 * d * chosen, 0.0);
+      if (recovering)
+      {
+        recovery_end_ = i + 1;
+        if (following > 0.0 && (corner_[i + 1] || i + 2 == n))
+          throw InvalidInputError(
+              "start_state: the motion starts too fast to come to rest within the bounds before path time " +
+              formatNumber(profile_.s[i + 1]) + " s (" + (i + 2 == n ? "the end of the path" : "a corner") +
+              "); start slower, place the first waypoint farther away, or raise the acceleration bounds");
+      }
+      else
+      {
+        following = std::min(following, next);
+      }
+      x[i + 1] = following;
       u[i] = (x[i + 1] - x[i]) / (2.0 * d);
       const double rate = std::sqrt(x[i]) + std::sqrt(x[i + 1]);
       if (!(rate > 0.0))
@@ -346,6 +511,21 @@ private:
                                  formatNumber(profile_.s[i]) + " s (the bounds are too tight for the path)");
       t[i + 1] = t[i] + 2.0 * d / rate;
     }
+    profile_.recovery_end = t[recovery_end_];
+  }
+
+  /// Where no control keeps the acceleration within a bound at x (the path bends too sharply for
+  /// that speed): the control of least acceleration that does not speed up, and at most stops.
+  double leastAccelerationControl(std::size_t i, double x, double d) const
+  {
+    double u = 0.0;
+    for (int c = 0; c < 2; ++c)
+    {
+      const ChannelJet& j = right_[i].jet[c];
+      if (bounds_.acceleration[c] > 0.0 && j.bb > 0.0)
+        u = std::min(u, -x * j.ab / j.bb);
+    }
+    return std::max(u, -x / (2.0 * d));
   }
 
   /// The stretch each bounded rate would need at a point: |v|/v_max, √(|a|/a_max).
@@ -377,62 +557,96 @@ private:
     return needs(middle_[i], 0.5 * (profile_.x[i] + profile_.x[i + 1]), profile_.u[i]);
   }
 
+  /// Tightens quantity q at both ends of interval i so that its need r (> 1) would come down to
+  /// 1 − margin: velocities scale with the bound, accelerations' needs with its square root.
+  void tighten(std::size_t i, int q, double r, double margin)
+  {
+    const double f = (q < 2 ? 1.0 / r : 1.0 / (r * r)) * (1.0 - margin);
+    factor_[i][q] *= f;
+    factor_[i + 1][q] *= f;
+  }
+
   /// Where the middle of an interval exceeds a bound (the ends satisfy them by construction),
-  /// tightens that bound at both ends by the excess. Returns whether anything was tightened.
+  /// tightens that bound at both ends by the excess. Returns whether anything was tightened. The
+  /// recovery from a start the bounds cannot hold is left as it is.
   bool tightenWhereTheMiddlesExceed()
   {
     bool tightened = false;
-    for (std::size_t i = 0; i + 1 < profile_.s.size(); ++i)
+    for (std::size_t i = recovery_end_; i + 1 < profile_.s.size(); ++i)
     {
       const Rates r = needsAtMiddle(i);
       for (int q = 0; q < 4; ++q)
-      {
-        if (!(r[q] > 1.0 + kLocalTolerance))
-          continue;
-        // Velocities scale with the bound, accelerations' needs with its square root.
-        const double f = q < 2 ? 1.0 / r[q] : 1.0 / (r[q] * r[q]);
-        factor_[i][q] = std::min(factor_[i][q], f * factor_[i][q]);
-        factor_[i + 1][q] = std::min(factor_[i + 1][q], f * factor_[i + 1][q]);
-        tightened = true;
-      }
+        if (r[q] > 1.0 + kLocalTolerance)
+        {
+          tighten(i, q, r[q], 0.0);
+          tightened = true;
+        }
     }
     return tightened;
   }
 
+  /// The needs at both ends and the middle of every interval.
+  struct IntervalNeeds
+  {
+    std::vector<Rates> start, middle, end;
+  };
+
+  IntervalNeeds intervalNeeds() const
+  {
+    const std::size_t n = profile_.s.size();
+    IntervalNeeds f{ std::vector<Rates>(n - 1), std::vector<Rates>(n - 1), std::vector<Rates>(n - 1) };
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+      f.start[i] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
+      f.end[i] = needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]);
+      f.middle[i] = needsAtMiddle(i);
+    }
+    return f;
+  }
+
+  /// The peak of need q on interval i: the largest of its ends and middle, or, where the parabola
+  /// through the three (f0 + c1 λ + c2 λ²) peaks inside at or above `threshold`, the maximum found
+  /// by localMax on the exact rates.
+  double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
+  {
+    const double f0 = f.start[i][q], fm = f.middle[i][q], f1 = f.end[i][q];
+    *searched = false;
+    const double c1 = -3.0 * f0 + 4.0 * fm - f1;
+    const double c2 = 2.0 * f0 - 4.0 * fm + 2.0 * f1;
+    if (c2 < 0.0)
+    {
+      const double vertex = -c1 / (2.0 * c2);
+      if (vertex > 0.0 && vertex < 1.0 && f0 + c1 * vertex + c2 * vertex * vertex >= threshold)
+      {
+        *searched = true;
+        return localMax(i, q, f0, fm, f1);
+      }
+    }
+    return std::max({ f0, fm, f1 });
+  }
+
+  /// The final check of a motion from rest: the peaks of every interval, then the uniform
+  /// stretch k ≥ 1 that brings the worst within its bound.
   void verifyAndStretch()
   {
     const std::size_t n = profile_.s.size();
-    const std::vector<double>& x = profile_.x;
-    const std::vector<double>& u = profile_.u;
-    std::vector<Rates> f0(n - 1), fm(n - 1), f1(n - 1);
+    const IntervalNeeds f = intervalNeeds();
     double worst = 0.0;
     for (std::size_t i = 0; i + 1 < n; ++i)
-    {
-      f0[i] = needs(right_[i].raw, x[i], u[i]);
-      f1[i] = needs(left_[i + 1].raw, x[i + 1], u[i]);
-      fm[i] = needsAtMiddle(i);
       for (int q = 0; q < 4; ++q)
-        worst = std::max({ worst, f0[i][q], fm[i][q], f1[i][q] });
-    }
+        worst = std::max({ worst, f.start[i][q], f.middle[i][q], f.end[i][q] });
     const double threshold = worst * (1.0 - kRefineMargin);
     double refined = worst;
     Rates searched{};
     for (std::size_t i = 0; i + 1 < n; ++i)
       for (int q = 0; q < 4; ++q)
       {
-        // The parabola through (0, f0), (½, fm), (1, f1): f0 + c1 λ + c2 λ².
-        const double c1 = -3.0 * f0[i][q] + 4.0 * fm[i][q] - f1[i][q];
-        const double c2 = 2.0 * f0[i][q] - 4.0 * fm[i][q] + 2.0 * f1[i][q];
-        if (!(c2 < 0.0))
-          continue;
-        const double vertex = -c1 / (2.0 * c2);
-        if (!(vertex > 0.0 && vertex < 1.0))
-          continue;
-        const double predicted = f0[i][q] + c1 * vertex + c2 * vertex * vertex;
-        if (predicted < threshold)
-          continue;
-        searched[q] = std::max(searched[q], localMax(i, q, f0[i][q], fm[i][q], f1[i][q]));
-        refined = std::max(refined, searched[q]);
+        bool was_searched = false;
+        const double p = peak(f, i, q, threshold, &was_searched);
+        if (was_searched)
+          searched[q] = std::max(searched[q], p);
+        refined = std::max(refined, p);
       }
     const double k = std::max(1.0, refined);
     profile_.stretch = k;
@@ -446,8 +660,55 @@ private:
       }
       for (double& ui : profile_.u)
         ui /= k * k;
+      profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
     }
     figures(searched, k);
+  }
+
+  /// The peaks of the intervals after the recovery, searched where they come within
+  /// kRefineMargin of a bound; with `tighten_margin` ≥ 0 the bounds are tightened where a peak
+  /// exceeds its bound by more than kFixedStartTolerance. Returns the worst need and whether
+  /// anything was tightened.
+  std::pair<double, bool> checkAfterRecovery(double tighten_margin, Rates* searched)
+  {
+    const IntervalNeeds f = intervalNeeds();
+    double worst = 0.0;
+    bool tightened = false;
+    for (std::size_t i = recovery_end_; i + 1 < profile_.s.size(); ++i)
+      for (int q = 0; q < 4; ++q)
+      {
+        bool was_searched = false;
+        const double p = peak(f, i, q, 1.0 - kRefineMargin, &was_searched);
+        if (was_searched)
+          (*searched)[q] = std::max((*searched)[q], p);
+        worst = std::max(worst, p);
+        if (tighten_margin >= 0.0 && p > 1.0 + kFixedStartTolerance)
+        {
+          tighten(i, q, p, tighten_margin);
+          tightened = true;
+        }
+      }
+    return { worst, tightened };
+  }
+
+  bool tightenWhereTheCheckExceeds(double margin)
+  {
+    Rates searched{};
+    return checkAfterRecovery(margin, &searched).second;
+  }
+
+  /// The final check of a motion whose start is fixed (no stretch can correct it: the start
+  /// velocity would change): every interval after the recovery within its bounds.
+  void verifyFixedStart()
+  {
+    Rates searched{};
+    const double worst = checkAfterRecovery(-1.0, &searched).first;
+    if (worst > 1.0 + kFixedStartTolerance)
+      throw InterpolationError("timing: the time-optimal motion from the start state exceeds a bound by " +
+                               formatNumber(worst - 1.0) + " (relative) after " + std::to_string(kFixedStartPasses) +
+                               " corrections; give the start state at rest or use timing 'stretch'");
+    profile_.stretch = 1.0;
+    figures(searched, 1.0);
   }
 
   /// |v| and |a| of both channels at a point with (x, u).
@@ -552,11 +813,14 @@ private:
 
   const PathModel& path_;
   RateBounds bounds_;
-  double start_x_;  ///< the requested ṡ² at s_0 (0: from rest)
+  double start_x_;   ///< the requested ṡ² at s_0 (0: from rest)
+  bool hold_start_;  ///< s̈ = 0 on the first interval
   std::array<bool, 2> moves_{};
   std::array<double, 2> floor_{};
+  std::array<double, 2> refine_floor_{};  ///< |C′|² below which a channel counts as still (refinement)
+  std::size_t grid_limit_ = 0;            ///< most grid points refinement may make
+  std::size_t recovery_end_ = 0;          ///< the grid point at which the recovery (forward) ends
   TimingProfile profile_;
-  std::vector<std::size_t> breakpoint_;
   std::vector<PointData> right_;
   std::vector<PointData> left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)

@@ -586,14 +586,15 @@ TEST(CliHostile, HugeDurationAndLongFrameIdNameTheField)
   }
 }
 
-// Deliverable 2: the CLI's work bound is ~max_work's default, adjustable with --max-work.
-TEST(CliHostile, MaxWorkBoundsTheRequest)
+// The CLI's work bound is ~max_work_seconds' default (1 s), adjustable with --max-work-seconds.
+TEST(CliHostile, MaxWorkSecondsBoundsTheRequest)
 {
-  const CliRun tight = run(data("bezier_screw.yaml") + " --max-work 10");
+  const CliRun tight = run(data("bezier_screw.yaml") + " --max-work-seconds 1e-6");
   EXPECT_EQ(tight.status, 2);
-  EXPECT_NE(tight.err.find("the limit (~max_work) is 10"), std::string::npos) << tight.err;
-  EXPECT_EQ(run(data("bezier_screw.yaml") + " --max-work 1e9").status, 0);
-  const CliRun bad = run(data("bezier_screw.yaml") + " --max-work -3");
+  EXPECT_NE(tight.err.find("the limit (max_work_seconds) is 9.9999999999999995e-07 s"), std::string::npos)
+      << tight.err;
+  EXPECT_EQ(run(data("bezier_screw.yaml") + " --max-work-seconds 100").status, 0);
+  const CliRun bad = run(data("bezier_screw.yaml") + " --max-work-seconds -3");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("--max-work: '-3' is not a positive number"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--max-work-seconds: '-3' is not a positive number"), std::string::npos) << bad.err;
 }

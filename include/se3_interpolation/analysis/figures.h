@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "se3_interpolation/analysis/kinematics.h"
+#include "se3_interpolation/deadline.h"
 #include "se3_interpolation/math/quadrature.h"
 
 namespace se3_interpolation
@@ -40,6 +41,8 @@ constexpr std::size_t kMinSubintervals = 4;
 constexpr std::size_t kFigureSubintervals = 64;
 /// Each peak is refined in a bracket of ± a quarter subinterval around its best node.
 constexpr double kPeakBracketFraction = 0.25;
+/// Pieces measured between two checks of the request's deadline (deadline.h).
+constexpr std::size_t kPiecesPerDeadlineCheck = 64;
 
 inline std::size_t subintervalsPerPiece(std::size_t pieces)
 {
@@ -72,6 +75,7 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
 
   for (std::size_t i = 0; i < pieces; ++i)
   {
+    checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the trajectory's figures");
     const double h = (b[i + 1] - b[i]) / static_cast<double>(sub);
     consider(kinematicsAt(curve, b[i], Side::kRight), b[i], b[i], b[i] + h);
     consider(kinematicsAt(curve, b[i + 1], Side::kLeft), b[i + 1], b[i + 1] - h, b[i + 1]);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "se3_interpolation/curves/curve.h"
+#include "se3_interpolation/deadline.h"
 
 namespace se3_interpolation
 {
@@ -39,6 +40,9 @@ std::vector<typename G::template Tangent<double>> polygonLogs(const std::vector<
   }
   return logs;
 }
+
+/// Levels of the de Casteljau recursion between two deadline checks (deadline.h).
+constexpr std::size_t kDeCasteljauLevelsPerCheck = 256;
 
 namespace detail
 {
@@ -92,8 +96,12 @@ typename G::template Point<S> deCasteljau(const std::vector<typename G::template
   for (std::size_t i = 0; i + 1 < n; ++i)
     b[i] = geodesicFromLog<G>(points[i], logs[i], lambda);
   for (std::size_t level = 2; level < n; ++level)
+  {
+    // A Bézier of degree N − 1 costs N²/2 steps per point: long ones check the request's time.
+    checkDeadlineEvery(level, kDeCasteljauLevelsPerCheck, "curve 'bezier'");
     for (std::size_t i = 0; i + level < n; ++i)
       b[i] = geodesic<G>(b[i], b[i + 1], lambda);
+  }
   return b[0];
 }
 

@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "se3_interpolation/curves/bezier.h"
+#include "se3_interpolation/deadline.h"
 
 namespace se3_interpolation
 {
@@ -114,6 +115,9 @@ double legParameterAtDistance(const typename G::template Tangent<double>& v, dou
 }
 }  // namespace detail
 
+/// Corners built between two checks of the request's deadline (deadline.h).
+constexpr std::size_t kCornersPerDeadlineCheck = 1024;
+
 /// One blended corner: the waypoint, its radius r_i and the blend's time interval.
 struct CornerBlendZone
 {
@@ -144,6 +148,7 @@ public:
       chord[j] = detail::chordFromIdentity(points_[j].inverseTimes(points_[j + 1]), rotation_scale);
     for (std::size_t i = 1; i + 1 < n; ++i)
     {
+      checkDeadlineEvery(i, kCornersPerDeadlineCheck, "blend_radius: the corner blends");
       const double r = std::min({ blend_radius, 0.5 * chord[i - 1], 0.5 * chord[i] });
       if (!(r > 0.0))
         continue;

@@ -70,6 +70,7 @@
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/geometry/tangent_space.h"
+#include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/name_table.h"
 #include "se3_interpolation/math/banded_lu.h"
@@ -223,6 +224,11 @@ void unitFrameTransition(const typename H::template Point<double>& x0, const typ
 }
 
 /// Newton's method with continuation for the velocities of the natural / clamped spline.
+/// The phase a deadline (deadline.h) names when the solve runs past it, and the segments handled
+/// between two checks inside one sweep (a sweep of 2·10⁵ waypoints takes longer than a deadline).
+constexpr const char* kSolvePhase = "curve 'interpolating': the C^2 solve";
+constexpr std::size_t kSegmentsPerDeadlineCheck = 2048;
+
 template <class G>
 class C2SplineSolver
 {
@@ -258,6 +264,7 @@ public:
     segments_.resize(n_ - 1);
     for (std::size_t i = 0; i + 1 < n_; ++i)
     {
+      checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       Segment& s = segments_[i];
       s.h = t_[i + 1] - t_[i];
       if constexpr (std::is_same<G, Sphere>::value)
@@ -408,6 +415,7 @@ private:
     const Eigen::Index m = static_cast<Eigen::Index>(logs_[0].size());
     for (std::size_t i = 1; i + 1 < n_; ++i)
     {
+      checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       const Eigen::VectorXd left = chartState(curve, i, Side::kLeft);
       const Eigen::VectorXd right = chartState(curve, i, Side::kRight);
       const double h0 = segments_[i - 1].h, h1 = segments_[i].h;
@@ -599,6 +607,7 @@ private:
     out->scale.setZero();
     for (std::size_t i = 0; i + 1 < n_; ++i)
     {
+      checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       Segment& s = segments_[i];
       updateSegment(z, i, lambda);
       const double h = s.h;
@@ -684,6 +693,7 @@ private:
     }
     for (std::size_t i = 0; i + 1 < n_; ++i)
     {
+      checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       const Segment& s = segments_[i];
       if (i > 0 || natural)
       {
@@ -729,6 +739,7 @@ private:
     bool have_factors = false;
     for (int iteration = 0;; ++iteration)
     {
+      checkDeadline(kSolvePhase);
       const bool done = converged(current_, tolerance);
       if (done && polish == polish_steps)
         return Outcome::kConverged;
@@ -831,6 +842,7 @@ private:
     Residual r = current_;
     while (ds >= kMinContinuationStep)
     {
+      checkDeadline(kSolvePhase);
       if (*budget <= 0)
       {
         *why = "the iteration budget of " + std::to_string(options_.max_iterations) + " is spent";

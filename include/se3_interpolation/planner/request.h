@@ -89,14 +89,21 @@ struct RequestDefaults
   static constexpr double kRotationScale = 1.0;
 };
 
-/// Resource bounds per request (node parameters ~max_samples, ~max_waypoints, ~max_work).
+/// Resource bounds per request (node parameters ~max_samples, ~max_waypoints, ~max_work_seconds).
 struct PlannerLimits
 {
   std::size_t max_samples = 200000;
   std::size_t max_waypoints = 20000;
-  /// Estimated work units per request (work_estimate.h): about 1 s on one core.
-  double max_work = 1.25e6;
+  /// The time one request may take on one core (s): a request whose estimated cost
+  /// (work_estimate.h) exceeds it is refused before anything is computed, and one that runs past
+  /// kDeadlineFactor times it is stopped (deadline.h).
+  double max_work_seconds = 1.0;
 };
+
+/// The deadline of a request, as a multiple of PlannerLimits::max_work_seconds: room for the
+/// estimate's error (within 2× of measured) before a request that was accepted is stopped, and
+/// below 2× so that none runs past twice its limit (the loops check every few milliseconds).
+constexpr double kDeadlineFactor = 1.5;
 
 /// The sampling fields after validation (sample_count defaulted).
 struct Sampling
@@ -249,6 +256,10 @@ struct BasicResult
   /// Uniform stretch applied to meet the max_* bounds (≥ 1); with timing time_optimal the final
   /// correction of the optimal profile (TimingProfile::stretch, within a few 1e-3 of 1).
   double time_scale = 1.0;
+  /// With a start state that the bounds cannot hold (faster than they allow, or too fast to brake
+  /// for what lies ahead; timing time_optimal): the time after the start at which its recovery
+  /// ends, from which every bound holds (s). 0 otherwise.
+  double recovery_time = 0.0;
   /// Length, rotation length, peak rates and energy of the final (timed) motion.
   CurveFigures figures;
   /// The final curve's point at any time in [start_time, start_time + duration] (for TF).

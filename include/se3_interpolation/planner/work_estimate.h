@@ -1,10 +1,13 @@
-// Bounded work per request (issue 15, deliverable 2): the cost of a request is estimated from
-// its fields before anything is computed, and refused above PlannerLimits::max_work (node
-// parameter ~max_work) with a LimitExceededError naming the field that makes it expensive.
+// Bounded work per request: the cost of a request is estimated from its fields before anything
+// is computed, and a request whose estimate exceeds PlannerLimits::max_work_seconds (node
+// parameter ~max_work_seconds, CLI --max-work-seconds) is refused with a LimitExceededError naming
+// the field that makes it expensive. The estimate may be wrong (a loaded machine, a path that
+// makes the time-optimal grid refine): the long loops also check a deadline (deadline.h).
 //
 // Unit: one geodesic step of a curve evaluation on second-order jets (the value and its first
-// two time derivatives), i.e. one exp/log pair of the geometry; calibrated on one core of the
-// development machine at about kSecondsPerWorkUnit (README "Bounded work").
+// two time derivatives), i.e. one exp/log pair of the geometry; converted to seconds by a factor
+// calibrated per family, geometry and timing on one core of the development machine
+// (secondsPerUnit, bench/bench_work_estimate.cpp).
 //
 // The planner evaluates the curve (analysis/figures.h, measureCurve) at
 //   P (2 + 8 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
@@ -29,16 +32,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
-/// Seconds per work unit on one core of the development machine (-O2, the machine shared with
-/// other jobs): 0.25 ... 1.1 us over every curve family, N = 2 ... 20000 and up to 200000
-/// samples; 8e-7 s is the typical value. PlannerLimits::max_work's default 1.25e6 is 1 s of it.
-constexpr double kSecondsPerWorkUnit = 8e-7;
 /// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
 constexpr double kConstructionUnitsPerWaypoint = 10.0;
 /// Work units of one evaluation of a corner-blended polyline (blend_radius), measured like
@@ -72,6 +72,7 @@ struct WorkEstimate
   double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations
   double samples = 0.0;
   double total = 0.0;                 ///< work units
+  double seconds = 0.0;               ///< total × the family's calibrated seconds per unit
 };
 
 /// What the estimate needs of a request, pose or sphere: the curve, its size, the sampling.
@@ -86,6 +87,7 @@ struct WorkShape
   bool corner_blends = false;  ///< blend_radius > 0
   Timing timing = RequestDefaults::kTiming;
   bool start_state = false;  ///< replanning from a given state (the figures are measured again)
+  bool screw = false;        ///< the screw geometry (its steps cost more than the double geodesic's)
 };
 
 /// The shape of a validated request of any space.
@@ -102,6 +104,10 @@ WorkShape workShape(const BasicValidatedRequest<Space>& r)
   w.corner_blends = r.blend_radius > 0.0;
   w.timing = r.timing;
   w.start_state = r.start_state.has_value();
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    w.screw = r.geometry == GeometryType::kScrew;
+  else
+    w.screw = true;  // the sphere's steps cost about the screw's
   return w;
 }
 
@@ -115,9 +121,13 @@ WorkEstimate estimateWork(const WorkShape& r, double samples);
 /// periods within `span` (the waypoint times' span).
 double expectedSamples(const WorkShape& r, double span);
 
+/// Seconds per work unit of the request's family, geometry and timing on one core of the
+/// development machine (calibrated by bench/bench_work_estimate.cpp).
+double secondsPerUnit(const WorkShape& r);
+
 /// Throws LimitExceededError naming the dominant field (the sampling field when samples
 /// dominate, timing when time_optimal's share does, waypoints for bezier, degree for bspline,
-/// else waypoints) if `w.total` exceeds limits.max_work.
+/// else waypoints) if `w.seconds` exceeds limits.max_work_seconds.
 void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits);
 
 }  // namespace se3_interpolation

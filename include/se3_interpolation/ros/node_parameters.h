@@ -30,7 +30,7 @@ struct NodeParameters
   double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
   bool replan_from_current = true;           ///< auto-generation starts from the current motion
   double replan_lead = 0.1;                  ///< s, switch time after the request (from_current)
-  PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work
+  PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work_seconds
   /// Defaults for empty request fields (and the auto-generated trajectory): the core's
   /// RequestDefaults until a parameter says otherwise.
   std::string curve = toString(RequestDefaults::kCurve);

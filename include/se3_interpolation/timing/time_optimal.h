@@ -15,8 +15,12 @@
 // per channel, 0 meaning unbounded. The fastest traversal starting and ending at rest is found by
 // reachability analysis (H. Pham, Q.-C. Pham, "A New Approach to Time-Optimal Path
 // Parameterization Based on Reachability Analysis", IEEE T-RO 34(3), 2018: TOPP-RA):
-//  - a grid s_0 < … < s_N containing every breakpoint of the curve; on [s_i, s_{i+1}] the control
-//    u_i is constant, so x is linear in s: x_{i+1} = x_i + 2 Δ_i u_i (Pham & Pham, eq. 4);
+//  - a grid s_0 < … < s_N containing every breakpoint of the curve, uniform on each analytic piece
+//    and then halved wherever the path's rates change too much across an interval for its ends to
+//    stand for its interior (Δ |C″| > 0.25 |C′| in a bounded channel: a path parameter that runs
+//    10⁵ times faster at one end of a corner blend than at the other, uneven waypoint times); on
+//    [s_i, s_{i+1}] the control u_i is constant, so x is linear in s: x_{i+1} = x_i + 2 Δ_i u_i
+//    (Pham & Pham, eq. 4);
 //  - the constraints (2), (3) hold at BOTH ends of every interval: at s_i (right-sided jets) with
 //    (x_i, u_i) and at s_{i+1} (left-sided jets) with (x_{i+1}, u_i). Both are convex in (x_i, u_i)
 //    (the second is (3) under the affine map x_{i+1} = x_i + 2Δu), so for a fixed x_i the admissible
@@ -27,8 +31,9 @@
 //    always admissible), and the admissible x form an interval containing 0, so k_i is the root
 //    of a monotone predicate, found by bisection to relative 1e-12 (a 1-D convex problem solved
 //    to rounding, on the exact constraints);
-//  - greedy forward pass: x_0 = 0 (or the requested start speed squared, clamped to K_0, when
-//    replanning from a moving state: TimeOptimalOptions::start_speed) and u_i the largest admissible control with x_{i+1} ∈ K_{i+1}
+//  - greedy forward pass: x_0 = 0 (or the requested start speed squared, exactly, when replanning
+//    from a moving state: TimeOptimalOptions::start_speed, with a recovery by braking where it lies
+//    outside K_0) and u_i the largest admissible control with x_{i+1} ∈ K_{i+1}
 //    (Pham & Pham, eq. 12), which is time-optimal for the discretised problem;
 //  - velocity corners (breakpoints where C′ jumps: piecewise_geodesic waypoints, B-spline knots
 //    of full multiplicity) get K = {0}: the motion comes to rest there (a jump of C′ at ṡ > 0 is an
@@ -42,8 +47,10 @@
 //    through the three values flags intervals whose interior could rise above the largest value
 //    seen (within 1e-4), and those are searched for their maximum on the exact rates (successive
 //    parabolic interpolation to 1e-7 of the interval);
-//  - the whole profile is then run slower by the uniform factor k ≥ 1 that brings the worst rate
-//    within its bound (velocities scale by 1/k, accelerations by 1/k²), typically k − 1 < 1e-3.
+//  - from rest the whole profile is then run slower by the uniform factor k ≥ 1 that brings the
+//    worst rate within its bound (velocities scale by 1/k, accelerations by 1/k²), typically
+//    k − 1 < 1e-3; from a moving start (whose velocity a stretch would change) the local passes
+//    go on, with a small margin, until every checked rate is within 1e-8 of its bound.
 //
 // Grid size (TimeOptimalOptions): the discretisation of a bang-bang or cruise phase is exact for
 // constant s̈ (x linear in s), so the loss against the optimum comes from where the active
@@ -132,11 +139,17 @@ struct TimeOptimalOptions
   std::size_t intervals_per_piece = 16;  ///< at least this many intervals between breakpoints
   std::size_t min_intervals = 512;       ///< at least this many in all (spread by piece length)
   /// ṡ at s_0 (replanning from a moving state: the motion starts at this path speed instead of at
-  /// rest). The forward pass starts from x_0 = min(start_speed², k_0), k_0 the largest controllable
-  /// x at s_0 (the start's own velocity bound and the ability to brake within the path included),
-  /// so a speed beyond what the bounds allow is reduced to the largest that they do. The final
-  /// uniform correction k then scales it by 1/k like every speed (TimingProfile::stretch).
+  /// rest), kept exactly: no stretch follows (it would change the start velocity), the local passes
+  /// continue until every checked rate after the recovery is within its bound. A start outside the
+  /// controllable set K_0 (faster than the bounds allow, or too fast to brake for what lies ahead)
+  /// is brought into the sets by the hardest braking the acceleration bounds allow: the recovery,
+  /// which ends at TimingProfile::recovery_end; one that cannot come to rest before a velocity
+  /// corner or the end of the path is refused naming `start_state`.
   double start_speed = 0.0;
+  /// s̈ = 0 on a first interval of 1e-6 of the first grid interval, so that the motion's
+  /// acceleration at s_0 is the path's C″ ṡ² (with start_speed 1 on a path whose own time is the
+  /// motion's: the start state's acceleration, exactly).
+  bool hold_start = false;
 };
 
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].
@@ -147,6 +160,9 @@ struct TimingProfile
   std::vector<double> x;  ///< ṡ² at each grid point (0 at both ends and at corners)
   std::vector<double> u;  ///< s̈ on [t_i, t_{i+1}] (one fewer than the grid)
   double stretch = 1.0;   ///< the final uniform correction k ≥ 1 (already applied to t, x, u)
+  /// The time from which every bound holds: t[0], unless the start is one the bounds cannot hold
+  /// (TimeOptimalOptions::start_speed), then the end of its recovery.
+  double recovery_end = 0.0;
   /// Figures of the timed motion per channel (kLinear, kAngular), from the final check: the peak
   /// speed |C′|ṡ and acceleration |C″ṡ² + C′s̈| over the ends and middles of all intervals (and
   /// the searched interior maxima of the bounded rates), and ∫|a|² dt by the quadratic through
@@ -159,11 +175,15 @@ struct TimingProfile
 
   /// s(t) (in any scalar: double or a jet of t); outside [t_0, t_N] the end quadratics extend.
   /// Evaluated from the nearer end of its interval, so s(t_i) is exactly s_i.
+  /// Before t_0 (and at t_0 from the left) the motion is the one it starts from, at its start
+  /// speed without acceleration (a start at rest is held): the left limit at t_0 is the start state.
   template <class S>
   S pathParameter(const S& time, Side side) const
   {
-    const std::size_t i = findInterval(t, valueOf(time), side);
     const double tv = valueOf(time);
+    if (tv < t.front() || (tv == t.front() && side == Side::kLeft))
+      return s.front() + std::sqrt(x.front()) * (time - t.front());
+    const std::size_t i = findInterval(t, tv, side);
     if (tv - t[i] <= t[i + 1] - tv)
     {
       const S tau = time - t[i];

@@ -111,7 +111,7 @@ TEST(StartJoin, InterpolatingStartTakesTheStateNatively)
   const StartState s = movingState();
   TrajectoryRequest r = requestFrom(s, "interpolating", "screw");
   r.end_condition = "start";
-  r.times = { 1.0, 2.0, 3.5 };
+  r.times = { 1.0, 2.0, 3.0 };
   r.start_velocity = twist({ 9.0, 9.0, 9.0 }, { 0.0, 0.0, 0.0 });  // replaced by the start state
   const TrajectoryResult out = generate(r, PlannerLimits());
   expectStartsIn(out, s, 1e-5);
@@ -290,10 +290,12 @@ TEST(StartJoin, LastSampleIsTheLastWaypointExactly)
     TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
     r.waypoints = { pose({ 0.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }), pose({ 1.0, 0.0, 0.0 }, 0.0, { 0, 0, 1 }) };
     r.timing = timing;
-    r.max_linear_velocity = 1.0;
-    r.max_linear_acceleration = 1.0;
-    r.max_angular_velocity = 1.0;
-    r.max_angular_acceleration = 1.0;
+    // (Stretch from a moving start allows no k > 1: no bounds there.)
+    const double bound = std::string(timing) == "stretch" ? 0.0 : 1.0;
+    r.max_linear_velocity = bound;
+    r.max_linear_acceleration = bound;
+    r.max_angular_velocity = bound;
+    r.max_angular_acceleration = bound;
     r.start_state->pose.q = Quaternion<double>::Identity();
     r.start_state->velocity.angular.setZero();
     r.start_state->acceleration.angular.setZero();
@@ -318,20 +320,44 @@ TEST(StartJoin, OneWaypointIsEnough)
 }
 
 // A bound that stretches the curve keeps the start state exactly (the joint is rebuilt).
-TEST(StartJoin, StretchKeepsTheStartState)
+// A moving start fixes stretch's time scale: within the bounds the motion keeps it (k = 1); a
+// curve that would need k > 1 is refused naming timing and suggesting time_optimal (a stretch
+// would change the start velocity). A start at rest is stretched like any curve.
+TEST(StartJoin, StretchFromAMovingStartKeepsItOrIsRefused)
 {
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "double_geodesic");
+  r.duration = 4.0;
+  r.max_linear_velocity = 100.0;
+  TrajectoryResult out = generate(r, PlannerLimits());
+  EXPECT_EQ(out.time_scale, 1.0);
+  expectStartsIn(out, movingState(), 1e-5);
   r.duration = 1.0;
   r.max_linear_velocity = 1.0;
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  try
+  {
+    generate(r, PlannerLimits());
+    ADD_FAILURE() << "a stretch of a moving start was accepted";
+  }
+  catch (const InvalidInputError& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind("timing:", 0), 0u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("time_optimal"), std::string::npos) << e.what();
+  }
+  StartState rest = movingState();
+  rest.velocity = Twist();
+  rest.acceleration = Twist();
+  r.start_state = rest;
+  out = generate(r, PlannerLimits());
   EXPECT_GT(out.time_scale, 1.5);
-  expectStartsIn(out, movingState(), 1e-5);
+  expectStartsIn(out, rest, 1e-5);
   EXPECT_NEAR(out.samples.back().time, out.duration, 1e-12);
 }
 
-// time_optimal from a moving state: the switch is C², and the timed path after the joining
-// segment starts at the frame's speed (the bounds allow it here).
-TEST(StartJoin, TimeOptimalStartsAtTheCurrentPathSpeed)
+// time_optimal from a moving state: the motion starts exactly in it (exact jets; velocity by
+// differences of the poses on both sides of 0: the acceleration may jump just after the switch, as
+// it does wherever time-optimal timing switches), passes the waypoints at the reported times, holds
+// every bound on a dense evaluation and ends at rest.
+TEST(StartJoin, TimeOptimalStartsInTheMovingStateWithinTheBounds)
 {
   for (const char* geometry : { "double_geodesic", "screw" })
   {
@@ -344,16 +370,27 @@ TEST(StartJoin, TimeOptimalStartsAtTheCurrentPathSpeed)
     r.max_angular_acceleration = 3.0;
     r.sample_count = 2000;
     const TrajectoryResult out = generate(r, PlannerLimits());
-    expectStartsIn(out, movingState(), 1e-5);
-    // The joint is the first requested waypoint's time: the speed there is the start speed
-    // (up to the profile's final correction k, ~1e-3).
-    const double joint = out.waypoint_times.front();
-    const Kinematics at = test::centralDifferences(out.point_at, joint + 1e-6, 1e-7);
-    const Twist& v = movingState().velocity;
-    const double start_speed = std::sqrt(v.linear.squaredNorm() + v.angular.squaredNorm());
-    const double joint_speed = std::sqrt(at.velocity.linear.squaredNorm() + at.velocity.angular.squaredNorm());
-    EXPECT_NEAR(joint_speed, start_speed, 5e-3 * start_speed);
-    EXPECT_LT(test::poseDistance(out.point_at(joint), r.waypoints[0]), 1e-9);
+    const StartState s = movingState();
+    const TrajectorySample& first = out.samples.front();
+    EXPECT_LT((first.pose.p - s.pose.p).norm(), kSwitchTolerance);
+    EXPECT_LT((first.velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+    EXPECT_LT((first.velocity.angular - s.velocity.angular).norm(), kSwitchTolerance);
+    EXPECT_LT((first.acceleration.linear - s.acceleration.linear).norm(), kSwitchTolerance);
+    EXPECT_LT((first.acceleration.angular - s.acceleration.angular).norm(), kSwitchTolerance);
+    const Kinematics fd = test::centralDifferences(out.point_at, 0.0, 1e-6);
+    EXPECT_LT((fd.velocity.linear - s.velocity.linear).norm(), 1e-5);
+    EXPECT_LT((fd.velocity.angular - s.velocity.angular).norm(), 1e-5);
+    EXPECT_EQ(out.recovery_time, 0.0);
+    for (std::size_t i = 0; i < r.waypoints.size(); ++i)
+      EXPECT_LT(test::poseDistance(out.point_at(out.waypoint_times[i]), r.waypoints[i]), 1e-9) << i;
+    for (int k = 0; k <= 20000; ++k)
+    {
+      const TrajectorySample x = out.state_at(out.duration * k / 20000.0);
+      EXPECT_LE(x.velocity.linear.norm(), 2.0 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.velocity.angular.norm(), 2.0 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.acceleration.linear.norm(), 3.0 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.acceleration.angular.norm(), 3.0 * (1.0 + 1e-6)) << x.time;
+    }
     EXPECT_LT(out.samples.back().velocity.linear.norm(), 1e-6);
   }
 }
@@ -373,7 +410,9 @@ TEST(StartJoin, TimeOptimalAtRestStartsAtRest)
 }
 
 // Time-optimal along a straight line from speed v0: accelerate to v_max, cruise, brake to rest
-// (closed form), and the profile's first speed is v0.
+// (closed form), and the profile's first speed is v0. A start at 3 v_max recovers by braking at
+// a_max: its recovery ends at (3 v_max − v_max) / a_max, over which the speed never rises, and the
+// duration is the closed form's (brake to v_max, cruise, brake to rest).
 TEST(StartJoin, TimeOptimalLineFromAMovingStartMatchesTheClosedForm)
 {
   const double length = 4.0, v0 = 0.5, vmax = 1.0, amax = 2.0, path_duration = 8.0;
@@ -390,12 +429,41 @@ TEST(StartJoin, TimeOptimalLineFromAMovingStartMatchesTheClosedForm)
   const double cruise = (length - (vmax * vmax - v0 * v0) / (2 * amax) - vmax * vmax / (2 * amax)) / vmax;
   EXPECT_NEAR(p.duration(), up + cruise + down, 2e-3 * (up + cruise + down));
   EXPECT_NEAR(std::sqrt(p.x.front()) * p.stretch * path_rate, v0, 1e-12);
+  EXPECT_EQ(p.stretch, 1.0);
+  EXPECT_EQ(p.recovery_end, p.t.front());
   EXPECT_EQ(p.x.back(), 0.0);
-  // A start speed beyond the bound is brought down to it.
-  options.start_speed = 3.0 * vmax / path_rate;
+  const double v_fast = 3.0 * vmax;
+  options.start_speed = v_fast / path_rate;
   const timing::TimingProfile q = timing::timeOptimalProfile(timing::CurvePath<DoubleGeodesicSe3>(line), bounds, options);
-  EXPECT_LE(std::sqrt(q.x.front()) * path_rate, vmax * (1.0 + 1e-9));
-  EXPECT_GT(std::sqrt(q.x.front()) * path_rate, 0.99 * vmax);
+  EXPECT_EQ(std::sqrt(q.x.front()) * path_rate, v_fast);
+  const double recovery = (v_fast - vmax) / amax;
+  EXPECT_NEAR(q.recovery_end - q.t.front(), recovery, 2e-2 * recovery);
+  const double braked = (v_fast * v_fast - vmax * vmax) / (2 * amax);
+  const double expected = recovery + (length - braked - vmax * vmax / (2 * amax)) / vmax + vmax / amax;
+  EXPECT_NEAR(q.duration(), expected, 2e-3 * expected);
+  double previous = v_fast;
+  for (std::size_t i = 0; i < q.t.size(); ++i)
+  {
+    const double speed = std::sqrt(q.x[i]) * path_rate;
+    if (q.t[i] <= q.recovery_end)
+      EXPECT_LE(speed, previous * (1.0 + 1e-12)) << q.t[i];
+    else
+      EXPECT_LE(speed, vmax * (1.0 + 1e-9)) << q.t[i];
+    previous = speed;
+  }
+  for (double u : q.u)
+    EXPECT_LE(std::abs(u) * path_rate, amax * (1.0 + 1e-9));
+  // Too fast to stop before the end: refused naming the start state.
+  options.start_speed = 20.0 / path_rate;
+  try
+  {
+    timing::timeOptimalProfile(timing::CurvePath<DoubleGeodesicSe3>(line), bounds, options);
+    ADD_FAILURE() << "a start that cannot stop within the path was accepted";
+  }
+  catch (const InvalidInputError& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind("start_state:", 0), 0u) << e.what();
+  }
 }
 
 TEST(StartJoin, BadInputNamesTheField)

@@ -1,0 +1,108 @@
+// The work estimate (planner/work_estimate.h) against the measured time of the same request: for
+// every curve family (and corner blends), both geometries, both timings (`stretch` with bounds
+// that stretch the curve, `time_optimal`) and N = 100, 1000, 10⁴ waypoints (a bezier 20, 100,
+// 400), the estimate in seconds, the measured CPU time of generate() (the least of three runs)
+// and their ratio, which the estimate's calibration keeps within [0.5, 2] on the development
+// machine. Prints one line per case; `--check` exits 1 when a ratio is outside [0.5, 2] (run on
+// an idle machine: the measured times are wall-clock-free CPU times, but a loaded machine's
+// caches still slow them).
+//
+// Waypoints: a random walk from a fixed seed, each step a rotation of 0.2 … 1 rad about a random
+// axis and a translation ~ N(0, 0.5²) m per axis; chord-spaced times; 100 samples.
+#include <ctime>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/planner/work_estimate.h"
+
+namespace
+{
+using namespace se3_interpolation;
+
+TrajectoryRequest request(std::size_t n)
+{
+  std::mt19937 rng(2024);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> angle(0.2, 1.0);
+  TrajectoryRequest r;
+  r.waypoints = { Pose<double>() };
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    const Eigen::Vector3d step(0.5 * normal(rng), 0.5 * normal(rng), 0.5 * normal(rng));
+    r.waypoints.push_back(r.waypoints.back() * Pose<double>(so3Exp<double>(Eigen::Vector3d(angle(rng) * axis)), step));
+  }
+  r.max_linear_velocity = 0.5;
+  r.max_angular_velocity = 0.5;
+  r.max_linear_acceleration = 1.0;
+  r.max_angular_acceleration = 1.0;
+  return r;
+}
+
+double cpuSeconds()
+{
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const bool check = argc > 1 && std::strcmp(argv[1], "--check") == 0;
+  struct Family
+  {
+    const char* curve;
+    double blend_radius;
+    std::vector<std::size_t> sizes;
+  };
+  const std::vector<Family> families = {
+    { "piecewise_geodesic", 0.0, { 100, 1000, 10000 } }, { "piecewise_geodesic", 0.2, { 100, 1000, 10000 } },
+    { "bezier", 0.0, { 20, 100, 400 } },                 { "bspline", 0.0, { 100, 1000, 10000 } },
+    { "interpolating", 0.0, { 100, 1000, 10000 } },      { "hermite", 0.0, { 100, 1000, 10000 } },
+    { "blended", 0.0, { 100, 1000, 10000 } },
+  };
+  PlannerLimits limits;
+  limits.max_work_seconds = 1e6;
+  limits.max_waypoints = 1000000;
+  int outside = 0;
+  std::printf("%-20s %-6s %-15s %-12s %6s %12s %12s %7s\n", "curve", "blend", "geometry", "timing", "N", "estimate_s",
+              "measured_s", "ratio");
+  for (const Family& f : families)
+    for (const char* geometry : { "double_geodesic", "screw" })
+      for (const char* timing : { "stretch", "time_optimal" })
+        for (std::size_t n : f.sizes)
+        {
+          TrajectoryRequest r = request(n);
+          r.curve = f.curve;
+          r.blend_radius = f.blend_radius;
+          r.geometry = geometry;
+          r.timing = timing;
+          const ValidatedRequest v = validateRequest(r, limits);
+          const WorkShape shape = workShape(v);
+          const std::vector<double> times = waypointTimes(v);
+          const WorkEstimate w = estimateWork(shape, expectedSamples(shape, times.back() - times.front()));
+          double best = 1e300;
+          for (int run = 0; run < 3; ++run)
+          {
+            const double start = cpuSeconds();
+            const TrajectoryResult out = generate(r, limits);
+            best = std::min(best, cpuSeconds() - start);
+            if (out.samples.empty())
+              return 2;
+          }
+          const double ratio = w.seconds / best;
+          const bool ok = ratio >= 0.5 && ratio <= 2.0;
+          outside += ok ? 0 : 1;
+          std::printf("%-20s %-6g %-15s %-12s %6zu %12.4g %12.4g %7.2f%s\n", f.curve, f.blend_radius, geometry, timing, n,
+                      w.seconds, best, ratio, ok ? "" : "  outside [0.5, 2]");
+          std::fflush(stdout);
+        }
+  std::printf("%d of the ratios outside [0.5, 2]\n", outside);
+  return check && outside > 0 ? 1 : 0;
+}

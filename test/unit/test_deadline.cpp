@@ -1,0 +1,147 @@
+// The request deadline (deadline.h): the long loops of the core stop with a LimitExceededError
+// naming their phase once the current thread's deadline has passed, and nothing is checked
+// without one. Each case runs a computation that takes seconds without a deadline under one of
+// 50 ms, and asserts that it ends within 10 times that (a functional deadline with margin, not a
+// performance figure).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <random>
+#include <string>
+
+#include "se3_interpolation/deadline.h"
+#include "se3_interpolation/planner/planner.h"
+#include "test_utils.h"
+
+using namespace se3_interpolation;
+
+namespace
+{
+constexpr double kDeadline = 0.05;
+constexpr double kMargin = 10.0;
+
+TrajectoryRequest bigRequest(const char* curve, std::size_t n)
+{
+  std::mt19937 rng(26);
+  TrajectoryRequest r;
+  r.waypoints = test::randomPolygon(rng, n, 0.5);
+  r.curve = curve;
+  r.geometry = "screw";
+  return r;
+}
+
+/// Runs `f` under a deadline of kDeadline; returns the LimitExceededError's message ("" when
+/// none was thrown) and the elapsed wall time.
+template <class F>
+std::pair<std::string, double> underDeadline(F f)
+{
+  const auto start = std::chrono::steady_clock::now();
+  std::string message;
+  {
+    const Deadline deadline(kDeadline, kDeadline);
+    const ScopedDeadline scope(deadline);
+    try
+    {
+      f();
+    }
+    catch (const LimitExceededError& e)
+    {
+      message = e.what();
+    }
+  }
+  return { message, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() };
+}
+}  // namespace
+
+TEST(Deadline, NothingIsCheckedWithoutOne)
+{
+  EXPECT_NO_THROW(checkDeadline("phase"));
+  const Deadline past(-1.0, 1.0);
+  {
+    const ScopedDeadline scope(past);
+    EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
+    {
+      // A later deadline inside an earlier one keeps the earlier (a request inside a caller's).
+      const Deadline future(100.0, 100.0);
+      const ScopedDeadline inner(future);
+      EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
+    }
+    EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
+  }
+  EXPECT_NO_THROW(checkDeadline("phase"));
+  const Deadline later(100.0, 100.0);
+  const ScopedDeadline outer(later);
+  EXPECT_NO_THROW(checkDeadline("phase"));
+  {
+    const ScopedDeadline inner(past);
+    EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
+  }
+  EXPECT_NO_THROW(checkDeadline("phase"));
+}
+
+TEST(Deadline, MessageNamesThePhaseAndTheLimit)
+{
+  const Deadline past(-1.0, 0.25);
+  const ScopedDeadline scope(past);
+  try
+  {
+    checkDeadline("timing: 'time_optimal'");
+    FAIL();
+  }
+  catch (const LimitExceededError& e)
+  {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("timing: 'time_optimal': the request ran past its work limit of 0.25 s", 0), 0u) << m;
+    EXPECT_NE(m.find("max_work_seconds"), std::string::npos) << m;
+  }
+}
+
+// Each long phase stops: the C² solve, the time-optimal passes, the figures, the sampling and a
+// Bezier's de Casteljau recursion (planner's limits raised so that the estimate lets them in).
+TEST(Deadline, EveryLongPhaseStops)
+{
+  PlannerLimits unlimited;
+  unlimited.max_work_seconds = 1e6;
+  unlimited.max_waypoints = 1000000;
+  unlimited.max_samples = 100000000;
+  struct Case
+  {
+    const char* name;
+    TrajectoryRequest request;
+  };
+  std::vector<Case> cases;
+  cases.push_back({ "interpolating", bigRequest("interpolating", 200000) });
+  TrajectoryRequest optimal = bigRequest("hermite", 50000);
+  optimal.timing = "time_optimal";
+  optimal.max_linear_velocity = optimal.max_angular_velocity = 1.0;
+  optimal.max_linear_acceleration = optimal.max_angular_acceleration = 2.0;
+  cases.push_back({ "time_optimal", optimal });
+  TrajectoryRequest sampling = bigRequest("hermite", 3);
+  sampling.sample_count = 2000000;
+  cases.push_back({ "sampling", sampling });
+  cases.push_back({ "bezier", bigRequest("bezier", 3000) });
+  TrajectoryRequest blends = bigRequest("piecewise_geodesic", 300000);
+  blends.blend_radius = 0.1;
+  cases.push_back({ "figures", blends });
+  for (const Case& c : cases)
+  {
+    const auto [message, seconds] = underDeadline([&] { generate(c.request, unlimited); });
+    EXPECT_NE(message.find("ran past its work limit of 0.05 s"), std::string::npos) << c.name << ": " << message;
+    EXPECT_LT(seconds, kMargin * kDeadline) << c.name;
+  }
+}
+
+// The planner sets its own deadline from PlannerLimits::max_work_seconds: a request accepted by
+// an estimate that is far too low still ends (here the estimate's limit is checked against the
+// figures of a cheap-looking request by giving a tiny limit after the estimate: the sampling
+// alone exceeds it).
+TEST(Deadline, GenerateStopsAtItsOwnDeadline)
+{
+  TrajectoryRequest r = bigRequest("interpolating", 20000);
+  PlannerLimits limits;
+  limits.max_work_seconds = 1e-4;
+  limits.max_waypoints = 1000000;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(generate(r, limits), LimitExceededError);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+}
