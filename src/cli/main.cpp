@@ -149,6 +149,8 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.length
             << "\nrotation_length: " << r.figures.rotation_length << "\nmax_linear_speed: " << r.figures.max_linear_speed
             << "\nmax_angular_speed: " << r.figures.max_angular_speed << "\nenergy: " << r.figures.energy << "\n";
+  if (r.recovery_time > 0.0)
+    std::cerr << "recovery_time: " << r.recovery_time << "\n";
   printWaypointTimes(r.waypoint_times);
 }
 

@@ -1,6 +1,7 @@
 #include "se3_interpolation/planner/planner.h"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <type_traits>
 
@@ -166,10 +167,13 @@ bool isZero(const Twist& v)
   return v.linear.isZero(0.0) && v.angular.isZero(0.0);
 }
 
-/// Lengthenings of the joining segment under time_optimal (applyTimingFromStart), and the most
-/// each may multiply its duration by.
-constexpr int kJoinAttempts = 6;
-constexpr double kMaxJoinGrowth = 4.0;
+/// The durations of the joining segment tried under time_optimal (applyTimingFromStart): h0 · 2^k
+/// for k from kJoinShortest to kJoinLongest.
+constexpr int kJoinShortest = -2;
+constexpr int kJoinLongest = 4;
+/// The most the curve's clock after the joint is scaled by (either way) to enter it at the start
+/// state's speed.
+constexpr double kMaxEntryScale = 1e3;
 /// Samples of the joining segment at which its acceleration is compared with the bounds.
 constexpr int kJoinSamples = 32;
 
@@ -199,8 +203,8 @@ double accelerationExcess(const ValidatedRequest& r, const Curve<G>& curve, doub
 ///  - a moving (or accelerating) start under `stretch`: the start velocity fixes the time scale,
 ///    so a curve that exceeds a bound (k > 1) is refused naming `timing`;
 ///  - a moving start under `time_optimal`: the time-optimal motion along the joined curve (whose
-///    joining segment lasts 2 d / (speed at its start + the curve's speed at its end), lengthened
-///    until its own timing keeps the acceleration bounds, see accelerationExcess) starting at its own path
+///    joining segment lasts about 2 d / (speed at its start + the curve's speed at its end), the
+///    duration whose own timing comes closest to the acceleration bounds) starting at its own path
 ///    speed with its own acceleration (TimeOptimalOptions::start_speed = 1, hold_start): a start
 ///    beyond the bounds recovers by braking, and the result reports when (recovery_time).
 template <class G>
@@ -230,28 +234,45 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
     bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
     double h = t1;
+    double scale = 1.0;  // of the curve's clock after the joint (time-optimal timing retimes it)
     std::shared_ptr<const Curve<G>> path = through;
+    std::shared_ptr<const Curve<G>> rest = through;
     if (!native)
     {
       const Kinematics entry = kinematicsAt(*through, t1);
       const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
                                      std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
-      const double speeds = weightedNorm(s.velocity, rho) + weightedNorm(entry.velocity, rho);
+      // The curve after the joint is entered at the start's speed: its clock is scaled so (its
+      // timing is the time-optimal one anyway), so that the joining segment blends the two
+      // directions instead of hooking into a much faster or slower curve.
+      const double start_speed = weightedNorm(s.velocity, rho);
+      const double entry_speed = weightedNorm(entry.velocity, rho);
+      if (start_speed > 0.0 && entry_speed > 0.0)
+        scale = std::min(kMaxEntryScale, std::max(1.0 / kMaxEntryScale, entry_speed / start_speed));
+      rest = std::make_shared<TimeScaledCurve<G>>(through, scale);
+      const double speeds = start_speed + entry_speed / scale;
       if (chord > 0.0 && speeds > 0.0)
         h = 2.0 * chord / speeds;
       if (!(h > 0.0 && std::isfinite(h)))
         h = t1;
-      path = join(through, h, t1);
-      // A joining segment whose own timing exceeds an acceleration bound bends too sharply for
-      // the start speed (the motion cannot leave its start velocity faster than the bounds allow):
-      // lengthened by the square root of the excess (accelerations scale about as 1/h²).
-      for (int attempt = 0; attempt < kJoinAttempts; ++attempt)
+      // The joining segment's shape depends on its duration: too short, it bends sharply out of
+      // the start velocity; too long, the start velocity and acceleration carry it far away
+      // (its acceleration grows again with the terms in h² of A). Of durations h0 · 2^k
+      // (k = −2 … 4), the one whose own timing comes closest to the acceleration bounds, the
+      // shortest among those within them.
+      double best_excess = std::numeric_limits<double>::infinity();
+      const double h0 = h;
+      for (int k = kJoinShortest; k <= kJoinLongest; ++k)
       {
-        const double excess = accelerationExcess(r, *path, h);
-        if (!(excess > 1.0))
-          break;
-        h *= std::min(kMaxJoinGrowth, 1.1 * std::sqrt(excess));
-        path = join(through, h, t1);
+        const double candidate = std::ldexp(h0, k);
+        auto joined = join(rest, candidate, scale * t1);
+        const double excess = std::max(1.0, accelerationExcess(r, *joined, candidate));
+        if (excess < best_excess)
+        {
+          best_excess = excess;
+          h = candidate;
+          path = joined;
+        }
       }
     }
     timing::TimeOptimalOptions options;
@@ -261,9 +282,9 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     out.time_scale = timed->profile().stretch;
     out.recovery_time = timed->profile().recovery_end - timed->startTime();
     validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
-    const double offset = native ? 0.0 : h - t1;
     for (std::size_t i = 1; i < times.size(); ++i)
-      out.waypoint_times[i] = timed->profile().timeAt(times[i] + offset);
+      out.waypoint_times[i] = timed->profile().timeAt(native ? times[i] : h + scale * (times[i] - t1));
+    out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
     curve = timed;
     *fig_io = measureCurve(*path, rho);
     setTimedFigures(r, timed->profile(), fig_io);

@@ -12,10 +12,11 @@ namespace se3_interpolation
 {
 namespace
 {
-/// measureCurve's effort (analysis/figures.h): its Gauss-Legendre nodes on subintervalsPerPiece
-/// subintervals, and one golden-section search per peak rate of 2 + at most kGoldenMaxIterations
-/// evaluations.
-constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size());
+/// measureCurve's effort (analysis/figures.h): its Gauss-Legendre nodes and the two ends of each of
+/// subintervalsPerPiece subintervals (more where it halves them: a speed that varies by more than
+/// kFigureSpeedRatio inside one), and one golden-section search per peak rate of 2 + at most
+/// kGoldenMaxIterations evaluations.
+constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
 constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
 
 double analyticPieces(const WorkShape& r)

@@ -261,6 +261,9 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     msg << result.samples.size() << " samples over " << result.duration << " s";
     if (result.time_scale > 1.0)
       msg << " (time stretched x" << result.time_scale << " to meet the bounds)";
+    if (result.recovery_time > 0.0)
+      msg << "; the start state exceeds a bound: every bound holds from t = " << result.recovery_time
+          << " s on (recovery_time)";
     res.message = msg.str();
     if (req.publish)
     {

@@ -22,7 +22,7 @@ constexpr double kBisectionTolerance = 1e-12;
 constexpr int kBisectionSteps = 200;
 /// Intervals whose middle suggests (by a parabola through ends and middle) a rate within this
 /// fraction of the worst one seen are searched for their maximum.
-constexpr double kRefineMargin = 1e-4;
+constexpr double kRefineMargin = 1e-3;
 /// That search: steps, and the step (fraction of the interval) at which it stops; the maximum's
 /// value is then exact to ~(1e-7)² relative.
 constexpr int kLocalMaxSteps = 12;
@@ -53,6 +53,8 @@ constexpr std::size_t kMaxRefineGrowth = 16;
 constexpr double kHoldFraction = 1e-6;
 /// x_i above the controllable set by this relative amount is rounding, not a start to recover from.
 constexpr double kRoundingExcess = 1e-9;
+/// The acceleration bounds' margin while braking out of a start the bounds cannot hold.
+constexpr double kRecoveryMargin = 1e-4;
 /// Grid points handled between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kPointsPerDeadlineCheck = 256;
 constexpr const char* kPhase = "timing: 'time_optimal'";
@@ -163,7 +165,9 @@ private:
       const double fastest = std::max({ a[c].bb, m[c].bb, b[c].bb, refine_floor_[c] });
       const double slowest = std::max({ std::min({ a[c].bb, m[c].bb, b[c].bb }), refine_floor_[c] });
       const double curvature = std::sqrt(std::max({ a[c].aa, m[c].aa, b[c].aa }));
+      const double least_curvature = std::sqrt(std::min({ a[c].aa, m[c].aa, b[c].aa }));
       if (d * curvature > kRefineTolerance * std::sqrt(fastest) ||
+          d * (curvature - least_curvature) > kRefineTolerance * kRefineTolerance * std::sqrt(fastest) ||
           fastest > (1.0 + kRefineTolerance) * (1.0 + kRefineTolerance) * slowest)
         return true;
     }
@@ -291,6 +295,11 @@ private:
       prepare(&right_[i], profile_.s[i]);
       prepare(&left_[i], profile_.s[i]);
     }
+    // A start that itself exceeds a bound (its speed, or with hold_start its acceleration): the
+    // recovery from it is exempt from the checks (it is what the bounds cannot hold).
+    const Rates start = needs(right_[0].raw, start_x_, 0.0);
+    for (int q = 0; q < 4; ++q)
+      start_exceeds_ = start_exceeds_ || (start_x_ > 0.0 && start[q] > 1.0 + kRoundingExcess && (q < 2 || hold_start_));
   }
 
   /// Checks that the motion at this point is bounded and floors stationary points.
@@ -484,6 +493,11 @@ private:
         else
         {
           recovering = true;
+          // Braking at the acceleration bounds, which hold at the interval's ends: a margin for
+          // its interior, which no later pass checks.
+          for (std::size_t j : { i, i + 1 })
+            for (int c = 2; c < 4; ++c)
+              factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
           const Interval free = controls(i, x[i], kInf);
           chosen = free.isEmpty() ? leastAccelerationControl(i, x[i], d)
                                   : std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
@@ -511,8 +525,13 @@ private:
                                  formatNumber(profile_.s[i]) + " s (the bounds are too tight for the path)");
       t[i + 1] = t[i] + 2.0 * d / rate;
     }
-    profile_.recovery_end = t[recovery_end_];
+    profile_.recovery_end = t[checkedFrom()];
   }
+
+  /// The first interval the checks hold to the bounds: after the recovery from a start that
+  /// exceeds a bound; else all of them (a start within the bounds that must brake for what lies
+  /// ahead brakes within them).
+  std::size_t checkedFrom() const { return start_exceeds_ ? recovery_end_ : 0; }
 
   /// Where no control keeps the acceleration within a bound at x (the path bends too sharply for
   /// that speed): the control of least acceleration that does not speed up, and at most stops.
@@ -572,7 +591,7 @@ private:
   bool tightenWhereTheMiddlesExceed()
   {
     bool tightened = false;
-    for (std::size_t i = recovery_end_; i + 1 < profile_.s.size(); ++i)
+    for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
     {
       const Rates r = needsAtMiddle(i);
       for (int q = 0; q < 4; ++q)
@@ -674,7 +693,7 @@ private:
     const IntervalNeeds f = intervalNeeds();
     double worst = 0.0;
     bool tightened = false;
-    for (std::size_t i = recovery_end_; i + 1 < profile_.s.size(); ++i)
+    for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
       for (int q = 0; q < 4; ++q)
       {
         bool was_searched = false;
@@ -752,6 +771,37 @@ private:
         p.acceleration_energy[c] += w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
       }
     }
+    // Where the parabola through an interval's ends and middle rises above the peak so far (within
+    // kRefineMargin), the peak is searched on the exact rates: every figure is a value the motion
+    // takes, within ~1e-7 of its true peak.
+    std::array<double, 4> peak{ p.max_speed[0], p.max_speed[1], p.max_acceleration[0], p.max_acceleration[1] };
+    for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
+    {
+      const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
+      const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
+      const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
+      const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
+      for (int q = 0; q < 4; ++q)
+      {
+        const double c1 = -3.0 * a[q] + 4.0 * m[q] - b[q];
+        const double c2 = 2.0 * a[q] - 4.0 * m[q] + 2.0 * b[q];
+        if (!(c2 < 0.0))
+          continue;
+        const double vertex = -c1 / (2.0 * c2);
+        if (!(vertex > 0.0 && vertex < 1.0) || a[q] + c1 * vertex + c2 * vertex * vertex < peak[q] * (1.0 - kRefineMargin))
+          continue;
+        peak[q] = std::max(peak[q], localMaxOf(
+                                        [this, i, q](double lambda) {
+                                          const TimingProfile& pr = profile_;
+                                          const double x = pr.x[i] + lambda * (pr.x[i + 1] - pr.x[i]);
+                                          return magnitudes(path_.jet(pr.s[i] + lambda * delta(i), Side::kRight), x,
+                                                            pr.u[i])[q];
+                                        },
+                                        a[q], m[q], b[q]));
+      }
+    }
+    p.max_speed = { peak[0], peak[1] };
+    p.max_acceleration = { peak[2], peak[3] };
     for (int c = 0; c < 2; ++c)
     {
       if (bounds_.velocity[c] > 0.0)
@@ -766,6 +816,14 @@ private:
   /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
   double localMax(std::size_t i, int q, double f0, double fm, double f1) const
   {
+    return localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
+  }
+
+  /// The largest value of `value(λ)` on [0, 1] (λ the fraction of an interval) from its values at
+  /// 0, ½, 1: successive parabolic interpolation, golden-section steps when a parabola fails.
+  template <class F>
+  static double localMaxOf(F value, double f0, double fm, double f1)
+  {
     std::array<double, 3> l{ 0.0, 0.5, 1.0 };
     std::array<double, 3> f{ f0, fm, f1 };
     double best = std::max({ f0, fm, f1 });
@@ -778,7 +836,7 @@ private:
       double next = den != 0.0 ? l[1] - ((l[1] - l[0]) * d1 - (l[1] - l[2]) * d2) / den : -1.0;
       if (!(next > l[0] && next < l[2]) || next == l[1])
         next = l[2] - l[1] > l[1] - l[0] ? l[1] + 0.381966 * (l[2] - l[1]) : l[1] - 0.381966 * (l[1] - l[0]);
-      const double fn = needsAt(i, next)[q];
+      const double fn = value(next);
       best = std::max(best, fn);
       const double moved = std::abs(next - l[1]);
       // Keep the bracket around the best interior point.
@@ -820,6 +878,7 @@ private:
   std::array<double, 2> refine_floor_{};  ///< |C′|² below which a channel counts as still (refinement)
   std::size_t grid_limit_ = 0;            ///< most grid points refinement may make
   std::size_t recovery_end_ = 0;          ///< the grid point at which the recovery (forward) ends
+  bool start_exceeds_ = false;            ///< the start itself exceeds a bound
   TimingProfile profile_;
   std::vector<PointData> right_;
   std::vector<PointData> left_;

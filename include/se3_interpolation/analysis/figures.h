@@ -41,6 +41,12 @@ constexpr std::size_t kMinSubintervals = 4;
 constexpr std::size_t kFigureSubintervals = 64;
 /// Each peak is refined in a bracket of ± a quarter subinterval around its best node.
 constexpr double kPeakBracketFraction = 0.25;
+/// Adaptive subdivision: a subinterval is halved while a channel's speed at its ends and nodes
+/// varies by more than this factor (the fastest against the slowest, floored at kFigureSpeedFloor
+/// of the fastest so that a stationary point costs at most kMaxFigureDepth halvings).
+constexpr double kFigureSpeedRatio = 2.0;
+constexpr double kFigureSpeedFloor = 1e-6;
+constexpr int kMaxFigureDepth = 24;
 /// Pieces measured between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kPiecesPerDeadlineCheck = 64;
 
@@ -73,25 +79,66 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
       }
   };
 
+  // Each subinterval: its ends and Gauss nodes, halved (at most kMaxFigureDepth times) where the
+  // speeds seen there differ by more than kFigureSpeedRatio in a channel (a piece whose time runs
+  // 10⁵ times faster at one end than at the other, e.g. a corner blend between uneven times, whose
+  // peaks lie in a sliver of it).
+  struct Span
+  {
+    double a, b;
+    int depth;
+  };
+  std::vector<Span> stack;
+  std::array<decltype(kinematicsAt(curve, 0.0)), kGaussNodes.size()> nodes;
   for (std::size_t i = 0; i < pieces; ++i)
   {
     checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the trajectory's figures");
     const double h = (b[i + 1] - b[i]) / static_cast<double>(sub);
-    consider(kinematicsAt(curve, b[i], Side::kRight), b[i], b[i], b[i] + h);
-    consider(kinematicsAt(curve, b[i + 1], Side::kLeft), b[i + 1], b[i + 1] - h, b[i + 1]);
-    for (std::size_t s = 0; s < sub; ++s)
+    for (std::size_t s = sub; s-- > 0;)
+      stack.push_back({ b[i] + static_cast<double>(s) * h, s + 1 == sub ? b[i + 1] : b[i] + static_cast<double>(s + 1) * h, 0 });
+    while (!stack.empty())
     {
-      const double a = b[i] + static_cast<double>(s) * h;
+      const Span span = stack.back();
+      stack.pop_back();
+      const double width = span.b - span.a;
+      const double bracket_width = kPeakBracketFraction * width;
+      const auto ka = kinematicsAt(curve, span.a, Side::kRight);
+      const auto kb = kinematicsAt(curve, span.b, Side::kLeft);
+      Rates fastest = rates(ka), slowest = fastest;
+      auto widen = [&fastest, &slowest](const Rates& r) {
+        for (std::size_t j = 0; j < 2; ++j)
+        {
+          fastest[j] = std::max(fastest[j], r[j]);
+          slowest[j] = std::min(slowest[j], r[j]);
+        }
+      };
+      widen(rates(kb));
       for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
       {
-        const double t = a + 0.5 * h * (1.0 + kGaussNodes[g]);
-        const double w = 0.5 * h * kGaussWeights[g];
-        const auto k = kinematicsAt(curve, t);
-        const Rates r = rates(k);
+        nodes[g] = kinematicsAt(curve, span.a + 0.5 * width * (1.0 + kGaussNodes[g]));
+        widen(rates(nodes[g]));
+      }
+      bool split = false;
+      for (std::size_t j = 0; j < 2; ++j)
+        split = split || fastest[j] > kFigureSpeedRatio * std::max(slowest[j], kFigureSpeedFloor * fastest[j]);
+      const double middle = 0.5 * (span.a + span.b);
+      if (split && span.depth < kMaxFigureDepth && middle > span.a && middle < span.b)
+      {
+        stack.push_back({ middle, span.b, span.depth + 1 });
+        stack.push_back({ span.a, middle, span.depth + 1 });
+        continue;
+      }
+      consider(ka, span.a, span.a, std::min(span.b, span.a + bracket_width));
+      consider(kb, span.b, std::max(span.a, span.b - bracket_width), span.b);
+      for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
+      {
+        const double t = span.a + 0.5 * width * (1.0 + kGaussNodes[g]);
+        const double w = 0.5 * width * kGaussWeights[g];
+        const Rates r = rates(nodes[g]);
         fig.length += w * r[kLinearSpeed];
         fig.rotation_length += w * r[kAngularSpeed];
-        fig.energy += w * energyDensity(k, rotation_scale);
-        consider(k, t, std::max(b[i], t - kPeakBracketFraction * h), std::min(b[i + 1], t + kPeakBracketFraction * h));
+        fig.energy += w * energyDensity(nodes[g], rotation_scale);
+        consider(nodes[g], t, std::max(span.a, t - bracket_width), std::min(span.b, t + bracket_width));
       }
     }
   }

@@ -10,8 +10,9 @@
 // (secondsPerUnit, bench/bench_work_estimate.cpp).
 //
 // The planner evaluates the curve (analysis/figures.h, measureCurve) at
-//   P (2 + 8 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
-// (P analytic pieces, 8 nodes, 4 golden-section searches of 2 + at most 60 evaluations), then
+//   P (2 + 10 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
+// (P analytic pieces, 8 nodes and 2 ends, 4 golden-section searches of 2 + at most 60
+// evaluations; subintervals where the speed varies strongly are halved, see figures.h), then
 // once per sample. An evaluation costs, in geodesic steps,
 //   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
 //   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2

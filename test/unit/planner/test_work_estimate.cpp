@@ -241,3 +241,45 @@ TEST(WorkEstimate, SphereRequestsAreBoundedToo)
   r.waypoints.resize(20);
   EXPECT_EQ(generate(r, PlannerLimits()).samples.size(), 100u);
 }
+
+// The default limit (1 s) accepts 10⁴ waypoints of every family but bezier under stretch, and
+// under time_optimal those that this machine times within it (README "Bounded work": the screw
+// geometry's time_optimal of bspline, hermite, blended and corner blends takes 1.2–2.8 s there);
+// a bezier keeps its quadratic bound. From the fields alone, as the planner decides.
+TEST(WorkEstimate, TenThousandWaypointsFitTheDefaultLimit)
+{
+  struct Case
+  {
+    const char* curve;
+    double blend_radius;
+    const char* geometry;
+    const char* timing;
+    bool accepted;
+  };
+  std::vector<Case> cases;
+  for (const char* curve : { "piecewise_geodesic", "bspline", "interpolating", "hermite", "blended" })
+    for (const char* geometry : { "double_geodesic", "screw" })
+      cases.push_back({ curve, 0.0, geometry, "stretch", true });
+  cases.push_back({ "piecewise_geodesic", 0.2, "double_geodesic", "stretch", true });
+  cases.push_back({ "piecewise_geodesic", 0.2, "screw", "stretch", true });
+  for (const char* curve : { "piecewise_geodesic", "bspline", "interpolating", "hermite", "blended" })
+    cases.push_back({ curve, 0.0, "double_geodesic", "time_optimal", true });
+  cases.push_back({ "piecewise_geodesic", 0.0, "screw", "time_optimal", true });
+  cases.push_back({ "interpolating", 0.0, "screw", "time_optimal", true });
+  cases.push_back({ "bezier", 0.0, "double_geodesic", "stretch", false });
+  for (const Case& c : cases)
+  {
+    TrajectoryRequest r = polygonRequest(std::string(c.curve) == "bezier" ? 100 : 10000, c.curve);
+    r.blend_radius = c.blend_radius;
+    r.geometry = c.geometry;
+    r.timing = c.timing;
+    r.max_linear_velocity = r.max_angular_velocity = 0.5;
+    r.max_linear_acceleration = r.max_angular_acceleration = 1.0;
+    const ValidatedRequest v = validateRequest(r, PlannerLimits());
+    const WorkShape shape = workShape(v);
+    const std::vector<double> times = waypointTimes(v);
+    const WorkEstimate w = estimateWork(shape, expectedSamples(shape, times.back() - times.front()));
+    EXPECT_EQ(w.seconds <= PlannerLimits().max_work_seconds, c.accepted)
+        << c.curve << " blend " << c.blend_radius << " " << c.geometry << " " << c.timing << ": " << w.seconds << " s";
+  }
+}
