@@ -17,6 +17,7 @@
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/timing/time_optimal.h"
+#include "random_walk.h"
 
 namespace
 {
@@ -25,17 +26,8 @@ using Geometry = DoubleGeodesicSe3;
 
 ValidatedRequest request(std::size_t n)
 {
-  std::mt19937 rng(2024);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> angle(0.2, 1.0);
   TrajectoryRequest r;
-  r.waypoints = { Pose<double>() };
-  for (std::size_t i = 1; i < n; ++i)
-  {
-    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    const Eigen::Vector3d step(0.5 * normal(rng), 0.5 * normal(rng), 0.5 * normal(rng));
-    r.waypoints.push_back(r.waypoints.back() * Pose<double>(so3Exp<double>(Eigen::Vector3d(angle(rng) * axis)), step));
-  }
+  r.waypoints = se3_bench::randomWalk(n);
   r.curve = "interpolating";
   return validateRequest(r, PlannerLimits());
 }

@@ -3,7 +3,8 @@
 // that stretch the curve, `time_optimal`) and N = 100, 1000, 10⁴ waypoints (a bezier 20, 100,
 // 400), the estimate in seconds, the measured CPU time of generate() (the least of three runs)
 // and their ratio, which the estimate's calibration keeps within [0.5, 2] on the development
-// machine. Prints one line per case; `--check` exits 1 when a ratio is outside [0.5, 2] (run on
+// machine (calibrated at the middle size: `--middle` runs only that one). Prints one line per
+// case; `--check` exits 1 when a ratio is outside [0.5, 2] (run on
 // an idle machine: the measured times are wall-clock-free CPU times, but a loaded machine's
 // caches still slow them).
 //
@@ -12,13 +13,13 @@
 #include <ctime>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
+#include "random_walk.h"
 
 namespace
 {
@@ -26,17 +27,8 @@ using namespace se3_interpolation;
 
 TrajectoryRequest request(std::size_t n)
 {
-  std::mt19937 rng(2024);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::uniform_real_distribution<double> angle(0.2, 1.0);
   TrajectoryRequest r;
-  r.waypoints = { Pose<double>() };
-  for (std::size_t i = 1; i < n; ++i)
-  {
-    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    const Eigen::Vector3d step(0.5 * normal(rng), 0.5 * normal(rng), 0.5 * normal(rng));
-    r.waypoints.push_back(r.waypoints.back() * Pose<double>(so3Exp<double>(Eigen::Vector3d(angle(rng) * axis)), step));
-  }
+  r.waypoints = se3_bench::randomWalk(n);
   r.max_linear_velocity = 0.5;
   r.max_angular_velocity = 0.5;
   r.max_linear_acceleration = 1.0;
@@ -54,7 +46,13 @@ double cpuSeconds()
 
 int main(int argc, char** argv)
 {
-  const bool check = argc > 1 && std::strcmp(argv[1], "--check") == 0;
+  bool check = false;
+  bool middle_only = false;  // --middle: only the calibration size (1000 waypoints, a bezier 100)
+  for (int i = 1; i < argc; ++i)
+  {
+    check = check || std::strcmp(argv[i], "--check") == 0;
+    middle_only = middle_only || std::strcmp(argv[i], "--middle") == 0;
+  }
   struct Family
   {
     const char* curve;
@@ -78,6 +76,8 @@ int main(int argc, char** argv)
       for (const char* timing : { "stretch", "time_optimal" })
         for (std::size_t n : f.sizes)
         {
+          if (middle_only && n != f.sizes[1])
+            continue;
           TrajectoryRequest r = request(n);
           r.curve = f.curve;
           r.blend_radius = f.blend_radius;

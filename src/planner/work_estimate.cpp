@@ -80,10 +80,14 @@ double expectedSamples(const WorkShape& r, double span)
 }
 
 /// measureCurve's evaluations on a curve of `pieces` analytic pieces.
+/// The subintervals measureCurve halves where a speed varies by more than kFigureSpeedRatio: up to
+/// 15 % more evaluations, counted on random polygons of every family (test_work_estimate.cpp).
+constexpr double kFigureRefinementAllowance = 1.25;
+
 double figureEvaluations(double pieces)
 {
   const double sub = static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(pieces)));
-  return pieces * (2.0 + kNodesPerSubinterval * sub) + kGoldenEvaluations;
+  return pieces * (2.0 + kFigureRefinementAllowance * kNodesPerSubinterval * sub) + kGoldenEvaluations;
 }
 
 WorkEstimate estimateWork(const WorkShape& r, double samples)
@@ -115,17 +119,18 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
 /// Seconds per work unit, per family, geometry and timing: the CPU time of generate() over the
 /// estimate's units at N = 1000 waypoints (a bezier 100) on one core of the development machine,
 /// measured by bench/bench_work_estimate.cpp; from 100 to 10⁴ waypoints (a bezier 20 to 400) the
-/// estimate is then within 0.67 … 1.6 of the measured time. Rows: the curve families in the
+/// estimate is then within 0.67 … 1.6 of the measured time (re-measured after each change of the
+/// estimate's model, `bench_work_estimate --middle`). Rows: the curve families in the
 /// order of CurveType, then piecewise_geodesic with corner blends; columns: double geodesic
 /// (stretch, time_optimal), screw (stretch, time_optimal). The sphere uses the screw's.
 constexpr double kCalibratedSecondsPerUnit[7][4] = {
-  { 6.55e-8, 9.47e-8, 9.37e-8, 1.17e-7 },  // piecewise_geodesic
-  { 9.31e-8, 4.96e-8, 3.41e-7, 1.78e-7 },  // bezier
-  { 7.12e-8, 7.59e-8, 2.14e-7, 1.82e-7 },  // bspline
-  { 4.40e-8, 5.68e-8, 9.16e-8, 7.93e-8 },  // interpolating
-  { 6.93e-8, 9.71e-8, 2.11e-7, 2.04e-7 },  // hermite
-  { 2.42e-7, 2.95e-7, 3.67e-7, 3.95e-7 },  // blended
-  { 1.79e-7, 2.13e-7, 4.14e-7, 3.57e-7 },  // piecewise_geodesic with blend_radius
+  { 5.6e-08, 8.53e-08, 7.74e-08, 1.41e-07 },  // piecewise_geodesic
+  { 8.24e-08, 8.13e-08, 2.99e-07, 3.07e-07 },  // bezier
+  { 5.65e-08, 1.03e-07, 1.69e-07, 2.56e-07 },  // bspline
+  { 3.46e-08, 6.11e-08, 6.79e-08, 7.55e-08 },  // interpolating
+  { 5.97e-08, 8.23e-08, 1.85e-07, 2.04e-07 },  // hermite
+  { 2.14e-07, 3.04e-07, 3.28e-07, 4.29e-07 },  // blended
+  { 1.54e-07, 2.03e-07, 3.54e-07, 3.97e-07 },  // piecewise_geodesic with blend_radius
 };
 
 double secondsPerUnit(const WorkShape& r)

@@ -43,9 +43,10 @@ constexpr std::size_t kFigureSubintervals = 64;
 constexpr double kPeakBracketFraction = 0.25;
 /// Adaptive subdivision: a subinterval is halved while a channel's speed at its ends and nodes
 /// varies by more than this factor (the fastest against the slowest, floored at kFigureSpeedFloor
-/// of the fastest so that a stationary point costs at most kMaxFigureDepth halvings).
-constexpr double kFigureSpeedRatio = 2.0;
-constexpr double kFigureSpeedFloor = 1e-6;
+/// of the curve's fastest so far, so that near a stationary point the halving stops once the
+/// speeds there are negligible).
+constexpr double kFigureSpeedRatio = 4.0;
+constexpr double kFigureSpeedFloor = 1e-2;
 constexpr int kMaxFigureDepth = 24;
 /// Pieces measured between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kPiecesPerDeadlineCheck = 64;
@@ -120,7 +121,8 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
       }
       bool split = false;
       for (std::size_t j = 0; j < 2; ++j)
-        split = split || fastest[j] > kFigureSpeedRatio * std::max(slowest[j], kFigureSpeedFloor * fastest[j]);
+        split = split || fastest[j] > kFigureSpeedRatio * std::max(slowest[j],
+                                                                    kFigureSpeedFloor * std::max(fastest[j], peak[j]));
       const double middle = 0.5 * (span.a + span.b);
       if (split && span.depth < kMaxFigureDepth && middle > span.a && middle < span.b)
       {
@@ -128,8 +130,8 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
         stack.push_back({ span.a, middle, span.depth + 1 });
         continue;
       }
-      consider(ka, span.a, span.a, std::min(span.b, span.a + bracket_width));
-      consider(kb, span.b, std::max(span.a, span.b - bracket_width), span.b);
+      consider(ka, span.a, std::max(b[i], span.a - bracket_width), std::min(span.b, span.a + bracket_width));
+      consider(kb, span.b, std::max(span.a, span.b - bracket_width), std::min(b[i + 1], span.b + bracket_width));
       for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
       {
         const double t = span.a + 0.5 * width * (1.0 + kGaussNodes[g]);

@@ -20,7 +20,7 @@
 // Corner blends (blend_radius on piecewise_geodesic) make up to 2N - 3 pieces, legs and
 // blends in turn, and an evaluation costs kCornerBlendEvaluationCost (measured).
 // Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
-// G = 17 P + 512 intervals, with 4 G + 2048 curve evaluations and 3 units of its own (the
+// G = 17 P + 512 intervals, with 6 G + 4096 curve evaluations and 3 units of its own (the
 // passes' bisections, the checks) per interval;
 // replanning (start_state) measures the figures again on the curve joined to the start state:
 // twice more under stretch (before and after the stretch, P pieces), once more on the
@@ -51,11 +51,12 @@ constexpr double kCornerBlendEvaluationCost = 3.0;
 constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
 constexpr double kTimeOptimalMinIntervals = 512.0;
 /// time_optimal's curve evaluations: per grid interval (its ends' and middle's path jets, the
-/// corner checks, the checks' searches where the bounds switch), and the searches that
+/// corner checks, the checks' and the figures' searches where the rates peak, the refinement of
+/// intervals where the path's rates vary), and the searches that
 /// concentrate on few pieces (counted: 2.2 (piecewise_geodesic) ... 2.6 (hermite) per interval
 /// on 2000 waypoints, up to 3871 in all on the 513 intervals of a two-piece curve).
-constexpr double kTimeOptimalEvaluationsPerInterval = 4.0;
-constexpr double kTimeOptimalSearchEvaluations = 2048.0;
+constexpr double kTimeOptimalEvaluationsPerInterval = 6.0;
+constexpr double kTimeOptimalSearchEvaluations = 4096.0;
 /// time_optimal's work per grid interval besides the evaluations (bisections of the controllable
 /// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
 /// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).

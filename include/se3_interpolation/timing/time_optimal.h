@@ -272,9 +272,19 @@ public:
   }
 
   Point value(double t) const override { return path_->value(profile_.pathParameter(t, Side::kRight)); }
+  /// The path is evaluated from the side of the timing interval that t falls in: a time that maps
+  /// exactly onto a breakpoint of the path (a velocity corner, reached at the end of an interval)
+  /// takes the path's one-sided jet of that interval, not of the next one.
   Jet2Point jet(const Jet<2>& t, Side side) const override
   {
-    return path_->jet(profile_.pathParameter(t, side), side);
+    const Jet<2> s = profile_.pathParameter(t, side);
+    const std::size_t i = findInterval(profile_.t, t.value(), side);
+    Side path_side = side;
+    if (s.value() >= profile_.s[i + 1])
+      path_side = Side::kLeft;
+    else if (s.value() <= profile_.s[i])
+      path_side = Side::kRight;
+    return path_->jet(s, path_side);
   }
   double startTime() const override { return profile_.t.front(); }
   double endTime() const override { return profile_.t.back(); }

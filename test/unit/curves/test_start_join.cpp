@@ -503,4 +503,42 @@ TEST(StartJoin, BadInputNamesTheField)
 }
 
 }  // namespace
+// Regression: the most common replanning call, one waypoint from a moving start under
+// time_optimal, crashed with SIGSEGV (a timing profile of one grid point: the path after the
+// joining segment had zero length) for every curve and both geometries. Now each is a motion from
+// the start state, through the waypoint at rest, within its bounds.
+TEST(StartJoin, OneWaypointFromAMovingStartUnderTimeOptimal)
+{
+  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    for (const char* geometry : { "double_geodesic", "screw" })
+    {
+      SCOPED_TRACE(std::string(curve) + " " + geometry);
+      TrajectoryRequest r;
+      r.waypoints = { pose({ 0.3, 0.0, 0.6 }, 0.0, { 0, 0, 1 }) };
+      r.curve = curve;
+      r.geometry = geometry;
+      r.timing = "time_optimal";
+      r.max_linear_velocity = 0.25;
+      r.max_linear_acceleration = 0.5;
+      r.sample_count = 2001;
+      StartState s;
+      s.pose = pose({ 0.6, 0.0, 0.3 }, 0.0, { 0, 0, 1 });
+      s.velocity = twist({ 0.0, 0.3, 0.0 }, { 0.0, 0.0, 0.0 });
+      r.start_state = s;
+      const TrajectoryResult out = generate(r, PlannerLimits());
+      EXPECT_LT((out.samples.front().pose.p - s.pose.p).norm(), kSwitchTolerance);
+      EXPECT_LT((out.samples.front().velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+      EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-9);
+      EXPECT_LT(out.samples.back().velocity.linear.norm(), 1e-9);
+      // The start (0.3 m/s) exceeds max_linear_velocity: it recovers by braking, then holds it.
+      EXPECT_GT(out.recovery_time, 0.0);
+      for (const TrajectorySample& x : out.samples)
+      {
+        if (x.time > out.recovery_time)
+          EXPECT_LE(x.velocity.linear.norm(), 0.25 * (1.0 + 1e-6)) << x.time;
+        EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
+      }
+    }
+}
+
 }  // namespace se3_interpolation
