@@ -467,7 +467,8 @@ std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& r)
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits)
 {
-  const Deadline deadline(kDeadlineFactor * limits.max_work_seconds, limits.max_work_seconds);
+  const Deadline deadline(std::max(kDeadlineFactor * limits.max_work_seconds, kMinDeadlineSeconds),
+                          limits.max_work_seconds);
   const ScopedDeadline scope(deadline);
   return dispatch(validateRequest(request, limits), limits);
 }

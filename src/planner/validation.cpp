@@ -229,6 +229,9 @@ void applyStartState(const StartState& raw, int raw_degree, ValidatedRequest* v)
     if (v->times.front() == 0.0 && !same_pose)
       throw InvalidInputError("times[0]: 0 is the switch time, but waypoints[0] is not the start pose (with "
                               "from_current, times count from the switch time: give waypoints[0] a later time)");
+    if (v->times.front() > 0.0 && v->times.front() < kRosDurationResolution)
+      throw InvalidInputError("times[0]: " + formatNumber(v->times.front()) +
+                              " s after the start state, below the 1 ns resolution of time_from_start");
   }
   v->start_replaces_first = same_pose && (v->times.empty() || v->times.front() == 0.0);
   if (v->start_replaces_first)

@@ -205,6 +205,12 @@ private:
   void buildGrid(const TimeOptimalOptions& options)
   {
     std::vector<double> b = path_.breakpoints();
+    for (double x : b)
+      if (!std::isfinite(x))
+        throw InvalidInputError("timing: 'time_optimal' needs a path with finite times (a breakpoint is at " +
+                                formatNumber(x) + " s)");
+    // (Sorted: a joined path's rounding may put a breakpoint a hair before the joint.)
+    std::sort(b.begin(), b.end());
     b.erase(std::unique(b.begin(), b.end()), b.end());
     if (b.size() < 2 || !(b.back() > b.front()) || !std::isfinite(b.back() - b.front()))
       throw InvalidInputError("timing: 'time_optimal' needs a path of positive duration (this one spans " +

@@ -143,10 +143,8 @@ TEST(Deadline, EveryLongPhaseStops)
   }
 }
 
-// The planner sets its own deadline from PlannerLimits::max_work_seconds: a request accepted by
-// an estimate that is far too low still ends (here the estimate's limit is checked against the
-// figures of a cheap-looking request by giving a tiny limit after the estimate: the sampling
-// alone exceeds it).
+// The planner sets its own deadline from PlannerLimits::max_work_seconds (at least
+// kMinDeadlineSeconds): a request refused by the estimate, or stopped by the deadline, ends fast.
 TEST(Deadline, GenerateStopsAtItsOwnDeadline)
 {
   TrajectoryRequest r = bigRequest("interpolating", 20000);

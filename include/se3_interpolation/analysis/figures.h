@@ -48,6 +48,7 @@ constexpr double kPeakBracketFraction = 0.25;
 constexpr double kFigureSpeedRatio = 4.0;
 constexpr double kFigureSpeedFloor = 1e-2;
 constexpr int kMaxFigureDepth = 24;
+constexpr std::size_t kMaxFigureSplitsPerSpan = 4;
 /// Pieces measured between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kPiecesPerDeadlineCheck = 64;
 
@@ -90,6 +91,9 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
     int depth;
   };
   std::vector<Span> stack;
+  // At most kMaxFigureSplitsPerSpan halvings per initial subinterval on average, so that a curve
+  // whose speeds vary everywhere costs a bounded multiple of the uniform rule.
+  std::size_t splits_left = kMaxFigureSplitsPerSpan * pieces * sub;
   std::array<decltype(kinematicsAt(curve, 0.0)), kGaussNodes.size()> nodes;
   for (std::size_t i = 0; i < pieces; ++i)
   {
@@ -124,8 +128,9 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
         split = split || fastest[j] > kFigureSpeedRatio * std::max(slowest[j],
                                                                     kFigureSpeedFloor * std::max(fastest[j], peak[j]));
       const double middle = 0.5 * (span.a + span.b);
-      if (split && span.depth < kMaxFigureDepth && middle > span.a && middle < span.b)
+      if (split && span.depth < kMaxFigureDepth && splits_left > 0 && middle > span.a && middle < span.b)
       {
+        --splits_left;
         stack.push_back({ middle, span.b, span.depth + 1 });
         stack.push_back({ span.a, middle, span.depth + 1 });
         continue;

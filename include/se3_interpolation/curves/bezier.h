@@ -42,7 +42,7 @@ std::vector<typename G::template Tangent<double>> polygonLogs(const std::vector<
 }
 
 /// Levels of the de Casteljau recursion between two deadline checks (deadline.h).
-constexpr std::size_t kDeCasteljauLevelsPerCheck = 256;
+constexpr std::size_t kDeCasteljauLevelsPerCheck = 32;
 
 namespace detail
 {

@@ -133,6 +133,11 @@ public:
                       Tangent((10.0 * a - 4.0 * b + cc) / (h * h * h)),
                       Tangent((-15.0 * a + 7.0 * b - 2.0 * cc) / (h * h * h * h)),
                       Tangent((6.0 * a - 3.0 * b + cc) / (h * h * h * h * h)) };
+    for (const Tangent& c : coefficients_)
+      if (!c.allFinite())
+        throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
+                                formatNumber(h_) + " s, too short for its start velocity and the curve it joins "
+                                "(the joining polynomial overflows); give the first waypoint a later time");
   }
 
   template <class S>

@@ -104,6 +104,10 @@ struct PlannerLimits
 /// estimate's error (within 2× of measured) before a request that was accepted is stopped, and
 /// below 2× so that none runs past twice its limit (the loops check every few milliseconds).
 constexpr double kDeadlineFactor = 1.5;
+/// The shortest deadline: a limit below a few tens of milliseconds is enforced by the estimate
+/// alone (a deadline that short would stop requests the estimate accepted on a loaded machine or
+/// under the sanitizers).
+constexpr double kMinDeadlineSeconds = 0.05;
 
 /// The sampling fields after validation (sample_count defaulted).
 struct Sampling
