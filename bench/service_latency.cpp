@@ -1,5 +1,5 @@
 // roscpp client measuring the latency of se3_interpolation_node's ~generate service for a large
-// request (issue 17 item 5): N waypoints, an `interpolating` double-geodesic curve, M samples.
+// request: N waypoints, an `interpolating` double-geodesic curve, M samples.
 // scripts/service_latency.sh starts a roscore on a free port and the node, then runs this client
 // and the rospy one (scripts/service_latency.py) with the same request.
 //

@@ -68,7 +68,7 @@ inline std::string formatNumber(double x)
 }
 
 /// At most this many characters of user text are quoted in an error message, so that no
-/// message or log line carries an unbounded string (issue 15, rows 3, 5, 17).
+/// message or log line carries an unbounded string.
 constexpr std::size_t kMaxQuotedLength = 40;
 
 /// `text` for an error message (named apart from std::quoted, which argument-dependent lookup

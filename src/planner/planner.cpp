@@ -45,7 +45,7 @@ double stretchFactor(const BasicValidatedRequest<Space>& r, const CurveFigures& 
   return k;
 }
 
-/// The chord distance between consecutive waypoints (SPEC, Timing).
+/// The chord distance between consecutive waypoints (README, Timing).
 double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
 {
   const double dtheta = rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
@@ -333,9 +333,10 @@ void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveF
   double polygon = 0.0;
   for (std::size_t i = 1; i < r.waypoints.size(); ++i)
     polygon += chordStep(r.waypoints[i - 1], r.waypoints[i], r.rotation_scale);
-  const double rho = std::is_same_v<Space, SphereSpace> ? 0.0 : r.rotation_scale;
-  const double length = fig.length + (fig.rotation_length > 0.0 ? rho * fig.rotation_length : 0.0) +
-                        (std::is_same_v<Space, SphereSpace> ? fig.rotation_length : 0.0);
+  // The curve's chord length: poses ∫|ṗ| + ρ∫|ω| (ρ · 0 stays 0 for a huge ρ), the sphere ∫|ẋ|.
+  double length = fig.rotation_length;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    length = fig.length + (fig.rotation_length > 0.0 ? r.rotation_scale * fig.rotation_length : 0.0);
   if (length > kMaxStartLengthRatio * polygon + 1e-12)
     throw InvalidInputError("end_condition: 'start' makes a curve " + formatNumber(length) +
                             " long through waypoints whose polygon is " + formatNumber(polygon) +

@@ -409,7 +409,7 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
   status.message = res.message;
   status.source = source;
   // The request's strings may be anything (a refused 10 MB name): the latched status carries
-  // them only when they are short names, else their quoted prefix (issue 15, rows 3, 5).
+  // them only when they are short names, else their quoted prefix.
   auto bounded = [](const std::string& text) { return text.size() <= kMaxFrameIdLength ? text : quotedText(text); };
   {
     std::lock_guard<std::mutex> lock(params_mutex_);

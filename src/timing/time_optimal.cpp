@@ -630,25 +630,26 @@ private:
     return f;
   }
 
+  /// Whether the parabola through (0, f0), (½, fm), (1, f1), f0 + c1 λ + c2 λ², has a maximum
+  /// inside the interval at or above `threshold` (where a rate could rise above the checked points).
+  static bool parabolaPeaksInside(double f0, double fm, double f1, double threshold)
+  {
+    const double c1 = -3.0 * f0 + 4.0 * fm - f1;
+    const double c2 = 2.0 * f0 - 4.0 * fm + 2.0 * f1;
+    if (!(c2 < 0.0))
+      return false;
+    const double vertex = -c1 / (2.0 * c2);
+    return vertex > 0.0 && vertex < 1.0 && f0 + c1 * vertex + c2 * vertex * vertex >= threshold;
+  }
+
   /// The peak of need q on interval i: the largest of its ends and middle, or, where the parabola
-  /// through the three (f0 + c1 λ + c2 λ²) peaks inside at or above `threshold`, the maximum found
-  /// by localMax on the exact rates.
+  /// through the three peaks inside at or above `threshold`, the maximum found by localMax on the
+  /// exact rates.
   double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
   {
     const double f0 = f.start[i][q], fm = f.middle[i][q], f1 = f.end[i][q];
-    *searched = false;
-    const double c1 = -3.0 * f0 + 4.0 * fm - f1;
-    const double c2 = 2.0 * f0 - 4.0 * fm + 2.0 * f1;
-    if (c2 < 0.0)
-    {
-      const double vertex = -c1 / (2.0 * c2);
-      if (vertex > 0.0 && vertex < 1.0 && f0 + c1 * vertex + c2 * vertex * vertex >= threshold)
-      {
-        *searched = true;
-        return localMax(i, q, f0, fm, f1);
-      }
-    }
-    return std::max({ f0, fm, f1 });
+    *searched = parabolaPeaksInside(f0, fm, f1, threshold);
+    return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
   }
 
   /// The final check of a motion from rest: the peaks of every interval, then the uniform
@@ -789,12 +790,7 @@ private:
       const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
       for (int q = 0; q < 4; ++q)
       {
-        const double c1 = -3.0 * a[q] + 4.0 * m[q] - b[q];
-        const double c2 = 2.0 * a[q] - 4.0 * m[q] + 2.0 * b[q];
-        if (!(c2 < 0.0))
-          continue;
-        const double vertex = -c1 / (2.0 * c2);
-        if (!(vertex > 0.0 && vertex < 1.0) || a[q] + c1 * vertex + c2 * vertex * vertex < peak[q] * (1.0 - kRefineMargin))
+        if (!parabolaPeaksInside(a[q], m[q], b[q], peak[q] * (1.0 - kRefineMargin)))
           continue;
         peak[q] = std::max(peak[q], localMaxOf(
                                         [this, i, q](double lambda) {

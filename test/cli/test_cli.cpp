@@ -486,7 +486,7 @@ int countEntries(const std::string& folder, const std::string& prefix)
 }
 }  // namespace
 
-// Issue 15, row 6: the output goes through a temporary file created exclusively, never through
+// The output goes through a temporary file created exclusively, never through
 // a planted file or symbolic link, and nothing is left beside the target.
 TEST(CliHostile, OutputNeverWritesThroughAPlantedLink)
 {

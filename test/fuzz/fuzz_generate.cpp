@@ -4,7 +4,7 @@
 //
 // The expected outcomes are a result or an InterpolationError. Anything else aborts so that
 // the fuzzer reports it: another exception, a sanitizer report, or a result with a
-// non-finite number or a non-unit quaternion (SPEC: no NaN in outputs). Input format:
+// non-finite number or a non-unit quaternion (the error contract: no NaN in outputs). Input format:
 // fuzz_common.h.
 #include "fuzz_common.h"
 

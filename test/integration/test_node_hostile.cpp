@@ -1,4 +1,4 @@
-// Integration, hostile input and faults (issue 15): a far-future stamp does not kill the TF
+// Integration, hostile input and faults: a far-future stamp does not kill the TF
 // timer, frame ids are bounded, /tf_static holds only the latest trajectory's frames, dropped
 // ~waypoint messages are warned, ~waypoint's tf2 waits and a heavy request do not delay a light
 // request, and the node killed with SIGKILL is respawned and serves again.

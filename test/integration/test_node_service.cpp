@@ -159,7 +159,7 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
     { "unknown curve", [](auto& s) { s.request.curve = "catmull_rom"; }, "curve" },
     { "unknown geometry", [](auto& s) { s.request.geometry = "euler"; }, "geometry" },
     { "bad knots", [](auto& s) { s.request.curve = "bspline"; s.request.knots = { 0, 1 }; }, "knots" },
-    // Issue 15, row 2: refused up front by ~max_work_seconds instead of computing for seconds.
+    // Refused up front by ~max_work_seconds instead of computing for seconds.
     { "heavy bezier",
       [](auto& s) {
         s.request.curve = "bezier";

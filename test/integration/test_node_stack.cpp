@@ -1,4 +1,4 @@
-// Integration (issue 16): the node inside a robot stack, through a real roscore and tf2 listener.
+// Integration: the node inside a robot stack, through a real roscore and tf2 listener.
 // node_stack.test: two instances side by side through launch/se3_interpolation.launch (/arm1
 // holding its last pose, /arm2 looping), a third (/slow) with a long tf2 wait, and two taught
 // frames from tf2_ros static_transform_publisher. node_nodelet.test: the nodelet under a manager.

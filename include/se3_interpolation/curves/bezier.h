@@ -1,6 +1,6 @@
 // Geodesic polygons, the generalised de Casteljau algorithm and Bézier curves.
 //
-// Thesis (seed 000) Algorithm 4.1.2: with interp_λ(a, b) = a Exp(λ Log(a⁻¹b)) (eq. 4.1),
+// Richardson's thesis Algorithm 4.1.2: with interp_λ(a, b) = a Exp(λ Log(a⁻¹b)) (eq. 4.1),
 //   b_{i,0} = g_i,   b_{i,j} = interp_λ(b_{i,j−1}, b_{i+1,j−1})   (eq. 4.2),
 // and the Bézier curve is b_{0,n}(λ). Written once over the geometry G (geometry.h).
 // Properties (thesis Prop. 4.2.1–4.2.4, tested): left invariance, affine

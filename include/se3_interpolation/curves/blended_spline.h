@@ -80,7 +80,7 @@
 
 namespace se3_interpolation
 {
-/// The highest `continuity` offered: the SPEC asks for C^1 ... C^4 at least; the blending
+/// The highest `continuity` offered: the contract is C^1 ... C^4 at least; the blending
 /// polynomials' properties are tested for every n up to 8 (test_blended_spline).
 constexpr int kMaxBlendingContinuity = 8;
 /// The degree 2n + 1 of the blending polynomials at the highest continuity.

@@ -1,10 +1,10 @@
-// Corner blending for waypoint paths: `piecewise_geodesic` with `blend_radius` (issue 14).
+// Corner blending for waypoint paths: `piecewise_geodesic` with `blend_radius`.
 //
 // The polyline of geodesics x_{i−1} → x_i (piecewise_geodesic, bezier.h) stops
 // dead or jumps in velocity at every interior waypoint. With a blend radius r each interior
 // corner x_i is replaced by a blend that
 //   * leaves the incoming geodesic at the point a_i whose chord distance
-//     D(x, y) = sqrt(|p_x − p_y|² + (ρ θ(R_xᵀ R_y))²)   (ρ = rotation_scale, SPEC Timing)
+//     D(x, y) = sqrt(|p_x − p_y|² + (ρ θ(R_xᵀ R_y))²)   (ρ = rotation_scale, README Timing)
 //     from x_i is r_i = min(r, D(x_{i−1}, x_i)/2, D(x_i, x_{i+1})/2), and joins the outgoing
 //     geodesic at the point b_i at distance r_i;
 //   * starts at the time t_i − τ_in and ends at t_i + τ_out at which the polyline itself is

@@ -1,4 +1,4 @@
-// `hermite`: piecewise generalised cubics with Hermite data (Crouch–Kun–Silva Leite, seed 001,
+// `hermite`: piecewise generalised cubics with Hermite data (Crouch–Kun–Silva Leite,
 // §3 Case 1), and the rule that estimates the velocities when a request gives none.
 //
 // On each segment [t_i, t_{i+1}], h = t_{i+1} − t_i, the curve is the cubic Bézier curve of the

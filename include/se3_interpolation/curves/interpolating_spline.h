@@ -1,4 +1,4 @@
-// `interpolating`: C² cubic splines through every waypoint at its time (SPEC, Curves), in any
+// `interpolating`: C² cubic splines through every waypoint at its time (README, Curves), in any
 // geometry G of geometry.h (ScrewSe3, DoubleGeodesicSe3, So3, Euclidean, Sphere).
 //
 // Form. On each segment [t_i, t_{i+1}], h_i = t_{i+1} − t_i, the curve is the chart cubic (C1) of
@@ -29,7 +29,7 @@
 // R = 0 is twice the classical spline's slope system
 //   v_{i−1}/h_{i−1} + 2 (1/h_{i−1} + 1/h_i) v_i + v_{i+1}/h_i = 3 (Δ_{i−1}/h_{i−1}² + Δ_i/h_i²),
 // so the curve is the classical natural / clamped cubic spline — the same curve as the cubic
-// B-spline with knots at the waypoint times that the SPEC names. For the double geodesic the
+// B-spline with knots at the waypoint times. For the double geodesic the
 // translation rows are that classical system exactly. On a curved group the geodesic B-spline
 // would not do: the generalised de Boor algorithm (thesis Alg. 4.3.3) joins its pieces with equal
 // velocities but not equal accelerations (test GeodesicBSplineIsOnlyC1).
@@ -38,7 +38,7 @@
 // frames of the tangent spaces — continuation in the curvature from the linearised spline (the
 // classical spline equations carried between the tangent spaces), backtracking line search,
 // pseudo-arclength past turning points, banded LU: curves/interpolating_solver.h.
-// Before this construction and solve, 20–98 % of the requests of issue 12's table (time steps
+// Before this construction and solve, 20–98 % of the requests of the stress table (time steps
 // differing 5–100× between neighbours, 1.5–3 rad rotation steps) were refused; now none are
 // (test_interpolating_stress.cpp). A failure throws ConvergenceError and says which: the
 // iteration budget spent; the branch from the linearised spline ending at a singular Jacobian
@@ -47,7 +47,7 @@
 // below half a turn, never reach); or a non-finite value (non-finite or overflowing data). No
 // curve is returned that is not C².
 //
-// start (Algorithm 7.4.1 of seed 000, Crouch Case 2): given v_0 and the acceleration a_0 at x_0,
+// start (Algorithm 7.4.1 of Richardson's thesis, Crouch Case 2): given v_0 and the acceleration a_0 at x_0,
 // explicit, segment by segment: P_i(s) = v_i s + a_i s²/2 + c s³ with P_i(h) = L_i, i.e.
 //   w_i = 3 L_i/h − 2 v_i − h a_i/2,   P_i''(h) = (−6 L_i + 2 h v_i + 4 h w_i)/h²,
 // and (v_{i+1}, a_{i+1}) = (C3) of segment i, carried to the next one: C² by construction, no
@@ -150,7 +150,7 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
   return std::make_shared<const ChartCubicSpline<G>>(points, times, logs, std::move(start), std::move(end));
 }
 
-/// The `interpolating` curve for an end condition (SPEC, Curves). Tangents are in G's
+/// The `interpolating` curve for an end condition (README, Curves). Tangents are in G's
 /// representation at the first / last point (geometry/pose.h converts request twists); unused
 /// ones are ignored. Throws InvalidInputError (bad input, naming the field) or ConvergenceError.
 template <class G>

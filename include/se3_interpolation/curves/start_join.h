@@ -195,32 +195,4 @@ private:
   std::array<Tangent, 6> coefficients_;
 };
 
-/// The part of a curve from `from` on (a window for the timing of the path after a joint).
-template <class G>
-class CurveTail final : public Curve<G>
-{
-public:
-  using typename Curve<G>::Point;
-  using typename Curve<G>::Jet2Point;
-
-  CurveTail(std::shared_ptr<const Curve<G>> base, double from) : base_(std::move(base)), from_(from) {}
-  Point value(double t) const override { return base_->value(t); }
-  Jet2Point jet(const Jet<2>& t, Side side) const override { return base_->jet(t, side); }
-  double startTime() const override { return from_; }
-  double endTime() const override { return base_->endTime(); }
-  std::vector<double> breakpoints() const override
-  {
-    std::vector<double> b{ from_ };
-    for (double x : base_->breakpoints())
-      if (x > from_)
-        b.push_back(x);
-    return b;
-  }
-  std::vector<Point> controlPoints() const override { return base_->controlPoints(); }
-
-private:
-  std::shared_ptr<const Curve<G>> base_;
-  double from_;
-};
-
 }  // namespace se3_interpolation

@@ -1,4 +1,4 @@
-// Curves on the sphere S^m ⊂ R^{m+1}, m ≥ 2 (Crouch, Kun, Silva Leite, seed 001, §4).
+// Curves on the sphere S^m ⊂ R^{m+1}, m ≥ 2 (Crouch, Kun, Silva Leite, §4).
 //
 // Every construction of the library is generic over a geometry policy; S^m is the policy
 // `Sphere` below, with points unit vectors of R^{m+1} and tangent vectors the ambient
@@ -131,7 +131,7 @@ inline SphereKinematics sphereKinematicsFromJet(const VectorX<Jet<2>>& x)
 
 /// The circle through three points a, b, c of S^m: the sphere cut by their affine plane, the
 /// orbit of b under the one-parameter subgroup exp(φ J) of SO(m+1), J = v uᵀ − u vᵀ, that rotates
-/// the plane about the circle's centre (Pobegailo, seed 002 §7). Oriented so that the angle from
+/// the plane about the circle's centre (Pobegailo, §7). Oriented so that the angle from
 /// b grows towards c and reaches a last: angleAtFirst() = θ_a ∈ (−2π, 0) is a's angle, angleAtLast()
 /// = θ_c ∈ (0, 2π) c's, exp(θ_a J) b = a and exp(θ_c J) b = c. If two of the points coincide (a
 /// dwell, closer than kCoincident) the circle is the great circle through b and the other distinct

@@ -19,7 +19,7 @@
 //   Euclidean:          a = p̈;
 //   Sphere:             y are Riemannian normal coordinates (the Christoffel symbols vanish at
 //                       their centre), so a is the covariant acceleration c̈ − (c̈·c) c, the
-//                       D²/dt² of Crouch–Kun–Silva Leite (seed 001) Thm 2.9 and Case 2.
+//                       D²/dt² of Crouch–Kun–Silva Leite Thm 2.9 and Case 2.
 // Because y is a chart, two curves through x agree to second order iff their (v, a) agree:
 // matching (v, a) at a junction is C² continuity.
 //

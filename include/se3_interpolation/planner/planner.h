@@ -13,7 +13,7 @@
 // the work a request asks for is bounded before the curve is built (work_estimate.h), and no
 // figure or sample leaves as ∞ or NaN.
 //
-// The sphere (the CLI's `--space sphere`, SPEC "Command line") takes the same fields, with
+// The sphere (the CLI's `--space sphere`, README "Command line") takes the same fields, with
 //  - waypoints: unit vectors x_i ∈ R^{m+1}, m ≥ 2, all of one dimension;
 //  - start_velocity, end_velocity, start_acceleration, velocities: vectors of R^{m+1} tangent to
 //    the sphere at their waypoint (empty = zero), projected onto the tangent space (a normal
@@ -37,7 +37,7 @@ namespace se3_interpolation
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits);
 
-/// Waypoint times: the explicit ones, else spaced by the parameterisation (SPEC, Timing): chord
+/// Waypoint times: the explicit ones, else spaced by the parameterisation (README, Timing): chord
 /// steps are √(|Δp|² + (ρ Δθ)²) for poses and the great-circle angle on the sphere.
 template <class Space>
 std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& request);

@@ -12,7 +12,7 @@
 
 namespace se3_interpolation
 {
-/// A unit quaternion or sphere point is accepted with a norm in [0.99, 1.01] (SPEC, "Service":
+/// A unit quaternion or sphere point is accepted with a norm in [0.99, 1.01] (README, "Service":
 /// room for values printed with few digits) and normalised.
 constexpr double kMinUnitNorm = 0.99;
 constexpr double kMaxUnitNorm = 1.01;
@@ -71,7 +71,7 @@ void validateStampedSpan(double stamp, double start_time, double end_time, const
 
 // --- Frame ids ----------------------------------------------------------------------------
 /// tf2 frame ids are short names; longer ids are refused so that no message, log line or TF
-/// frame carries an unbounded string (issue 15, rows 3, 5, 17).
+/// frame carries an unbounded string.
 constexpr std::size_t kMaxFrameIdLength = 256;
 
 /// A tf2 frame id: non-empty, at most kMaxFrameIdLength characters, no leading '/', no white

@@ -1,4 +1,4 @@
-// Pobegailo's blending polynomials (seed 002 §3–4) and the C^n blended spline (§5–7) in every
+// Pobegailo's blending polynomials (Pobegailo §3–4) and the C^n blended spline (§5–7) in every
 // geometry of the core: boundary conditions, energy minimality, interpolation, C^n (and not
 // C^{n+1}) at the waypoints, locality, the classical Euclidean formula, and Pobegailo's own
 // circle splines on S² with his knot rule, each against an independent test-side computation.
@@ -518,7 +518,7 @@ TEST(Blended, EuclideanEqualsTheClassicalFormula)
 
 TEST(Blended, RotationsAboutOneAxisAndTranslationsAreClassical)
 {
-  // SPEC: for rotations about one fixed axis the curve is the classical one in the angle; for
+  // For rotations about one fixed axis the curve is the classical one in the angle; for
   // the double-geodesic metric the translation is the Euclidean blended spline of the positions.
   std::mt19937 rng(37);
   const Eigen::Vector3d axis = test::randomUnitVector<3>(rng);
@@ -777,7 +777,7 @@ TEST(Blended, PlannerBuildsTheBlendedCurveWithTheRequestedContinuity)
   EXPECT_EQ(dynamic_cast<const BlendedSpline<ScrewSe3>&>(*by_default).continuity(), 2);
 }
 
-// Issue 11: evaluating a blended spline (value and second-order jet) allocates nothing, at every
+// Evaluating a blended spline (value and second-order jet) allocates nothing, at every
 // continuity, in the SE(3) geometries (whose points are fixed-size); the blending polynomials'
 // powers live on the stack.
 TEST(Blended, EvaluationAllocatesNothing)

@@ -1,4 +1,4 @@
-// Corner blending of piecewise_geodesic (issue 14, corner_blend.h): the classical Euclidean
+// Corner blending of piecewise_geodesic (corner_blend.h): the classical Euclidean
 // constructions for pure translations and for rotations about one axis, the polyline outside
 // the blends (same poses at the same times), the ball of radius r_i, C² joins from one-sided
 // jets, clamping to half legs, finite differences, hard corners (collinear, reversal, tiny

@@ -1,5 +1,5 @@
 // curves/interpolating_solver.h: the solve allocates a fixed number of buffers, whatever the
-// number of waypoints and of Newton iterations (issue 17: no heap allocation per iteration or
+// number of waypoints and of Newton iterations (no heap allocation per iteration or
 // per waypoint for the SE(3) geometries, whose frames are the identity), and the double
 // geodesic's rotation-only transition derivatives agree with the generic 21-jet ones.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The stress table of issue 12, re-run: `interpolating` on random waypoints with uneven times
+// The stress table of uneven times and hard rotations: `interpolating` on random waypoints with uneven times
 // (neighbouring time steps differing by a ratio up to 100) and large rotation steps (up to 3 rad),
 // both SE(3) geometries, end conditions natural, clamped and start, N up to 200. Every request
 // must succeed, and every guarantee is checked on every curve against references computed here:

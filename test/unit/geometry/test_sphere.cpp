@@ -1,4 +1,4 @@
-// The sphere S^m, m ≥ 2 (Crouch, Kun, Silva Leite, seed 001, §4): geodesics (eqs. 17/18), de
+// The sphere S^m, m ≥ 2 (Crouch, Kun, Silva Leite, §4): geodesics (eqs. 17/18), de
 // Casteljau of any degree, Hermite Case 1 and start-data Case 2, the energy of eq. 32, the
 // S³ = unit quaternions comparison with SO(3) (§4.1), and the sphere planner of the CLI.
 #include <gtest/gtest.h>

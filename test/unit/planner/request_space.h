@@ -587,7 +587,6 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
         vmax = std::max(vmax, channel[0] == 'l' ? f[i].velocity.linear.norm() : f[i].velocity.angular.norm());
         amax = std::max(amax, channel[0] == 'l' ? f[i].acceleration.linear.norm() : f[i].acceleration.angular.norm());
       }
-      // Rounding of the pose differences: ε |x| / h and ε |x| / h².
       // Rounding of the pose differences: ε |x| / h and ε |x| / h², and of the times themselves
       // (ε |t| moves the pose by ε |t| |v|).
       const double eps = 4e-16 * magnitude_scale + 4e-16 * std::abs(t) * vmax;

@@ -1,4 +1,4 @@
-// Hostile input, round 2 (issue 15): times beyond what ROS can carry, sampling that drops an
+// Hostile input, round 2: times beyond what ROS can carry, sampling that drops an
 // end or repeats time_from_start, and unbounded or control-character frame ids. Each case is an
 // InvalidInputError naming the field, or a result checked against values written here.
 #include <gtest/gtest.h>
@@ -232,7 +232,7 @@ TEST(HostileSampling, DenormalSamplePeriodIsRefusedByValidation)
   EXPECT_NE(e.find("1 ns resolution"), std::string::npos) << e;
 }
 
-// The node validates its string parameters with the same parsers as the request (issue 16):
+// The node validates its string parameters with the same parsers as the request:
 // every accepted name round-trips through toString, and a near miss is refused naming the
 // field given (a parameter, not a request field) and listing the known names.
 TEST(HostileNames, ParsersNameTheGivenFieldAndListTheKnownNames)

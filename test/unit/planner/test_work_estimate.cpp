@@ -1,4 +1,4 @@
-// Bounded work per request (issue 15, deliverable 2): the estimate bounds the evaluations the
+// Bounded work per request: the estimate bounds the evaluations the
 // figures really make (counted through a wrapper curve), and expensive requests are refused
 // before computing, naming the field that makes them expensive.
 #include <gtest/gtest.h>
