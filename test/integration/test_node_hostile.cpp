@@ -168,9 +168,19 @@ TEST(NodeHostile, FrameIdsAreBounded)
   geometry_msgs::PoseArray bad;
   bad.header.frame_id = mb;
   bad.poses = { pose(0, 0, 0, 0), pose(1, 0, 0, 0) };
+  // The /rosout subscription connects in the background: one message is sent until its
+  // rejection is seen (the log is then connected), then five more must each be rejected.
+  const char* rejected = "~waypoints rejected: waypoints.header.frame_id";
+  ASSERT_TRUE(waitFor(
+      [&] {
+        waypoints.publish(bad);
+        return waitFor([&] { return log.count(rejected) >= 1; }, 1.0);
+      },
+      30.0));
+  const int before = log.count(rejected);
   for (int i = 0; i < 5; ++i)
     waypoints.publish(bad);
-  ASSERT_TRUE(waitFor([&] { return log.count("~waypoints rejected: waypoints.header.frame_id") >= 5; }, 20.0));
+  ASSERT_TRUE(waitFor([&] { return log.count(rejected) >= before + 5; }, 20.0));
   EXPECT_LT(log.longest(), 2000u);
 }
 
