@@ -136,6 +136,10 @@ public:
   using PointT = typename G::template Point<S>;
   using Point = PointT<double>;
 
+  /// @param points the polygon's vertices x_0 … x_{N−1} (N ≥ 2), passed at their times
+  /// @param times strictly increasing t_0 … t_{N−1}, one per point (s)
+  /// @param label the points' name in error messages (`label[i]`)
+  /// @throws NonUniqueGeodesicError if two consecutive points have no unique geodesic (antipodal)
   PiecewiseGeodesic(std::vector<Point> points, std::vector<double> times, const std::string& label = "waypoints")
     : points_(std::move(points)), times_(std::move(times)), logs_(polygonLogs<G>(points_, label))
   {
@@ -169,6 +173,11 @@ public:
   using PointT = typename G::template Point<S>;
   using Point = PointT<double>;
 
+  /// @param points the control points (N ≥ 2; the curve starts at the first and ends at the last)
+  /// @param t0 the start time (λ = 0)
+  /// @param t1 the end time (λ = 1), after t0
+  /// @param label the points' name in error messages (`label[i]`)
+  /// @throws NonUniqueGeodesicError if two consecutive control points are antipodal
   BezierCurve(std::vector<Point> points, double t0, double t1, const std::string& label = "waypoints")
     : points_(std::move(points)), t0_(t0), t1_(t1), logs_(polygonLogs<G>(points_, label))
   {

@@ -1,7 +1,7 @@
 // Pobegailo's blending polynomials and C^n blended splines in any geometry of the core.
 //
-// Seed 002 (Pobegailo, "Construction of spline curves on smooth manifolds by action of Lie
-// groups"), with the OCR/typesetting errors corrected as noted below.
+// After Pobegailo, "Construction of spline curves on smooth manifolds by action of Lie groups",
+// with the errors of the printed text corrected as noted below.
 //
 // 1. Blending polynomials (§3, §4). For n ≥ 1, Bézier polynomials of degree 2n + 1 with the
 //    control values c_j (j = 0 … 2n + 1), b_{d,j}(u) = C(d, j) (1 − u)^{d−j} u^j:
@@ -57,7 +57,7 @@
 // Locality: waypoint x_j enters C_{j−2}, C_{j−1}, C_j only, so moving it changes at most the four
 // segments in [t_{j−2}, t_{j+2}] (fewer at the ends); the rest of the curve is bit-identical.
 //
-// Corrections to the seed text (OCR or typesetting):
+// Corrections to the paper's printed text (OCR or typesetting):
 //  - §4: the printed w_{2,2}(u) = (1 − u)²u³ + 4(1 − u)u⁴ has w'(0) = 0; eq. 4.1 gives
 //    w_{2,2}(u) = (1 − u)⁴u + 4(1 − u)³u². The derivation after eq. 4.3 is at u = 0, not u = 1.
 //  - §5: "g_1(w_{2,n}(u)) and g_2(w_{1,n}(u))" should read g_1(w_{1,n}(u)) and g_2(w_{2,n}(u)), and
@@ -306,9 +306,14 @@ public:
   using PointT = typename G::template Point<S>;
   using Point = PointT<double>;
 
-  /// Throws InvalidInputError for fewer than 2 points, mismatched or non-increasing times or
-  /// continuity < 1, and NonUniqueGeodesicError naming `label[i]` and `label[i+1]` when two
-  /// consecutive points are antipodal.
+  /// @param points the waypoints x_0 … x_{N−1} (N ≥ 2), passed at their times
+  /// @param times strictly increasing t_0 … t_{N−1} (s)
+  /// @param continuity n of C^n, 1 … 8 (the request's `continuity`)
+  /// @param label the points' name in error messages (`label[i]`)
+  /// @throws InvalidInputError for fewer than 2 points, mismatched or non-increasing times or
+  ///         continuity < 1
+  /// @throws NonUniqueGeodesicError naming `label[i]` and `label[i+1]` when two consecutive points
+  ///         are antipodal
   BlendedSpline(std::vector<Point> points, std::vector<double> times, int continuity,
                 const std::string& label = "waypoints")
     : points_(std::move(points))

@@ -14,7 +14,7 @@
 // Knot insertion (Boehm; thesis ch. 6): inserting u* in [u_k, u_{k+1}) replaces
 // d_{k−m+1} … d_k by Q_i = interp_{α_i}(d_{i−1}, d_i), α_i = (u* − u_i)/(u_{i+m} − u_i).
 // In R^n the curve is unchanged; on a curved group it moves slightly (the thesis'
-// Menelaus question; the README gives measured figures).
+// Menelaus question; docs/curves.md gives measured figures).
 #pragma once
 
 #include <cmath>
@@ -142,6 +142,13 @@ public:
   using PointT = typename G::template Point<S>;
   using Point = PointT<double>;
 
+  /// @param control the control points d_0 … d_{N−1}
+  /// @param degree m, 1 ≤ m ≤ N − 1
+  /// @param knots N + m + 1 non-decreasing knots (e.g. clampedUniformKnots()); the curve lives on
+  ///        [knots[m], knots[N]]
+  /// @param label the control points' name in error messages (`label[i]`)
+  /// @throws InvalidInputError naming `knots` if the knot vector is invalid (see validateKnots())
+  /// @throws NonUniqueGeodesicError if two consecutive control points are antipodal
   BSplineCurve(std::vector<Point> control, int degree, std::vector<double> knots,
                const std::string& label = "waypoints")
     : control_(std::move(control)), degree_(degree), knots_(std::move(knots)), logs_(polygonLogs<G>(control_, label))

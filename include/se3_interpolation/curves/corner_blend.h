@@ -4,7 +4,7 @@
 // dead or jumps in velocity at every interior waypoint. With a blend radius r each interior
 // corner x_i is replaced by a blend that
 //   * leaves the incoming geodesic at the point a_i whose chord distance
-//     D(x, y) = sqrt(|p_x − p_y|² + (ρ θ(R_xᵀ R_y))²)   (ρ = rotation_scale, README Timing)
+//     D(x, y) = sqrt(|p_x − p_y|² + (ρ θ(R_xᵀ R_y))²)   (ρ = rotation_scale, docs/timing.md)
 //     from x_i is r_i = min(r, D(x_{i−1}, x_i)/2, D(x_i, x_{i+1})/2), and joins the outgoing
 //     geodesic at the point b_i at distance r_i;
 //   * starts at the time t_i − τ_in and ends at t_i + τ_out at which the polyline itself is
@@ -138,6 +138,12 @@ public:
   using Point = PointT<double>;
   using Tangent = typename G::template Tangent<double>;
 
+  /// @param points the polyline's vertices x_0 … x_{N−1} (N ≥ 2)
+  /// @param times strictly increasing t_0 … t_{N−1}, the polyline's times (s)
+  /// @param blend_radius r ≥ 0 (m, chord distance); each corner's own radius is r_i (see above)
+  /// @param rotation_scale ρ (m per rad) of the chord distance
+  /// @param label the points' name in error messages (`label[i]`)
+  /// @throws NonUniqueGeodesicError if two consecutive points are antipodal
   CornerBlendedGeodesic(std::vector<Point> points, std::vector<double> times, double blend_radius,
                         double rotation_scale, const std::string& label = "waypoints")
     : points_(std::move(points)), times_(std::move(times)), logs_(polygonLogs<G>(points_, label))

@@ -110,7 +110,13 @@ public:
   using Point = PointT<double>;
   using Tangent = typename G::template Tangent<double>;
 
-  /// `tangent_label` names the tangents in error messages (e.g. "velocities" → "velocities[3]").
+  /// @param points the waypoints x_0 … x_{N−1} (N ≥ 2), passed at their times
+  /// @param times strictly increasing t_0 … t_{N−1} (s)
+  /// @param tangents the velocity v_i at each waypoint, in G's tangent representation at x_i
+  /// @param tangent_label names the tangents in error messages (e.g. "velocities" → "velocities[3]")
+  /// @throws InvalidInputError for mismatched sizes or dimensions, non-finite or non-tangent
+  ///         velocities, or a velocity too large for its segment
+  /// @throws NonUniqueGeodesicError if a segment has no unique geodesic
   HermiteSpline(std::vector<Point> points, std::vector<double> times, std::vector<Tangent> tangents,
                 const std::string& tangent_label = "velocities")
     : points_(std::move(points)), times_(std::move(times)), tangents_(std::move(tangents))

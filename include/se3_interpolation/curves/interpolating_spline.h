@@ -1,4 +1,4 @@
-// `interpolating`: C² cubic splines through every waypoint at its time (README, Curves), in any
+// `interpolating`: C² cubic splines through every waypoint at its time (docs/curves.md), in any
 // geometry G of geometry.h (ScrewSe3, DoubleGeodesicSe3, So3, Euclidean, Sphere).
 //
 // Form. On each segment [t_i, t_{i+1}], h_i = t_{i+1} − t_i, the curve is the chart cubic (C1) of
@@ -150,9 +150,21 @@ std::shared_ptr<const ChartCubicSpline<G>> solveForwardSpline(
   return std::make_shared<const ChartCubicSpline<G>>(points, times, logs, std::move(start), std::move(end));
 }
 
-/// The `interpolating` curve for an end condition (README, Curves). Tangents are in G's
-/// representation at the first / last point (geometry/pose.h converts request twists); unused
-/// ones are ignored. Throws InvalidInputError (bad input, naming the field) or ConvergenceError.
+/// The `interpolating` curve for an end condition (docs/curves.md, "Splines through the
+/// waypoints"). Tangents are in G's representation at the first / last point (geometry/pose.h
+/// converts request twists); unused ones are ignored.
+/// @param points the waypoints (N ≥ 2), passed at their times
+/// @param times strictly increasing, one per waypoint (s)
+/// @param condition natural, clamped (start_velocity, end_velocity) or start (start_velocity,
+///        start_acceleration)
+/// @param start_velocity the velocity at points.front() (clamped, start)
+/// @param end_velocity the velocity at points.back() (clamped)
+/// @param start_acceleration the acceleration at points.front() (start)
+/// @param options the C² solve's iteration budget and tolerance
+/// @return the C² spline through every waypoint at its time
+/// @throws InvalidInputError for bad input, naming the field
+/// @throws ConvergenceError if the C² solve cannot continue to the data, or the forward (start)
+///         construction leaves double range
 template <class G>
 std::shared_ptr<const Curve<G>> makeInterpolatingSpline(const std::vector<typename G::template Point<double>>& points,
                                                         const std::vector<double>& times, EndCondition condition,

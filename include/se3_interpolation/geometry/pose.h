@@ -3,9 +3,9 @@
 // the conversions between twists and each geometry's tangent representation.
 //
 // Frames and units. A pose is world_T_body = (R, p): R rotates body coordinates into the
-// waypoints' frame, p (m) is the body origin in that frame. Requests (README "Sampling and
-// outputs") give a velocity as the spatial twist (ṗ, ω) with Ṙ = [ω]× R (m/s, rad/s), and an
-// acceleration as (p̈, ω̇) (m/s², rad/s²), all in the waypoints' frame.
+// waypoints' frame, p (m) is the body origin in that frame. Requests (README, "Conventions
+// (frames and units)") give a velocity as the spatial twist (ṗ, ω) with Ṙ = [ω]× R (m/s,
+// rad/s), and an acceleration as (p̈, ω̇) (m/s², rad/s²), all in the waypoints' frame.
 //
 // Kinematics from the second-order jet of a pose (q(t), p(t)) at t:
 //   linear velocity  ṗ,            linear acceleration  p̈,

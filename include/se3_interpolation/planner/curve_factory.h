@@ -1,4 +1,4 @@
-// Builds the curve a validated request asks for, in geometry G (README, Curves): the one switch
+// Builds the curve a validated request asks for, in geometry G (docs/curves.md): the one switch
 // from the request's `curve` to the constructions of curves/, for every space.
 #pragma once
 

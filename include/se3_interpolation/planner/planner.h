@@ -13,7 +13,7 @@
 // the work a request asks for is bounded before the curve is built (work_estimate.h), and no
 // figure or sample leaves as ∞ or NaN.
 //
-// The sphere (the CLI's `--space sphere`, README "Command line") takes the same fields, with
+// The sphere (the CLI's `--space sphere`, docs/command_line.md) takes the same fields, with
 //  - waypoints: unit vectors x_i ∈ R^{m+1}, m ≥ 2, all of one dimension;
 //  - start_velocity, end_velocity, start_acceleration, velocities: vectors of R^{m+1} tangent to
 //    the sphere at their waypoint (empty = zero), projected onto the tangent space (a normal
@@ -33,12 +33,23 @@
 namespace se3_interpolation
 {
 /// Validates, builds the curve, applies the bounds and samples it (Space: PoseSpace or
-/// SphereSpace). Throws InterpolationError subclasses naming the field and index.
+/// SphereSpace): the whole of a `~generate` call or a CLI run, without ROS.
+/// @param request the request, field for field as in srv/GenerateTrajectory.srv (empty strings and
+///        zeros select the defaults of RequestDefaults)
+/// @param limits the resource bounds (the node's ~max_samples, ~max_waypoints, ~max_work_seconds)
+/// @return the samples, the waypoints' final times, the figures and the timed curve
+/// @throws InvalidInputError for a bad field, naming the field and index
+/// @throws NonUniqueGeodesicError for two points to be joined that are half a turn apart
+/// @throws ConvergenceError if a C² solve cannot continue to the data
+/// @throws LimitExceededError if the request would take longer than limits.max_work_seconds, or
+///         ran past its deadline
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits);
 
-/// Waypoint times: the explicit ones, else spaced by the parameterisation (README, Timing): chord
+/// Waypoint times: the explicit ones, else spaced by the parameterisation (docs/timing.md): chord
 /// steps are √(|Δp|² + (ρ Δθ)²) for poses and the great-circle angle on the sphere.
+/// @param request a validated request (validateRequest())
+/// @return one time per waypoint, strictly increasing (s)
 template <class Space>
 std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& request);
 

@@ -71,7 +71,7 @@ struct ResponseOutputs
 };
 
 /// The defaults of the request's empty or zero fields: the one place the planner, the node's
-/// parameters and the CLI read them from (README "Request fields").
+/// parameters and the CLI read them from (docs/curves.md, docs/timing.md).
 struct RequestDefaults
 {
   static constexpr CurveType kCurve = CurveType::kInterpolating;
@@ -133,8 +133,8 @@ struct SphereSample
   Eigen::VectorXd acceleration;  ///< D²x/dt², tangent at point
 };
 
-/// The state a new trajectory starts from when it replaces a moving one (replanning, README
-/// "Replanning"): the pose, velocity and acceleration of the old motion at the switch time, which
+/// The state a new trajectory starts from when it replaces a moving one (replanning,
+/// docs/timing.md "Start states and replanning"): the pose, velocity and acceleration of the old motion at the switch time, which
 /// is time 0 of the new request (its `times` count from it). The trajectory then starts exactly in
 /// this state (C² switch) and goes through the requested waypoints: `interpolating` with
 /// end_condition `start` takes it as its start data (the start pose becomes its first point);

@@ -12,8 +12,8 @@
 
 namespace se3_interpolation
 {
-/// A unit quaternion or sphere point is accepted with a norm in [0.99, 1.01] (README, "Service":
-/// room for values printed with few digits) and normalised.
+/// A unit quaternion or sphere point is accepted with a norm in [0.99, 1.01] (the README's
+/// conventions: room for values printed with few digits) and normalised.
 constexpr double kMinUnitNorm = 0.99;
 constexpr double kMaxUnitNorm = 1.01;
 /// A sphere tangent may have a normal component up to 1 % of its length (rounded input); more
@@ -31,9 +31,13 @@ constexpr double kMaxNormalFraction = 0.01;
 /// acceleration (the fuzz_curves finding: a hermite velocity of 1.8e308 m/s).
 constexpr double kMaxMagnitude = 1e100;
 
-/// Checks every field of a request in space Space (PoseSpace or SphereSpace); throws
-/// InvalidInputError / NonUniqueGeodesicError / LimitExceededError naming the field and index.
-/// Nothing is computed for a rejected request.
+/// Checks every field of a request in space Space (PoseSpace or SphereSpace). Nothing is computed
+/// for a rejected request.
+/// @param request the raw request
+/// @param limits the resource bounds the request must keep
+/// @return the request with its names parsed, defaults resolved and points normalised
+/// @throws InvalidInputError, NonUniqueGeodesicError or LimitExceededError naming the field and
+///         index
 template <class Space>
 BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& request, const PlannerLimits& limits);
 

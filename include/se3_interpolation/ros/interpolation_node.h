@@ -125,7 +125,7 @@ private:
   void tfTimerCallback(const ros::TimerEvent& event);
   void broadcastMovingFrame();
 
-  // Replanning from the current motion (README "Replanning").
+  // Replanning from the current motion (docs/timing.md, "Start states and replanning").
   /// The playback the moving frame shows at `time`: the latest, or the one it replaces while the
   /// latest has not started yet.
   std::shared_ptr<const Playback> playbackAt(const ros::Time& time) const;

@@ -19,7 +19,7 @@ struct NodeParameters
   std::string child_frame_id = "interpolated";  ///< moving TF frame and trajectory joint name
   double tf_rate = 50.0;                     ///< Hz, moving frame broadcast rate
   bool loop = false;                         ///< replay the trajectory forever (false: hold the last pose)
-  int max_tf_samples = 20;                   ///< static frames <child_frame_id>_<k> on /tf_static
+  int max_tf_samples = 20;                   ///< static frames `<child_frame_id>_<k>` on /tf_static
   bool auto_generate = true;                 ///< regenerate when the waypoint buffer changes
   bool publish_tf = true;                    ///< broadcast the moving and static frames
   int marker_axes = 20;                      ///< sampled axes drawn in ~markers
