@@ -123,7 +123,7 @@ inline std::size_t findInterval(const std::vector<double>& b, double t, Side sid
 }
 
 /// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
-/// so velocities scale by 1/k and accelerations by 1/k² (README, Timing).
+/// so velocities scale by 1/k and accelerations by 1/k² (docs/timing.md).
 template <class G>
 class TimeScaledCurve final : public Curve<G>
 {
