@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, runs every test (unit, CLI, rostest integration, the rviz
-# screenshot, the README's command blocks, sanitizers) and prints `N passed, N failed`. Exits
-# non-zero if any test fails. Idempotent.
+# screenshot, the README's command blocks, catkin_lint and the install space, sanitizers) and
+# prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 se3_build
@@ -52,6 +52,9 @@ run_counted_stage() {
 }
 # Every ```bash block of README.md, run verbatim in order (scripts/check_readme.sh): each block is a test.
 run_counted_stage readme "$SE3_ROOT/scripts/check_readme.sh" "$SE3_WS/readme_summary.log"
+# catkin_lint --strict, then the install space (scripts/check_install.sh): `catkin_make install` into
+# a scratch prefix, and the demo launch and the CLI run from it alone; each check is a test.
+run_counted_stage install "$SE3_ROOT/scripts/check_install.sh" "$SE3_WS/install_summary.log"
 # The core and unit tests under ASan + UBSan and the libFuzzer targets (scripts/run_sanitizers.sh):
 # each sanitized test case and each fuzz replay and exploration count as tests here too.
 run_counted_stage sanitizers "$SE3_ROOT/scripts/run_sanitizers.sh" "$SE3_WS/sanitizers.log"
