@@ -111,6 +111,28 @@ trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, 
   return traj;
 }
 
+GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out)
+{
+  out.duration = result.duration;
+  out.length = result.figures.length;
+  out.rotation_length = result.figures.rotation_length;
+  out.max_linear_speed = result.figures.max_linear_speed;
+  out.max_angular_speed = result.figures.max_angular_speed;
+  out.energy = result.figures.energy;
+  return out;
+}
+
+GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, GenerationStatus& out)
+{
+  out.duration = res.duration;
+  out.length = res.length;
+  out.rotation_length = res.rotation_length;
+  out.max_linear_speed = res.max_linear_speed;
+  out.max_angular_speed = res.max_angular_speed;
+  out.energy = res.energy;
+  return out;
+}
+
 }  // namespace se3_interpolation
 
 namespace se3_interpolation

@@ -250,12 +250,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     ROS_DEBUG_NAMED("timing", "generate: %zu samples, planner %.1f ms, response messages %.1f ms",
                     result.samples.size(), 1e3 * std::chrono::duration<double>(filling - planning).count(),
                     1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - filling).count());
-    res.duration = result.duration;
-    res.length = result.figures.length;
-    res.rotation_length = result.figures.rotation_length;
-    res.max_linear_speed = result.figures.max_linear_speed;
-    res.max_angular_speed = result.figures.max_angular_speed;
-    res.energy = result.figures.energy;
+    copyFigures(result, res);
     res.success = true;
     std::ostringstream msg;
     msg << result.samples.size() << " samples over " << result.duration << " s";
@@ -429,12 +424,7 @@ void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, co
         bounded(req.waypoints.header.frame_id.empty() ? params_.frame_id : req.waypoints.header.frame_id);
     status.waypoint_count = static_cast<std::uint32_t>(req.waypoints.poses.size() + req.waypoint_frames.size());
   }
-  status.duration = res.duration;
-  status.length = res.length;
-  status.rotation_length = res.rotation_length;
-  status.max_linear_speed = res.max_linear_speed;
-  status.max_angular_speed = res.max_angular_speed;
-  status.energy = res.energy;
+  copyFigures(res, status);
   status.dropped_waypoint_messages = droppedWaypointMessages();
   status.dropped_waypoints_messages = droppedWaypointsMessages();
   status_pub_.publish(status);

@@ -9,6 +9,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "se3_interpolation/GenerateTrajectory.h"
+#include "se3_interpolation/GenerationStatus.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -38,6 +39,12 @@ nav_msgs::Path& toMsg(const TrajectoryResult& result, const std_msgs::Header& he
 trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, const std_msgs::Header& header,
                                                 const std::string& joint_name,
                                                 trajectory_msgs::MultiDOFJointTrajectory& out);
+
+/// The response's figures from the result's: duration, length, rotation_length, max_linear_speed,
+/// max_angular_speed, energy (success, message and the sample arrays are left as they are).
+GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out);
+/// The status's figures from a response's (the same six fields, "as in GenerateTrajectory.srv").
+GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, GenerationStatus& out);
 
 /// rviz markers: waypoints (spheres), the control polygon, the sampled path, the blend zones
 /// (a translucent sphere of radius r_i at each blended corner, ns `blend_zones`) and
