@@ -168,12 +168,18 @@ bool isZero(const Twist& v)
 }
 
 /// The durations of the joining segment tried under time_optimal (applyTimingFromStart): h0 · 2^k
-/// for k from kJoinShortest to kJoinLongest.
+/// for k from kJoinShortest to kJoinLongest. A start faster than the bounds needs a long joining
+/// segment: its acceleration at its own timing falls as v/h, and it is within the bounds only
+/// once h is a few times v / a (about 2^6 h0 for a start at three times the velocity bound).
 constexpr int kJoinShortest = -2;
-constexpr int kJoinLongest = 4;
+constexpr int kJoinLongest = 12;
 /// The most the curve's clock after the joint is scaled by (either way) to enter it at the start
 /// state's speed.
 constexpr double kMaxEntryScale = 1e3;
+/// The curve after the joint is entered with at most 1 / kEntryHeadroom of its acceleration
+/// bounds when the clock that matches the start's speed would enter it faster
+/// (applyTimingFromStart): room for the joining segment's own bend.
+constexpr double kEntryHeadroom = 2.0;
 /// Samples of the joining segment at which its acceleration is compared with the bounds.
 constexpr int kJoinSamples = 32;
 
@@ -236,7 +242,6 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     double h = t1;
     double scale = 1.0;  // of the curve's clock after the joint (time-optimal timing retimes it)
     std::shared_ptr<const Curve<G>> path = through;
-    std::shared_ptr<const Curve<G>> rest = through;
     if (!native)
     {
       const Kinematics entry = kinematicsAt(*through, t1);
@@ -244,34 +249,52 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
                                      std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
       // The curve after the joint is entered at the start's speed: its clock is scaled so (its
       // timing is the time-optimal one anyway), so that the joining segment blends the two
-      // directions instead of hooking into a much faster or slower curve.
+      // directions instead of hooking into a much faster or slower curve. The scale also scales
+      // the entry acceleration (by 1 / scale²), which the joining segment ends with: a start
+      // faster than the curve (a start beyond the velocity bounds, say) would enter it with its
+      // acceleration multiplied, and no duration of the joining segment could keep within the
+      // bounds. So a second scale is tried, the smallest at which the entry acceleration is at
+      // most half its bounds.
       const double start_speed = weightedNorm(s.velocity, rho);
       const double entry_speed = weightedNorm(entry.velocity, rho);
+      double matching = 1.0;
       if (start_speed > 0.0 && entry_speed > 0.0)
-        scale = std::min(kMaxEntryScale, std::max(1.0 / kMaxEntryScale, entry_speed / start_speed));
-      rest = std::make_shared<TimeScaledCurve<G>>(through, scale);
-      const double speeds = start_speed + entry_speed / scale;
-      if (chord > 0.0 && speeds > 0.0)
-        h = 2.0 * chord / speeds;
-      if (!(h > 0.0 && std::isfinite(h)))
-        h = t1;
+        matching = std::min(kMaxEntryScale, std::max(1.0 / kMaxEntryScale, entry_speed / start_speed));
+      double entry_ratio = 0.0;  // of the entry acceleration to its bound, the larger channel's
+      if (r.max_linear_acceleration > 0.0)
+        entry_ratio = std::max(entry_ratio, entry.acceleration.linear.norm() / r.max_linear_acceleration);
+      if (r.max_angular_acceleration > 0.0)
+        entry_ratio = std::max(entry_ratio, entry.acceleration.angular.norm() / r.max_angular_acceleration);
+      const double calm = std::min(kMaxEntryScale, std::max(matching, std::sqrt(kEntryHeadroom * entry_ratio)));
       // The joining segment's shape depends on its duration: too short, it bends sharply out of
       // the start velocity; too long, the start velocity and acceleration carry it far away
       // (its acceleration grows again with the terms in h² of A). Of durations h0 · 2^k
-      // (k = −2 … 4), the one whose own timing comes closest to the acceleration bounds, the
-      // shortest among those within them.
+      // (k = −2 … 12), the shortest whose own timing is within the acceleration bounds, else the
+      // one that comes closest. Within them at its own timing (path speed 1), every path speed up
+      // to 1 is feasible on it, so the recovery from a start faster than the bounds can brake
+      // within the acceleration bounds.
       double best_excess = std::numeric_limits<double>::infinity();
-      const double h0 = h;
-      for (int k = kJoinShortest; k <= kJoinLongest; ++k)
+      const double scales[] = { matching, calm };
+      for (int attempt = 0; attempt < 2 && best_excess > 1.0; ++attempt)
       {
-        const double candidate = std::ldexp(h0, k);
-        auto joined = join(rest, candidate, scale * t1);
-        const double excess = std::max(1.0, accelerationExcess(r, *joined, candidate));
-        if (excess < best_excess)
+        const double candidate_scale = scales[attempt];
+        if (attempt > 0 && candidate_scale == matching)
+          break;
+        const auto scaled = std::make_shared<TimeScaledCurve<G>>(through, candidate_scale);
+        const double guess = 2.0 * chord / (start_speed + entry_speed / candidate_scale);
+        const double h0 = guess > 0.0 && std::isfinite(guess) ? guess : t1;
+        for (int k = kJoinShortest; k <= kJoinLongest && best_excess > 1.0; ++k)
         {
-          best_excess = excess;
-          h = candidate;
-          path = joined;
+          const double candidate = std::ldexp(h0, k);
+          auto joined = join(scaled, candidate, candidate_scale * t1);
+          const double excess = std::max(1.0, accelerationExcess(r, *joined, candidate));
+          if (excess < best_excess)
+          {
+            best_excess = excess;
+            h = candidate;
+            scale = candidate_scale;
+            path = joined;
+          }
         }
       }
     }

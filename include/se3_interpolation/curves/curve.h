@@ -122,6 +122,43 @@ inline std::size_t findInterval(const std::vector<double>& b, double t, Side sid
   return std::min(static_cast<std::size_t>(i), last);
 }
 
+/// Relative distance within which a time mapped through a wrapper's change of clock (an affine
+/// map t ↦ t0 + (t − t0)/k or t ↦ t − offset) counts as the base curve's breakpoint: the maps round
+/// by a few ulps of the larger of t and the shift, so the image of a breakpoint maps back beside
+/// it; 1e-12 is thousands of ulps above that and far below the 1 ns the planner resolves.
+constexpr double kBreakpointSnapRelative = 1e-12;
+
+/// The breakpoints of a base curve, for a wrapper that evaluates it on another clock: a time that
+/// maps within rounding of a base breakpoint is moved onto it, so that a one-sided jet at the
+/// wrapper's own breakpoint (the image of the base's) takes the side it asks for and not the
+/// neighbouring piece.
+class BreakpointSnap
+{
+public:
+  BreakpointSnap() = default;
+  explicit BreakpointSnap(std::vector<double> breakpoints) : b_(std::move(breakpoints)) {}
+
+  /// The correction that moves u onto the nearest base breakpoint within rounding, or 0.
+  double correction(double u) const
+  {
+    const auto it = std::lower_bound(b_.begin(), b_.end(), u);
+    for (auto c : { it, it == b_.begin() ? b_.end() : it - 1 })
+      if (c != b_.end() && std::abs(*c - u) <= kBreakpointSnapRelative * std::max(1.0, std::abs(*c)))
+        return *c - u;
+    return 0.0;
+  }
+  /// u (a double or a jet of time) moved onto a base breakpoint within rounding.
+  template <class S>
+  S snap(const S& u) const
+  {
+    const double d = correction(valueOf(u));
+    return d == 0.0 ? u : S(u + S(d));
+  }
+
+private:
+  std::vector<double> b_;
+};
+
 /// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
 /// so velocities scale by 1/k and accelerations by 1/k² (docs/timing.md).
 template <class G>
@@ -132,14 +169,14 @@ public:
   using typename Curve<G>::Jet2Point;
 
   TimeScaledCurve(std::shared_ptr<const Curve<G>> base, double scale)
-    : base_(std::move(base)), t0_(base_->startTime()), scale_(scale)
+    : base_(std::move(base)), t0_(base_->startTime()), scale_(scale), snap_(base_->breakpoints())
   {
   }
 
   Point value(double t) const override { return base_->value(baseTime(t)); }
   Jet2Point jet(const Jet<2>& t, Side side) const override
   {
-    return base_->jet(Jet<2>(t0_) + (t - Jet<2>(t0_)) / Jet<2>(scale_), side);
+    return base_->jet(snap_.snap(Jet<2>(t0_) + (t - Jet<2>(t0_)) / Jet<2>(scale_)), side);
   }
   double startTime() const override { return t0_; }
   double endTime() const override { return t0_ + (base_->endTime() - t0_) * scale_; }
@@ -158,6 +195,7 @@ private:
   std::shared_ptr<const Curve<G>> base_;
   double t0_;
   double scale_;
+  BreakpointSnap snap_;
 };
 
 /// (T1), (T2) of a curve at time t (one-sided at a breakpoint).

@@ -105,7 +105,12 @@ public:
 
   StartJoinedCurve(const Point& start, const PointT<Jet<2>>& start_jet, double start_time, double duration,
                    std::shared_ptr<const Curve<G>> rest, double rest_from)
-    : start_(start), t0_(start_time), h_(duration), rest_(std::move(rest)), rest_from_(rest_from)
+    : start_(start)
+    , t0_(start_time)
+    , h_(duration)
+    , rest_(std::move(rest))
+    , rest_from_(rest_from)
+    , rest_snap_(rest_->breakpoints())
   {
     if (!(h_ > 0.0) || !std::isfinite(h_))
       throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
@@ -147,7 +152,7 @@ public:
     const double joint = t0_ + h_;
     if (tv > joint || (tv == joint && side == Side::kRight))
     {
-      S rest_time = t - S(offset());
+      S rest_time = rest_snap_.snap(S(t - S(offset())));
       // The end maps onto the rest's end exactly (t0 + h + (end - from) - offset may round past it,
       // and the curve would be extrapolated there): the last sample is the last waypoint exactly.
       if (tv == endTime())
@@ -192,6 +197,7 @@ private:
   double h_;
   std::shared_ptr<const Curve<G>> rest_;
   double rest_from_;
+  BreakpointSnap rest_snap_;
   std::array<Tangent, 6> coefficients_;
 };
 

@@ -279,10 +279,15 @@ public:
   {
     const Jet<2> s = profile_.pathParameter(t, side);
     const std::size_t i = findInterval(profile_.t, t.value(), side);
+    // (Within rounding of the interval's ends, s(t) computed from the interval's polynomial may
+    // land on either side of the path's breakpoint there.)
     Side path_side = side;
-    if (s.value() >= profile_.s[i + 1])
+    const auto near = [](double a, double b) {
+      return std::abs(a - b) <= kBreakpointSnapRelative * std::max(1.0, std::abs(b));
+    };
+    if (s.value() >= profile_.s[i + 1] || near(s.value(), profile_.s[i + 1]))
       path_side = Side::kLeft;
-    else if (s.value() <= profile_.s[i])
+    else if (s.value() <= profile_.s[i] || near(s.value(), profile_.s[i]))
       path_side = Side::kRight;
     return path_->jet(s, path_side);
   }

@@ -1,11 +1,13 @@
 // curves/curve.h: the times rule (its messages name the field and index), findInterval's
 // one-sided intervals at breakpoints, and TimeScaledCurve: c(t) = base(t0 + (t − t0)/k) has the
-// base's velocity / k and acceleration / k² (checked in R^2, the classical case, by hand).
+// base's velocity / k and acceleration / k² (checked in R^2, the classical case, by hand), and
+// takes the requested side at the images of the base's breakpoints.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -85,4 +87,41 @@ TEST(Curve, TimeScaledCurveDividesVelocityByKAndAccelerationByKSquared)
   const std::vector<double> b = scaled.breakpoints();
   ASSERT_EQ(b.size(), 2u);
   EXPECT_DOUBLE_EQ(b.back(), t0 + k * T);
+}
+
+// A scaled clock maps the image b·k of a base breakpoint b back to (b·k)/k, which rounds to
+// either side of b: the one-sided jets at the scaled curve's own breakpoints must still be the
+// base's one-sided jets there (velocity / k), not the neighbouring piece's. (A time-optimal motion
+// from a moving start stops at such corners; the wrong side gave 3.4 times its acceleration bound.)
+TEST(Curve, TimeScaledCurveTakesTheRequestedSideAtItsBreakpoints)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> step(0.01, 3.0), scale(0.05, 20.0);
+  const std::vector<Eigen::VectorXd> points{ Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(1.0, 0.0),
+                                             Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(3.0, 1.0),
+                                             Eigen::Vector2d(3.0, -2.0) };
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    std::vector<double> times{ step(rng) };
+    for (std::size_t i = 1; i < points.size(); ++i)
+      times.push_back(times.back() + step(rng));
+    const auto base = std::make_shared<const PiecewiseGeodesic<Euclidean>>(points, times);
+    const double k = scale(rng);
+    const TimeScaledCurve<Euclidean> scaled(base, k);
+    const std::vector<double> b = scaled.breakpoints();
+    ASSERT_EQ(b.size(), times.size());
+    for (std::size_t i = 1; i + 1 < times.size(); ++i)
+      for (Side side : { Side::kLeft, Side::kRight })
+      {
+        // Piece i−1 ends at times[i] (left), piece i starts there (right): velocity (Δp/Δt)/k.
+        const std::size_t piece = side == Side::kLeft ? i - 1 : i;
+        const Eigen::VectorXd v = (points[piece + 1] - points[piece]) / ((times[piece + 1] - times[piece]) * k);
+        const VectorX<Jet<2>> j = scaled.jet(Jet<2>::variable(b[i]), side);
+        for (int c = 0; c < 2; ++c)
+          EXPECT_NEAR(j[c].coefficient(1), v[c], 1e-9 * (1.0 + v.norm())) << "trial " << trial << " breakpoint " << i;
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 200 * 3 * 2);
 }

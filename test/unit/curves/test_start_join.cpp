@@ -19,7 +19,7 @@ namespace se3_interpolation
 {
 namespace
 {
-constexpr double kSwitchTolerance = 1e-9;  // the C² switch tolerance
+constexpr double kSwitchTolerance = 1e-9;  // the C² switch tolerance of docs/timing.md
 
 Twist twist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular)
 {
@@ -535,10 +535,116 @@ TEST(StartJoin, OneWaypointFromAMovingStartUnderTimeOptimal)
       for (const TrajectorySample& x : out.samples)
       {
         if (x.time > out.recovery_time)
+        {
           EXPECT_LE(x.velocity.linear.norm(), 0.25 * (1.0 + 1e-6)) << x.time;
+        }
         EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
       }
     }
+}
+
+// The joined curve evaluates the rest at t − offset, which rounds: at the joined curve's own
+// breakpoints (the images of the rest's), the one-sided jets must be the rest's one-sided jets,
+// not the neighbouring piece's (a corner of a piecewise geodesic, where a time-optimal motion
+// stops, took the next piece's velocity with the braking of the previous one).
+TEST(StartJoin, JoinedCurveTakesTheRequestedSideAtTheRestsBreakpoints)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> step(0.01, 3.0), start(-50.0, 50.0);
+  const std::vector<Eigen::VectorXd> points{ Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(1.0, 0.0),
+                                             Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(3.0, 1.0),
+                                             Eigen::Vector2d(3.0, -2.0) };
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    std::vector<double> times{ start(rng) };
+    for (std::size_t i = 1; i < points.size(); ++i)
+      times.push_back(times.back() + step(rng));
+    const auto rest = std::make_shared<const PiecewiseGeodesic<Euclidean>>(points, times);
+    // The joining segment from (−1, 0) at rest, over [t0, t0 + h], onto the rest from times[0].
+    const double t0 = start(rng), h = step(rng);
+    VectorX<Jet<2>> start_jet(2);
+    start_jet[0] = Jet<2>(-1.0);
+    start_jet[1] = Jet<2>(0.0);
+    const StartJoinedCurve<Euclidean> joined(Eigen::Vector2d(-1.0, 0.0), start_jet, t0, h, rest, times[0]);
+    const std::vector<double> b = joined.breakpoints();
+    ASSERT_EQ(b.size(), points.size() + 1);
+    for (std::size_t i = 1; i + 1 < times.size(); ++i)
+      for (Side side : { Side::kLeft, Side::kRight })
+      {
+        const std::size_t piece = side == Side::kLeft ? i - 1 : i;
+        const Eigen::VectorXd v = (points[piece + 1] - points[piece]) / (times[piece + 1] - times[piece]);
+        const VectorX<Jet<2>> j = joined.jet(Jet<2>::variable(b[i + 1]), side);
+        for (int c = 0; c < 2; ++c)
+          EXPECT_NEAR(j[c].coefficient(1), v[c], 1e-9 * (1.0 + v.norm())) << "trial " << trial << " breakpoint " << i;
+        ++checked;
+      }
+  }
+  EXPECT_EQ(checked, 200 * 3 * 2);
+}
+
+// A start three times faster than max_linear_velocity, whose curve the clock matching its speed
+// would enter with nine times its acceleration: the recovery brakes within the acceleration
+// bounds, so it lasts at least (|v0| − v_max) / a_max (the speed falls no faster than the
+// acceleration bound), and every bound holds on 10⁵ samples. (It braked at 43 times the bound
+// in 0.09 s.)
+TEST(StartJoin, RecoveryFromAStartBeyondTheBoundsBrakesWithinThem)
+{
+  for (const char* geometry : { "double_geodesic", "screw" })
+  {
+    SCOPED_TRACE(geometry);
+    TrajectoryRequest r;
+    r.waypoints = { pose({ 1.1353, 1.4397, 1.8955 }, 2.6, { 0.1, 0.3, 0.95 }) };
+    r.times = { 0.7 };
+    r.curve = "interpolating";
+    r.end_condition = "clamped";
+    r.geometry = geometry;
+    r.timing = "time_optimal";
+    r.max_linear_velocity = 0.3;
+    r.max_angular_velocity = 0.4;
+    r.max_linear_acceleration = 0.5;
+    r.max_angular_acceleration = 0.8;
+    r.start_velocity = twist({ 0.1185, -0.039, 0.0156 }, { 0.205, 0.195, -0.15 });
+    r.end_velocity = twist({ -0.046, -0.087, 0.0019 }, { -0.024, 0.1145, 0.1127 });
+    r.sample_count = 100001;
+    StartState s;
+    s.pose = pose({ 1.3354, 1.2006, 2.1024 }, 2.75, { 0.2, 0.3, 0.93 });
+    s.velocity = twist({ 0.9, 0.0, 0.0 }, { 0.0, 0.0, 0.1 });
+    r.start_state = s;
+    const TrajectoryResult out = generate(r, PlannerLimits());
+    EXPECT_LT((out.samples.front().velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+    EXPECT_GE(out.recovery_time, (0.9 - 0.3) / 0.5 * (1.0 - 1e-6));
+    double previous = std::numeric_limits<double>::infinity();
+    for (const TrajectorySample& x : out.samples)
+    {
+      const double speed = x.velocity.linear.norm();
+      if (x.time <= out.recovery_time)
+      {
+        EXPECT_LE(speed, previous * (1.0 + 1e-9) + 1e-12) << x.time;  // the exceeded speed never rises
+      }
+      else
+      {
+        EXPECT_LE(speed, 0.3 * (1.0 + 1e-6)) << x.time;
+      }
+      previous = speed;
+      EXPECT_LE(x.velocity.angular.norm(), 0.4 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.acceleration.angular.norm(), 0.8 * (1.0 + 1e-6)) << x.time;
+    }
+    // Independently of the reported accelerations: the mean acceleration over each sample
+    // interval, from the velocities, is within the bound (the acceleration jumps where the
+    // profile switches, so no pointwise difference quotient is compared there), and the
+    // velocities agree with central differences of the positions.
+    for (std::size_t i = 1; i + 1 < out.samples.size(); ++i)
+    {
+      const TrajectorySample &a = out.samples[i - 1], &b = out.samples[i], &c = out.samples[i + 1];
+      EXPECT_LE((c.velocity.linear - b.velocity.linear).norm() / (c.time - b.time), 0.5 * (1.0 + 1e-3)) << b.time;
+      const Eigen::Vector3d fd = (c.pose.p - a.pose.p) / (c.time - a.time);
+      // (Across a jump Δa ≤ 2 a_max of the acceleration the central difference is off by at most
+      // Δa · (c.time − a.time) / 8.)
+      EXPECT_LT((fd - b.velocity.linear).norm(), 0.25 * 0.5 * (c.time - a.time) + 1e-9) << b.time;
+    }
+  }
 }
 
 }  // namespace se3_interpolation
