@@ -71,7 +71,7 @@ def main():
                 res.max_linear_speed, res.max_angular_speed, res.energy))
     say("length: translation path length; rot: rotation angle travelled; v_max, w_max: peak linear and")
     say("angular speed; energy: integral of |p''|^2 + rho^2 |w'|^2 dt over the smooth pieces (Crouch et al.")
-    say("eq. 32, rho = rotation_scale = 1 m/rad; README \"Sampling and figures\"). The velocity jumps of")
+    say("eq. 32, rho = rotation_scale = 1 m/rad; docs/timing.md \"Sampling and figures\"). The velocity jumps of")
     say("piecewise_geodesic at the waypoints are not counted, so with double_geodesic (straight lines and")
     say("fixed-axis turns at constant rates) its energy is 0; screw segments are helices, accelerated.")
     say("Published the last trajectory on ~path, ~trajectory, ~markers and TF frame 'interpolated'.")

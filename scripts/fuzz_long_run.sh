@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long fuzz run of README "Sanitizers and fuzzing": every libFuzzer target of
+# The long fuzz run of docs/testing.md "Sanitizers and fuzzing": every libFuzzer target of
 # test/fuzz/targets.txt, each over a fresh copy of its seeds with a random seed, for the number of
 # inputs given as TARGET=RUNS arguments (fuzz_generate, slow per input, as fuzz_generate=SECONDS),
 # two targets at a time at nice 19. Uses the fuzz binaries that scripts/run_sanitizers.sh built

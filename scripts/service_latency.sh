@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# End-to-end latency of the ~generate service for a large request (README
+# End-to-end latency of the ~generate service for a large request (docs/performance.md
 # "Service latency"): starts a roscore on a free port (never 11311) and se3_interpolation_node
 # with its timing logger (ros.se3_interpolation.timing) at debug level, then calls the service
 # from the roscpp client (bench/service_latency.cpp) and the rospy client

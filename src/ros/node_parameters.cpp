@@ -37,7 +37,7 @@ const Range kRanges[] = {
   { "service_threads", 1.0, true, 64.0, "must be in 1 ... 64" },
   { "master_check_period", 0.0, true, kUnbounded, "must be >= 0 s" },
   // A switch further ahead than 10 s would leave the new request waiting on the old motion for
-  // longer than any replanning needs (a generation takes well under a second, README Performance).
+  // longer than any replanning needs (a generation takes well under a second, docs/performance.md).
   { "replan_lead", 0.0, true, 10.0, "must be in [0, 10] s" },
   { "max_samples", 2.0, true, kUnbounded, "must be >= 2" },
   { "max_waypoints", 2.0, true, kUnbounded, "must be >= 2" },

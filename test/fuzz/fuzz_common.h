@@ -4,8 +4,8 @@
 // being run and aborts, so that libFuzzer reports it. runRequestTarget() is the shared body of
 // the request targets (fuzz_generate, fuzz_validate, fuzz_curves).
 //
-// Speed (README "Sanitizers and fuzzing": each per-layer target reaches 1e5 inputs in CI): the
-// limits are small (kFuzzMaxWaypoints, kFuzzMaxSamples) so that inputs explore the logic, not
+// Speed (docs/testing.md "Sanitizers and fuzzing": each per-layer target reaches 1e5 inputs in
+// CI): the limits are small (kFuzzMaxWaypoints, kFuzzMaxSamples) so that inputs explore the logic, not
 // bulk, and the checks build their messages only on failure.
 //
 // Input format (read front to back; missing bytes read as 0, so every input is valid):

@@ -1,4 +1,4 @@
-// Integration: replanning from the current motion through the real node (README "Replanning").
+// Integration: replanning from the current motion through the real node (docs/timing.md).
 // A second request with from_current starts at the switch time T_s (its response's stamp) in the
 // state the first trajectory has there: compared with the first trajectory evaluated at T_s by the
 // node itself (the same request again, sampled at T_s), and on /tf, where no step between two
@@ -24,7 +24,7 @@ using namespace node_test;
 namespace
 {
 const std::string kNode = "/se3_interpolation_node";
-constexpr double kSwitchTolerance = 1e-9;  // the C2 switch tolerance
+constexpr double kSwitchTolerance = 1e-9;  // the C2 switch tolerance of docs/timing.md
 constexpr double kLead = 0.2;              // ~replan_lead in node_replan.test
 
 /// The moving frame's messages on /tf.

@@ -26,7 +26,7 @@ using test::poseDistance;
 
 namespace
 {
-/// The cell values of the table.
+/// The cell values of the stress grid (docs/curves.md, "Splines through the waypoints").
 const double kRatios[] = { 1.0, 3.0, 5.0, 10.0, 100.0 };
 const double kRotationSteps[] = { 0.5, 1.0, 1.5, 2.0, 2.5, 3.0 };
 

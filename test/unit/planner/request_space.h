@@ -1,11 +1,11 @@
-// The invariants every outcome of generate() must satisfy, whatever the request (README "What
-// each curve accepts"): a served request gives a motion that is finite, sign-continuous, starts
-// in its start state, keeps every bound on a dense evaluation of the continuous motion (after
-// the reported recovery interval when the start state itself exceeds one), passes the waypoints
-// its curve promises, has derivatives that agree with finite differences of its poses and
+// The invariants every outcome of generate() must satisfy, whatever the request (docs/curves.md,
+// "What each curve accepts"): a served request gives a motion that is finite, sign-continuous,
+// starts in its start state, keeps every bound on a dense evaluation of the continuous motion
+// (after the reported recovery interval when the start state itself exceeds one), passes the
+// waypoints its curve promises, has derivatives that agree with finite differences of its poses and
 // figures that agree with the measured peaks; a refused request throws a std::invalid_argument
-// whose message names a request field. Shared by test_request_space.cpp (the grid and the
-// random sweep of the request space).
+// whose message names a request field. Shared by test_request_space.cpp (the grid and the random
+// sweep of the request space).
 #pragma once
 
 #include <algorithm>

@@ -1,8 +1,8 @@
 // A property test of the whole request space: every curve (and end condition) x geometry x timing
 // x bounds x waypoint count x times x start state x blend radius x outputs is either served with
 // every invariant of request_space.h holding, or refused with a std::invalid_argument naming a
-// request field; and a combination that README's table "What each curve accepts" calls valid is
-// refused only for the data-dependent reasons that table lists. A seeded random sweep over every
+// request field; and a combination that the table "What each curve accepts" of docs/curves.md
+// calls valid is refused only for the data-dependent reasons that table lists. A seeded random sweep over every
 // field, invalid values included, runs through the same checker. Sanitizer builds run a reduced,
 // deterministic subset.
 #include <gtest/gtest.h>
@@ -26,7 +26,7 @@ using namespace se3_interpolation::test;
 
 namespace
 {
-// ---- README's table ----------------------------------------------------------------------
+// ---- docs/curves.md's table ------------------------------------------------------------------
 
 std::string trim(const std::string& s)
 {
@@ -91,11 +91,11 @@ std::vector<std::string> splitRow(const std::string& line)
   return cells;
 }
 
-/// Parses README.md's table (README.md is three levels above this file).
+/// Parses the table of docs/curves.md (docs/ is three levels above this file).
 std::vector<AcceptRow> readAcceptTable(std::string* error)
 {
   std::string path = __FILE__;
-  path = path.substr(0, path.find_last_of('/') + 1) + "../../../README.md";
+  path = path.substr(0, path.find_last_of('/') + 1) + "../../../docs/curves.md";
   std::ifstream in(path);
   if (!in)
   {
@@ -382,7 +382,7 @@ const std::vector<std::vector<std::string>>& outputChoices()
   return kOutputs;
 }
 
-/// What README's table says of a grid case: valid, or the field whose refusal is expected.
+/// What docs/curves.md's table says of a grid case: valid, or the field whose refusal is expected.
 struct Expectation
 {
   bool valid = true;
@@ -410,8 +410,8 @@ Expectation expectationOf(const GridCase& c, const std::vector<AcceptRow>& table
   return e;
 }
 
-/// Whether a refusal of a valid combination is one of the data-dependent refusals README's table
-/// lists for it, with its condition.
+/// Whether a refusal of a valid combination is one of the data-dependent refusals the table of
+/// docs/curves.md lists for it, with its condition.
 bool refusalAllowed(const GridCase& c, const Expectation& e, const std::string& message)
 {
   if (e.row == nullptr)
@@ -504,8 +504,8 @@ struct FailureTable
 };
 
 /// Open failure classes: known shortfalls of the core that the test counts, prints and holds to
-/// the count recorded when they were found (README "What each curve accepts", Open), so that
-/// they can only shrink; a failure in no open class, or a class above its count, fails the test.
+/// the count recorded when they were found (docs/curves.md "What each curve accepts", Known
+/// limitations), so that they can only shrink; a failure in no open class, or a class above its count, fails the test.
 struct OpenClass
 {
   const char* name;
@@ -649,7 +649,7 @@ TEST(RequestSpace, ReadmeTableOfAcceptedRequestsParses)
     bool found = false;
     for (const AcceptRow& row : table)
       found = found || (row.curve == v.curve && (row.end_condition.empty() || row.end_condition == v.end_condition));
-    EXPECT_TRUE(found) << v.curve << " " << v.end_condition << " has no row in README's table";
+    EXPECT_TRUE(found) << v.curve << " " << v.end_condition << " has no row in docs/curves.md's table";
   }
   for (const AcceptRow& row : table)
   {
@@ -711,7 +711,7 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
     {
       ++served;
       if (!e.valid)
-        failures.add("served although README's table refuses it (" + e.field + ")", 0.0, name);
+        failures.add("served although the table of docs/curves.md refuses it (" + e.field + ")", 0.0, name);
       for (const Violation& v : out.violations)
       {
         const CurveVariant& cv = curveVariants()[c.variant];
@@ -741,7 +741,7 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
   std::cout << "[request space] grid: " << run << " of " << cases.size() << " cases run (stride " << stride << "), "
             << served << " served, " << run - served << " refused, " << seconds << " s\n";
   refused.print("refused grid combinations (combination :: message)");
-  unexpected_refusals.print("refusals of combinations README's table calls valid");
+  unexpected_refusals.print("refusals of combinations the table of docs/curves.md calls valid");
   failures.print("invariant failures");
   EXPECT_EQ(unexpectedFailures(unexpected_refusals, false) + unexpectedFailures(failures, false), 0u)
       << "see the tables printed above";

@@ -263,8 +263,8 @@ TEST(WorkEstimate, SphereRequestsAreBoundedToo)
 
 // The default limit (1 s) accepts 10⁴ waypoints of every family under stretch (corner blends in
 // the double geodesic), and under time_optimal those that this machine times within it: the
-// measured throughput of README "Bounded work" (bspline and blended, hermite and corner blends in
-// the screw geometry, take 1–4 s there and are refused); a bezier keeps its quadratic bound.
+// measured throughput of docs/timing.md "Bounded work" (bspline and blended, hermite and corner
+// blends in the screw geometry, take 1–4 s there and are refused); a bezier keeps its quadratic bound.
 // From the fields alone, as the planner decides.
 TEST(WorkEstimate, TenThousandWaypointsFitTheDefaultLimit)
 {
