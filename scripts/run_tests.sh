@@ -50,8 +50,11 @@ run_counted_stage() {
   passed=$((passed + stage_passed))
   failed=$((failed + stage_failed))
 }
-# Every ```bash block of README.md, run verbatim in order (scripts/check_readme.sh): each block is a test.
+# Every ```bash block of README.md and of docs/*.md, run verbatim in order (scripts/check_readme.sh):
+# each block is a test.
 run_counted_stage readme "$SE3_ROOT/scripts/check_readme.sh" "$SE3_WS/readme_summary.log"
+# The API reference (scripts/build_api_docs.sh): Doxygen over the public headers without a warning.
+run_counted_stage apidocs "$SE3_ROOT/scripts/build_api_docs.sh" "$SE3_WS/api_docs.log"
 # catkin_lint --strict, then the install space (scripts/check_install.sh): `catkin_make install` into
 # a scratch prefix, and the demo launch and the CLI run from it alone; each check is a test.
 run_counted_stage install "$SE3_ROOT/scripts/check_install.sh" "$SE3_WS/install_summary.log"
