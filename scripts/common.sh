@@ -36,8 +36,8 @@ se3_free_port() {
   done
 }
 
-# One libFuzzer exploration, with the options of CI's and of the long run (README "Sanitizers and
-# fuzzing"): se3_fuzz_explore BINARY CORPUS ARTIFACTS LOG MAX_LEN SEED [LIMIT FLAGS...]. ASan
+# One libFuzzer exploration, with the options of CI's and of the long run (docs/testing.md "Sanitizers
+# and fuzzing"): se3_fuzz_explore BINARY CORPUS ARTIFACTS LOG MAX_LEN SEED [LIMIT FLAGS...]. ASan
 # reports carry no allocation stacks (a finding's input replays with them): ASan's stack unwinding
 # at every malloc and free slows the allocating numeric targets. Sets se3_fuzz_status (the exit
 # status), se3_fuzz_runs (inputs run), se3_fuzz_seconds and se3_fuzz_finding: non-empty for a

@@ -45,7 +45,7 @@ double stretchFactor(const BasicValidatedRequest<Space>& r, const CurveFigures& 
   return k;
 }
 
-/// The chord distance between consecutive waypoints (README, Timing).
+/// The chord distance between consecutive waypoints (docs/timing.md).
 double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
 {
   const double dtheta = rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));

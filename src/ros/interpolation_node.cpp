@@ -245,8 +245,8 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       toMsg(result, header, res.path);
     if (outputs.trajectory)
       toMsg(result, header, child, res.trajectory);
-    // The service's latency apart from transport (README "Service latency"): rosconsole logger
-    // ros.se3_interpolation.timing at debug level.
+    // The service's latency apart from transport (docs/performance.md "Service latency"):
+    // rosconsole logger ros.se3_interpolation.timing at debug level.
     ROS_DEBUG_NAMED("timing", "generate: %zu samples, planner %.1f ms, response messages %.1f ms",
                     result.samples.size(), 1e3 * std::chrono::duration<double>(filling - planning).count(),
                     1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - filling).count());
