@@ -57,6 +57,9 @@ constexpr double kRoundingExcess = 1e-9;
 constexpr double kRecoveryMargin = 1e-4;
 /// Grid points handled between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kPointsPerDeadlineCheck = 256;
+/// Intervals between two deadline checks in the peak searches, checks and figures, which search
+/// inside each interval (each costs about 16 grid points' work).
+constexpr std::size_t kIntervalsPerSearchDeadlineCheck = kPointsPerDeadlineCheck / 16;
 constexpr const char* kPhase = "timing: 'time_optimal'";
 
 const char* const kVelocityName[2] = { "max_linear_velocity", "max_angular_velocity" };
@@ -666,6 +669,8 @@ private:
     double refined = worst;
     Rates searched{};
     for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
       for (int q = 0; q < 4; ++q)
       {
         bool was_searched = false;
@@ -674,6 +679,7 @@ private:
           searched[q] = std::max(searched[q], p);
         refined = std::max(refined, p);
       }
+    }
     const double k = std::max(1.0, refined);
     profile_.stretch = k;
     if (k > 1.0)
@@ -701,6 +707,8 @@ private:
     double worst = 0.0;
     bool tightened = false;
     for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
+    {
+      checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
       for (int q = 0; q < 4; ++q)
       {
         bool was_searched = false;
@@ -714,6 +722,7 @@ private:
           tightened = true;
         }
       }
+    }
     return { worst, tightened };
   }
 
@@ -759,6 +768,7 @@ private:
     p.acceleration_energy = { 0.0, 0.0 };
     for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
     {
+      checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
       const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
       const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
       const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);

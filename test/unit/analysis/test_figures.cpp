@@ -110,3 +110,63 @@ TYPED_TEST(FiguresSe3, CubicBezierEnergyIsTheClassicalIntegral)
     EXPECT_NEAR(g.energy, rot_expected, 1e-10 * rot_expected);
   }
 }
+
+namespace
+{
+/// A translation along x whose speed has two Gaussian peaks, v(t) = 0.5 + 0.5 g_A(t) + 0.51 g_B(t)
+/// with g(t) = exp(−((t − c)/w)²): peak A (1.0) sits on a Gauss node of the figures' rule, the
+/// higher peak B (1.01) halfway between two nodes of another subinterval, where the nodes see
+/// less than A's node. Position ∫ v dt in closed form (erf).
+class TwoPeakLine final : public Curve<DoubleGeodesicSe3>
+{
+public:
+  TwoPeakLine(double a, double b, double w) : a_(a), b_(b), w_(w) {}
+  Point value(double t) const override { return Point(Eigen::Quaterniond::Identity(), Eigen::Vector3d(x(t), 0, 0)); }
+  Jet2Point jet(const Jet<2>& t, Side /*side*/) const override
+  {
+    // x(t(τ)) to second order: [x, x′ t₁, x′ t₂ + x″ t₁²] for t = t₀ + t₁ τ + t₂ τ².
+    const double t0 = t.value(), t1 = t.coefficient(1), t2 = t.coefficient(2);
+    Jet<2> xj(x(t0));
+    xj.coefficient(1) = speed(t0) * t1;
+    xj.coefficient(2) = speed(t0) * t2 + 0.5 * slope(t0) * t1 * t1;
+    return Jet2Point(Quaternion<Jet<2>>::Identity(), Vector3<Jet<2>>(xj, Jet<2>(0.0), Jet<2>(0.0)));
+  }
+  double startTime() const override { return 0.0; }
+  double endTime() const override { return 1.0; }
+  std::vector<double> breakpoints() const override { return { 0.0, 1.0 }; }
+  std::vector<Point> controlPoints() const override { return { value(0.0), value(1.0) }; }
+
+  double speed(double t) const { return 0.5 + 0.5 * g(t, a_) + 0.51 * g(t, b_); }
+
+private:
+  double g(double t, double c) const { return std::exp(-std::pow((t - c) / w_, 2)); }
+  double slope(double t) const
+  {
+    return -0.5 * g(t, a_) * 2.0 * (t - a_) / (w_ * w_) - 0.51 * g(t, b_) * 2.0 * (t - b_) / (w_ * w_);
+  }
+  double x(double t) const
+  {
+    const double k = 0.5 * std::sqrt(M_PI) * w_;
+    return 0.5 * t + k * (0.5 * (std::erf((t - a_) / w_) + std::erf(a_ / w_)) +
+                          0.51 * (std::erf((t - b_) / w_) + std::erf(b_ / w_)));
+  }
+  double a_, b_, w_;
+};
+}  // namespace
+
+// The largest node overall need not lie beside the largest peak: each subinterval's best node is
+// a candidate, and the best few are refined (refining only the largest node reported 1.0 here).
+TEST(Figures, PeakBetweenTheNodesOfAnotherSubintervalIsFound)
+{
+  const double width = 1.0 / static_cast<double>(subintervalsPerPiece(1));
+  auto node = [&](int span, int g) { return width * (span + 0.5 * (1.0 + kGaussNodes[g])); };
+  const double a = node(19, 3);
+  const double b = 0.5 * (node(45, 3) + node(45, 4));
+  const double d = 0.5 * (node(45, 4) - node(45, 3));
+  const TwoPeakLine line(a, b, 3.0 * d);
+  // At B's nearest nodes: 0.5 + 0.51 e^(−1/9) ≈ 0.956, below A's node (1.0 up to A's tail).
+  ASSERT_LT(line.speed(node(45, 3)), line.speed(a));
+  const CurveFigures f = measureCurve(line, 1.0);
+  EXPECT_NEAR(f.max_linear_speed, line.speed(b), 1e-9);
+  EXPECT_NEAR(f.length, line.value(1.0).p.x(), 1e-7);  // (8-point Gauss on the narrow peaks)
+}
