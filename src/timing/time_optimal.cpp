@@ -741,7 +741,8 @@ private:
     if (worst > 1.0 + kFixedStartTolerance)
       throw InterpolationError("timing: the time-optimal motion from the start state exceeds a bound by " +
                                formatNumber(worst - 1.0) + " (relative) after " + std::to_string(kFixedStartPasses) +
-                               " corrections; give the start state at rest or use timing 'stretch'");
+                               " corrections; start more slowly or farther from the first waypoint, or raise the "
+                               "acceleration bounds");
     profile_.stretch = 1.0;
     figures(searched, 1.0);
   }
