@@ -176,6 +176,9 @@ constexpr int kJoinLongest = 12;
 /// The most the curve's clock after the joint is scaled by (either way) to enter it at the start
 /// state's speed.
 constexpr double kMaxEntryScale = 1e3;
+/// The relative excess over a bound that breaks it: every bound holds to 1e-6 relative on the
+/// motion's dense evaluation (docs/timing.md, the request-space test's invariant check).
+constexpr double kBoundTolerance = 1e-6;
 /// The curve after the joint is entered with at most 1 / kEntryHeadroom of its acceleration
 /// bounds when the clock that matches the start's speed would enter it faster
 /// (applyTimingFromStart): room for the joining segment's own bend.
@@ -302,6 +305,18 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     options.start_speed = 1.0;
     options.hold_start = true;
     auto timed = timing::makeTimeOptimalCurve<G>(path, bounds, options);
+    const double excess = timed->profile().recovery_excess;
+    if (excess > 1.0 + kBoundTolerance)
+    {
+      if (native)
+        throw InvalidInputError("end_condition: 'start' continues the start state's motion on a spline that bends "
+                                "too sharply to brake from it within the acceleration bounds (braking would take " +
+                                formatNumber(excess) + " times a bound); use end_condition 'natural' or 'clamped', "
+                                "whose joining segment is chosen for the bounds");
+      throw InvalidInputError("start_state: the motion starts too fast for the curve it joins: braking along it "
+                              "would take " + formatNumber(excess) + " times an acceleration bound; start more "
+                              "slowly or farther from the first waypoint, or raise the acceleration bounds");
+    }
     out.time_scale = timed->profile().stretch;
     out.recovery_time = timed->profile().recovery_end - timed->startTime();
     validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());

@@ -475,6 +475,7 @@ private:
     t.assign(n, profile_.s.front());
     x[0] = start_x_;
     recovery_end_ = 0;
+    profile_.recovery_excess = 0.0;
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
       checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
@@ -508,8 +509,19 @@ private:
             for (int c = 2; c < 4; ++c)
               factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
           const Interval free = controls(i, x[i], kInf);
-          chosen = free.isEmpty() ? leastAccelerationControl(i, x[i], d)
-                                  : std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
+          if (free.isEmpty())
+          {
+            // No braking keeps within the acceleration bounds here: the path bends too sharply
+            // for this speed. The least acceleration is taken and its excess reported.
+            chosen = leastAccelerationControl(i, x[i], d);
+            const Rates r = needs(right_[i].raw, x[i], chosen);
+            for (int c = 2; c < 4; ++c)
+              profile_.recovery_excess = std::max(profile_.recovery_excess, r[c] * r[c]);
+          }
+          else
+          {
+            chosen = std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
+          }
         }
       }
       double following = std::max(x[i] + 2.0 * d * chosen, 0.0);

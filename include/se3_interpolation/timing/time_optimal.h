@@ -163,6 +163,10 @@ struct TimingProfile
   /// The time from which every bound holds: t[0], unless the start is one the bounds cannot hold
   /// (TimeOptimalOptions::start_speed), then the end of its recovery.
   double recovery_end = 0.0;
+  /// The largest ratio of an acceleration to its bound that braking out of such a start takes
+  /// where the path bends too sharply for its speed (no braking keeps within the bounds there);
+  /// 0 when the recovery keeps within them.
+  double recovery_excess = 0.0;
   /// Figures of the timed motion per channel (kLinear, kAngular), from the final check: the peak
   /// speed |C′|ṡ and acceleration |C″ṡ² + C′s̈| over the ends and middles of all intervals (and
   /// the searched interior maxima of the bounded rates), and ∫|a|² dt by the quadratic through

@@ -647,4 +647,52 @@ TEST(StartJoin, RecoveryFromAStartBeyondTheBoundsBrakesWithinThem)
   }
 }
 
+// end_condition 'start' continues the start state itself: from three times the velocity bound,
+// this spline bends so sharply that braking along it takes 34 times the acceleration bound (it
+// was served so). No joining segment can be redesigned for it: refused naming end_condition,
+// and the same request with 'clamped' (a joining segment chosen for the bounds) is served within
+// them.
+TEST(StartJoin, StartConditionThatCannotBrakeWithinTheBoundsIsRefused)
+{
+  TrajectoryRequest r;
+  r.waypoints = { Pose<double>(Eigen::Quaterniond(0.82582406459599578, 0.17251512573128769, -0.50342962866468843,
+                                                  0.18657908433316051),
+                               Eigen::Vector3d(1.0321243413931693, -0.16462585364415006, 1.3440602088887645)),
+                  Pose<double>(Eigen::Quaterniond(-0.21926715463381077, -0.35799638087216579, -0.15171323389255953,
+                                                  0.89484277995806916),
+                               Eigen::Vector3d(1.1013362493491887, 0.19760539971676644, 0.29629445328473936)) };
+  r.curve = "interpolating";
+  r.end_condition = "start";
+  r.geometry = "screw";
+  r.timing = "time_optimal";
+  r.max_linear_velocity = 0.3;
+  r.max_angular_velocity = 0.4;
+  r.max_linear_acceleration = 0.5;
+  r.max_angular_acceleration = 0.8;
+  r.sample_count = 20001;
+  StartState s;
+  s.pose = Pose<double>(Eigen::Quaterniond(0.7308271314684075, 0.19722074629737862, -0.60387851538240622,
+                                           0.24965259822221963),
+                        Eigen::Vector3d(0.73199262184071534, -0.078073822530450754, 1.1380755084166654));
+  s.velocity = twist({ 0.9, 0.0, 0.0 }, { 0.0, 0.0, 0.1 });
+  r.start_state = s;
+  std::string refusal;
+  try
+  {
+    generate(r, PlannerLimits());
+  }
+  catch (const InvalidInputError& e)
+  {
+    refusal = e.what();
+  }
+  EXPECT_EQ(refusal.rfind("end_condition: 'start' continues the start state's motion", 0), 0u) << refusal;
+  r.end_condition = "clamped";
+  const TrajectoryResult out = generate(r, PlannerLimits());
+  for (const TrajectorySample& x : out.samples)
+  {
+    EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
+    EXPECT_LE(x.acceleration.angular.norm(), 0.8 * (1.0 + 1e-6)) << x.time;
+  }
+}
+
 }  // namespace se3_interpolation
