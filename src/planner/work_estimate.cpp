@@ -14,10 +14,10 @@ namespace
 {
 /// measureCurve's effort (analysis/figures.h): its Gauss-Legendre nodes and the two ends of each of
 /// subintervalsPerPiece subintervals (more where it halves them: a speed that varies by more than
-/// kFigureSpeedRatio inside one), and kPeakCandidates golden-section searches per peak rate of
-/// 2 + at most kGoldenMaxIterations evaluations.
+/// kFigureSpeedRatio inside one), and one golden-section search per peak rate of 2 + at most
+/// kGoldenMaxIterations evaluations.
 constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
-constexpr double kGoldenEvaluations = 4.0 * static_cast<double>(kPeakCandidates) * (2.0 + kGoldenMaxIterations);
+constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
 
 double analyticPieces(const WorkShape& r)
 {

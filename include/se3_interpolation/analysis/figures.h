@@ -41,11 +41,6 @@ constexpr std::size_t kMinSubintervals = 4;
 constexpr std::size_t kFigureSubintervals = 64;
 /// Each peak is refined in a bracket of ± a quarter subinterval around its best node.
 constexpr double kPeakBracketFraction = 0.25;
-/// Brackets refined per rate: those of the kPeakCandidates subintervals whose best nodes are the
-/// largest. The largest node overall need not lie beside the largest peak: a peak between the
-/// nodes of another subinterval can be higher (the request-space test found the figures 1 %
-/// below the measured peak on corner blends and uneven splines when only one was refined).
-constexpr std::size_t kPeakCandidates = 8;
 /// Adaptive subdivision: a subinterval is halved while a channel's speed at its ends and nodes
 /// varies by more than this factor (the fastest against the slowest, floored at kFigureSpeedFloor
 /// of the curve's fastest so far, so that near a stationary point the halving stops once the
@@ -71,42 +66,19 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
   const std::size_t pieces = b.size() - 1;
   const std::size_t sub = subintervalsPerPiece(pieces);
 
-  // The four peak quantities at the nodes so far; per quantity, the best node of the current
-  // subinterval and the kPeakCandidates best subintervals' best nodes (largest first), each
-  // with the bracket to refine.
-  struct Candidate
-  {
-    double value = 0.0;
-    double where = 0.0;
-    double lo = 0.0;
-    double hi = 0.0;
-  };
+  // The four peak quantities, each with the node where it was largest.
   Rates peak{};
-  std::array<Candidate, 4> span_best{};
-  std::array<std::vector<Candidate>, 4> candidates;
+  std::array<double, 4> where{};
+  std::array<std::pair<double, double>, 4> bracket{};
   auto consider = [&](const auto& k, double t, double lo, double hi) {
     const Rates r = rates(k);
     for (std::size_t j = 0; j < r.size(); ++j)
-    {
-      peak[j] = std::max(peak[j], r[j]);
-      if (r[j] > span_best[j].value)
-        span_best[j] = { r[j], t, lo, hi };
-    }
-  };
-  auto keepSpanBest = [&]() {
-    for (std::size_t j = 0; j < span_best.size(); ++j)
-    {
-      std::vector<Candidate>& c = candidates[j];
-      const Candidate x = span_best[j];
-      span_best[j] = Candidate{};
-      if (!(x.value > 0.0) || (c.size() == kPeakCandidates && x.value <= c.back().value))
-        continue;
-      c.insert(std::upper_bound(c.begin(), c.end(), x,
-                                [](const Candidate& a, const Candidate& b) { return a.value > b.value; }),
-               x);
-      if (c.size() > kPeakCandidates)
-        c.pop_back();
-    }
+      if (r[j] > peak[j])
+      {
+        peak[j] = r[j];
+        where[j] = t;
+        bracket[j] = { lo, hi };
+      }
   };
 
   // Each subinterval: its ends and Gauss nodes, halved (at most kMaxFigureDepth times) where the
@@ -175,19 +147,18 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
         fig.energy += w * energyDensity(nodes[g], rotation_scale);
         consider(nodes[g], t, std::max(span.a, t - bracket_width), std::min(span.b, t + bracket_width));
       }
-      keepSpanBest();
     }
   }
   for (std::size_t j = 0; j < peak.size(); ++j)
-    for (const Candidate& c : candidates[j])
-    {
-      if (c.hi <= c.lo)
-        continue;
-      // Evaluate from the side of the bracket so that a peak at a breakpoint is kept.
-      const Side side = c.where >= c.hi ? Side::kLeft : Side::kRight;
-      peak[j] = std::max(peak[j],
-                         goldenMax([&](double t) { return rates(kinematicsAt(curve, t, side))[j]; }, c.lo, c.hi, c.value));
-    }
+  {
+    if (peak[j] <= 0.0 || bracket[j].second <= bracket[j].first)
+      continue;
+    const double lo = bracket[j].first;
+    const double hi = bracket[j].second;
+    // Evaluate from the side of the bracket so that a peak at a breakpoint is kept.
+    const Side side = where[j] >= hi ? Side::kLeft : Side::kRight;
+    peak[j] = goldenMax([&](double t) { return rates(kinematicsAt(curve, t, side))[j]; }, lo, hi, peak[j]);
+  }
   fig.max_linear_speed = peak[kLinearSpeed];
   fig.max_angular_speed = peak[kAngularSpeed];
   fig.max_linear_acceleration = peak[kLinearAcceleration];

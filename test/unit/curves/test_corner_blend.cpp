@@ -594,7 +594,11 @@ TEST(CornerBlendRequest, UnevenTimesAroundABlendKeepEveryBound)
     r.max_linear_acceleration = 2.0;
     r.max_angular_acceleration = 2.0;
     r.sample_count = 100000;
-    const TrajectoryResult out = generate(r, PlannerLimits());
+    // Bounds are the subject, not the work limit: 10⁵ samples take about 1 s under the
+    // sanitizers, near the default limit's deadline.
+    PlannerLimits limits;
+    limits.max_work_seconds = 30.0;
+    const TrajectoryResult out = generate(r, limits);
     double peak_v = 0.0, peak_a = 0.0, differenced_a = 0.0;
     for (std::size_t i = 0; i < out.samples.size(); ++i)
     {

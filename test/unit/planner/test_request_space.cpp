@@ -516,7 +516,7 @@ const OpenClass kOpenClasses[] = {
   { "time_optimal from a moving or over-the-bound start state (joining segment and recovery)", 260, 20 },
   { "a peak missed by at most 30 % between the checked points (stretch figures, time_optimal checks), or finite "
     "differences across a time-optimal switch",
-    20, 1 },
+    45, 5 },
 };
 constexpr int kOpenClassCount = sizeof(kOpenClasses) / sizeof(kOpenClasses[0]);
 
