@@ -67,6 +67,16 @@ inline std::string formatNumber(double x)
   return s.str();
 }
 
+/// Longest error text the node logs or returns: an exception from tf2 or roscpp may quote
+/// strings of any length.
+constexpr std::size_t kMaxMessageLength = 1024;
+
+/// `message` cut to kMaxMessageLength characters (marked "... (truncated)").
+inline std::string boundedMessage(const std::string& message)
+{
+  return message.size() <= kMaxMessageLength ? message : message.substr(0, kMaxMessageLength) + "... (truncated)";
+}
+
 /// At most this many characters of user text are quoted in an error message, so that no
 /// message or log line carries an unbounded string.
 constexpr std::size_t kMaxQuotedLength = 40;

@@ -45,6 +45,15 @@ geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transfo
   return out;
 }
 
+Pose<double> fromMsg(const geometry_msgs::Transform& msg)
+{
+  Eigen::Quaterniond q;
+  Eigen::Vector3d p;
+  tf2::fromMsg(msg.rotation, q);
+  tf2::fromMsg(msg.translation, p);
+  return Pose<double>(q, p);
+}
+
 TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
 {
   TrajectoryRequest r;

@@ -2,55 +2,19 @@
 
 #include <ros/console.h>
 
+#include <algorithm>
 #include <cmath>
-#include <limits>
+#include <cstring>
 #include <sstream>
+#include <type_traits>
 
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-/// The range of a numeric parameter: min < x (or min <= x) and x <= max.
-struct Range
-{
-  const char* name;
-  double min;
-  bool min_inclusive;
-  double max;
-  const char* requirement;
-};
-
-constexpr double kUnbounded = std::numeric_limits<double>::infinity();
-
-// The ranges config/se3_interpolation.yaml states; cfg/InterpolationNode.cfg uses the same.
-const Range kRanges[] = {
-  { "tf_rate", 0.0, false, 1000.0, "must be in (0, 1000] Hz" },
-  { "max_tf_samples", 0.0, true, 1000.0, "must be in 0 ... 1000" },
-  { "marker_axes", 0.0, true, 1000.0, "must be in 0 ... 1000" },
-  { "axis_length", 0.0, false, kUnbounded, "must be > 0 m" },
-  { "tf_timeout", 0.0, true, kUnbounded, "must be >= 0 s" },
-  { "waypoint_queue_size", 1.0, true, 100000.0, "must be in 1 ... 100000" },
-  { "service_threads", 1.0, true, 64.0, "must be in 1 ... 64" },
-  { "master_check_period", 0.0, true, kUnbounded, "must be >= 0 s" },
-  // A switch further ahead than 10 s would leave the new request waiting on the old motion for
-  // longer than any replanning needs (a generation takes well under a second, docs/performance.md).
-  { "replan_lead", 0.0, true, 10.0, "must be in [0, 10] s" },
-  { "max_samples", 2.0, true, kUnbounded, "must be >= 2" },
-  { "max_waypoints", 2.0, true, kUnbounded, "must be >= 2" },
-  { "max_work_seconds", 0.0, false, kUnbounded, "must be > 0 s" },
-  { "max_linear_velocity", 0.0, true, kUnbounded, "must be >= 0 m/s (0: unbounded)" },
-  { "max_angular_velocity", 0.0, true, kUnbounded, "must be >= 0 rad/s (0: unbounded)" },
-  { "max_linear_acceleration", 0.0, true, kUnbounded, "must be >= 0 m/s^2 (0: unbounded)" },
-  { "max_angular_acceleration", 0.0, true, kUnbounded, "must be >= 0 rad/s^2 (0: unbounded)" },
-  { "duration", 0.0, true, kUnbounded, "must be >= 0 s" },
-  { "sample_count", 2.0, true, kUnbounded, "must be >= 2" },
-  { "blend_radius", 0.0, true, kUnbounded, "must be >= 0 m" },
-};
-
 std::string show(const std::string& value)
 {
   return quotedText(value);
@@ -61,20 +25,31 @@ T show(const T& value)
   return value;
 }
 
-/// Reads `name` into `value` if it is set, of type T and `error` finds nothing wrong with it;
-/// else warns naming the parameter and keeps `value`.
-template <class T, class Check>
-void read(const ros::NodeHandle& nh, const std::string& name, T* value, Check error)
+/// The error of a value of any member type.
+std::string errorOf(const ParameterSpec& spec, const std::string& value)
 {
-  if (!nh.hasParam(name))
+  return parameterError(spec, value);
+}
+template <class T>
+std::string errorOf(const ParameterSpec& spec, const T& value)
+{
+  return std::is_same_v<T, bool> ? std::string() : parameterError(spec, static_cast<double>(value));
+}
+
+/// Reads the parameter `spec` into `value` if it is set, of the member's type and within its
+/// row; else warns naming the parameter and keeps `value`.
+template <class T>
+void read(const ros::NodeHandle& nh, const ParameterSpec& spec, T* value)
+{
+  if (!nh.hasParam(spec.name))
     return;
   T candidate;
-  if (!nh.getParam(name, candidate))
+  if (!nh.getParam(spec.name, candidate))
   {
-    ROS_WARN_STREAM("~" << name << ": refused (not of the expected type); keeping " << show(*value));
+    ROS_WARN_STREAM("~" << spec.name << ": refused (not of the expected type); keeping " << show(*value));
     return;
   }
-  const std::string why = error(candidate);
+  const std::string why = errorOf(spec, candidate);
   if (!why.empty())
   {
     ROS_WARN_STREAM(why << "; keeping " << show(*value));
@@ -83,140 +58,227 @@ void read(const ros::NodeHandle& nh, const std::string& name, T* value, Check er
   *value = candidate;
 }
 
-void readString(const ros::NodeHandle& nh, const std::string& name, std::string* value)
+/// How alike two names are: 2 · (longest common subsequence) / (total length), as difflib's
+/// ratio: a misspelling that drops a word (max_velocity) stays closest to the name it came from
+/// (max_linear_velocity), which a plain edit distance would not (max_waypoints is fewer edits).
+double similarity(const std::string& a, const std::string& b)
 {
-  read<std::string>(nh, name, value, [&](const std::string& s) { return stringParameterError(name, s); });
+  std::vector<std::size_t> row(b.size() + 1, 0);
+  for (std::size_t i = 1; i <= a.size(); ++i)
+  {
+    std::size_t diagonal = 0;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+    {
+      const std::size_t above = row[j];
+      row[j] = a[i - 1] == b[j - 1] ? diagonal + 1 : std::max(row[j], row[j - 1]);
+      diagonal = above;
+    }
+  }
+  return 2.0 * static_cast<double>(row[b.size()]) / static_cast<double>(a.size() + b.size());
 }
 
-template <class T>
-void readNumber(const ros::NodeHandle& nh, const std::string& name, T* value)
+/// The values of dynamic_reconfigure's message by name, of the member's type.
+bool fromMessage(const dynamic_reconfigure::Config& m, const std::string& name, bool* value)
 {
-  read<T>(nh, name, value, [&](const T& x) { return numberParameterError(name, static_cast<double>(x)); });
+  for (const auto& p : m.bools)
+    if (p.name == name)
+      return (*value = p.value), true;
+  return false;
+}
+bool fromMessage(const dynamic_reconfigure::Config& m, const std::string& name, int* value)
+{
+  for (const auto& p : m.ints)
+    if (p.name == name)
+      return (*value = p.value), true;
+  return false;
+}
+bool fromMessage(const dynamic_reconfigure::Config& m, const std::string& name, double* value)
+{
+  for (const auto& p : m.doubles)
+    if (p.name == name)
+      return (*value = p.value), true;
+  return false;
+}
+bool fromMessage(const dynamic_reconfigure::Config& m, const std::string& name, std::string* value)
+{
+  for (const auto& p : m.strs)
+    if (p.name == name)
+      return (*value = p.value), true;
+  return false;
 }
 
-void readBool(const ros::NodeHandle& nh, const std::string& name, bool* value)
+void toMessage(const std::string& name, bool value, dynamic_reconfigure::Config* m)
 {
-  read<bool>(nh, name, value, [](const bool&) { return std::string(); });
+  dynamic_reconfigure::BoolParameter p;
+  p.name = name;
+  p.value = value;
+  m->bools.push_back(p);
 }
-
-/// An unsigned limit read through an int parameter.
-void readLimit(const ros::NodeHandle& nh, const std::string& name, std::size_t* value)
+void toMessage(const std::string& name, int value, dynamic_reconfigure::Config* m)
 {
-  int candidate = static_cast<int>(*value);
-  readNumber(nh, name, &candidate);
-  *value = static_cast<std::size_t>(candidate);
+  dynamic_reconfigure::IntParameter p;
+  p.name = name;
+  p.value = value;
+  m->ints.push_back(p);
+}
+void toMessage(const std::string& name, double value, dynamic_reconfigure::Config* m)
+{
+  dynamic_reconfigure::DoubleParameter p;
+  p.name = name;
+  p.value = value;
+  m->doubles.push_back(p);
+}
+void toMessage(const std::string& name, const std::string& value, dynamic_reconfigure::Config* m)
+{
+  dynamic_reconfigure::StrParameter p;
+  p.name = name;
+  p.value = value;
+  m->strs.push_back(p);
 }
 }  // namespace
 
+PlannerLimits NodeParameters::limits() const
+{
+  PlannerLimits l;
+  l.max_samples = static_cast<std::size_t>(max_samples);
+  l.max_waypoints = static_cast<std::size_t>(max_waypoints);
+  l.max_work_seconds = max_work_seconds;
+  return l;
+}
+
+const ParameterSpec* findNodeParameter(const std::string& name)
+{
+  for (const ParameterSpec& spec : kNodeParameterSpecs)
+    if (name == spec.name)
+      return &spec;
+  return nullptr;
+}
+
+std::string parameterError(const ParameterSpec& spec, double value)
+{
+  const bool above_min = spec.min_exclusive ? value > spec.min : value >= spec.min;
+  if (std::isfinite(value) && above_min && value <= spec.max)
+    return "";
+  // "must be in [0, 10] s", "must be > 0 m", "must be >= 2".
+  const bool interval = spec.range[0] == '(' || spec.range[0] == '[' || std::strstr(spec.range, " ... ") != nullptr;
+  std::ostringstream why;
+  why << "~" << spec.name << ": refused " << value << " (must be " << (interval ? "in " : "") << spec.range
+      << (spec.unit[0] != '\0' ? " " : "") << spec.unit << ")";
+  return why.str();
+}
+
+std::string parameterError(const ParameterSpec& spec, const std::string& value)
+{
+  const std::string field = std::string("~") + spec.name;
+  if (spec.type == ParameterType::kFrame)
+  {
+    try
+    {
+      validateFrameId(value, field);
+    }
+    catch (const InvalidInputError& e)
+    {
+      return e.what();
+    }
+    return "";
+  }
+  if (value.empty())
+    return field + ": refused (empty; expected one of: " + spec.choices + ")";
+  // The names are words separated by ", ": a value matches one whole.
+  const std::string names = std::string(", ") + spec.choices + ", ";
+  if (value.find(',') == std::string::npos && names.find(", " + value + ", ") != std::string::npos)
+    return "";
+  return field + ": unknown value " + quotedText(value) + " (expected one of: " + spec.choices + ")";
+}
+
 std::string stringParameterError(const std::string& name, const std::string& value)
 {
-  const std::string field = "~" + name;
-  try
-  {
-    if (name == "frame_id" || name == "child_frame_id")
-      validateFrameId(value, field);
-    else if (value.empty())
-      return field + ": refused (empty; expected a name)";
-    else if (value.size() > kMaxFrameIdLength)
-      return field + ": refused (" + show(value) + " is no known name)";
-    else if (name == "curve")
-      parseName(value, field, RequestDefaults::kCurve);
-    else if (name == "geometry")
-      parseName(value, field, RequestDefaults::kGeometry);
-    else if (name == "parameterization")
-      parseName(value, field, RequestDefaults::kParameterization);
-    else if (name == "timing")
-      parseName(value, field, RequestDefaults::kTiming);
-  }
-  catch (const InvalidInputError& e)
-  {
-    return e.what();
-  }
-  return "";
+  const ParameterSpec* spec = findNodeParameter(name);
+  return spec ? parameterError(*spec, value) : "";
 }
 
 std::string numberParameterError(const std::string& name, double value)
 {
-  for (const Range& r : kRanges)
+  const ParameterSpec* spec = findNodeParameter(name);
+  return spec ? parameterError(*spec, value) : "";
+}
+
+std::string closestNodeParameter(const std::string& name)
+{
+  const ParameterSpec* best = &kNodeParameterSpecs.front();
+  for (const ParameterSpec& spec : kNodeParameterSpecs)
+    if (similarity(name, spec.name) > similarity(name, best->name))
+      best = &spec;
+  return best->name;
+}
+
+std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>& server_names, const std::string& ns)
+{
+  const std::string prefix = ns + "/";
+  std::vector<std::string> warned_names;
+  std::vector<std::string> warnings;
+  for (const std::string& full : server_names)
   {
-    if (name != r.name)
+    if (full.compare(0, prefix.size(), prefix) != 0)
       continue;
-    const bool above_min = r.min_inclusive ? value >= r.min : value > r.min;
-    if (std::isfinite(value) && above_min && value <= r.max)
-      return "";
-    std::ostringstream why;
-    why << "~" << name << ": refused " << value << " (" << r.requirement << ")";
-    return why.str();
+    // A nested name (~a/b) is the parameter a.
+    const std::string name = full.substr(prefix.size(), full.find('/', prefix.size()) - prefix.size());
+    if (name.empty() || findNodeParameter(name) ||
+        std::find(warned_names.begin(), warned_names.end(), name) != warned_names.end())
+      continue;
+    warned_names.push_back(name);
+    // Server names can be long: the message quotes a bounded prefix.
+    const std::string shown = name.size() <= kMaxFrameIdLength ? name : name.substr(0, kMaxFrameIdLength) + "...";
+    warnings.push_back("~" + shown + ": unknown parameter, ignored (did you mean ~" + closestNodeParameter(name) + "?)");
   }
-  return "";
+  return warnings;
 }
 
 NodeParameters loadNodeParameters(const ros::NodeHandle& nh)
 {
   NodeParameters p;
-  readString(nh, "frame_id", &p.frame_id);
-  readString(nh, "child_frame_id", &p.child_frame_id);
-  readNumber(nh, "tf_rate", &p.tf_rate);
-  readBool(nh, "loop", &p.loop);
-  readNumber(nh, "max_tf_samples", &p.max_tf_samples);
-  readBool(nh, "auto_generate", &p.auto_generate);
-  readBool(nh, "publish_tf", &p.publish_tf);
-  readNumber(nh, "marker_axes", &p.marker_axes);
-  readNumber(nh, "axis_length", &p.axis_length);
-  readNumber(nh, "tf_timeout", &p.tf_timeout);
-  readNumber(nh, "waypoint_queue_size", &p.waypoint_queue_size);
-  readNumber(nh, "service_threads", &p.service_threads);
-  readNumber(nh, "master_check_period", &p.master_check_period);
-  readBool(nh, "replan_from_current", &p.replan_from_current);
-  readNumber(nh, "replan_lead", &p.replan_lead);
-  readLimit(nh, "max_samples", &p.limits.max_samples);
-  readLimit(nh, "max_waypoints", &p.limits.max_waypoints);
-  readNumber(nh, "max_work_seconds", &p.limits.max_work_seconds);
-  readString(nh, "curve", &p.curve);
-  readString(nh, "geometry", &p.geometry);
-  readString(nh, "parameterization", &p.parameterization);
-  readString(nh, "timing", &p.timing);
-  readNumber(nh, "max_linear_velocity", &p.max_linear_velocity);
-  readNumber(nh, "max_angular_velocity", &p.max_angular_velocity);
-  readNumber(nh, "max_linear_acceleration", &p.max_linear_acceleration);
-  readNumber(nh, "max_angular_acceleration", &p.max_angular_acceleration);
-  readNumber(nh, "duration", &p.duration);
-  readNumber(nh, "sample_count", &p.sample_count);
-  readNumber(nh, "blend_radius", &p.blend_radius);
+  forEachNodeParameter(p, [&](const ParameterSpec& spec, auto& member) { read(nh, spec, &member); });
+  std::vector<std::string> names;
+  if (nh.getParamNames(names))
+    for (const std::string& warning : unknownParameterWarnings(names, nh.getNamespace()))
+      ROS_WARN_STREAM(warning);
   return p;
 }
 
 void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p)
 {
-  nh.setParam("frame_id", p.frame_id);
-  nh.setParam("child_frame_id", p.child_frame_id);
-  nh.setParam("tf_rate", p.tf_rate);
-  nh.setParam("loop", p.loop);
-  nh.setParam("max_tf_samples", p.max_tf_samples);
-  nh.setParam("auto_generate", p.auto_generate);
-  nh.setParam("publish_tf", p.publish_tf);
-  nh.setParam("marker_axes", p.marker_axes);
-  nh.setParam("axis_length", p.axis_length);
-  nh.setParam("tf_timeout", p.tf_timeout);
-  nh.setParam("waypoint_queue_size", p.waypoint_queue_size);
-  nh.setParam("service_threads", p.service_threads);
-  nh.setParam("master_check_period", p.master_check_period);
-  nh.setParam("replan_from_current", p.replan_from_current);
-  nh.setParam("replan_lead", p.replan_lead);
-  nh.setParam("max_samples", static_cast<int>(p.limits.max_samples));
-  nh.setParam("max_waypoints", static_cast<int>(p.limits.max_waypoints));
-  nh.setParam("max_work_seconds", p.limits.max_work_seconds);
-  nh.setParam("curve", p.curve);
-  nh.setParam("geometry", p.geometry);
-  nh.setParam("parameterization", p.parameterization);
-  nh.setParam("timing", p.timing);
-  nh.setParam("max_linear_velocity", p.max_linear_velocity);
-  nh.setParam("max_angular_velocity", p.max_angular_velocity);
-  nh.setParam("max_linear_acceleration", p.max_linear_acceleration);
-  nh.setParam("max_angular_acceleration", p.max_angular_acceleration);
-  nh.setParam("duration", p.duration);
-  nh.setParam("sample_count", p.sample_count);
-  nh.setParam("blend_radius", p.blend_radius);
+  NodeParameters values = p;
+  forEachNodeParameter(values, [&](const ParameterSpec& spec, const auto& member) { nh.setParam(spec.name, member); });
+}
+
+dynamic_reconfigure::Config toReconfigureMessage(const NodeParameters& p)
+{
+  dynamic_reconfigure::Config message;
+  NodeParameters values = p;
+  forEachNodeParameter(values, [&](const ParameterSpec& spec, const auto& member) {
+    if (spec.reconfigure[0] != '\0')
+      toMessage(spec.name, member, &message);
+  });
+  return message;
+}
+
+std::string applyReconfigureMessage(const dynamic_reconfigure::Config& message, NodeParameters* p)
+{
+  std::ostringstream refused;
+  forEachNodeParameter(*p, [&](const ParameterSpec& spec, auto& member) {
+    using T = std::decay_t<decltype(member)>;
+    T candidate = member;
+    if (spec.reconfigure[0] == '\0' || !fromMessage(message, spec.name, &candidate) || candidate == member)
+      return;
+    const std::string why = errorOf(spec, candidate);
+    if (why.empty())
+    {
+      member = candidate;
+      return;
+    }
+    refused << (refused.tellp() > 0 ? "; " : "") << why << ", keeping " << show(member);
+  });
+  return refused.str();
 }
 
 }  // namespace se3_interpolation

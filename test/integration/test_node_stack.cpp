@@ -281,7 +281,8 @@ TEST(NodeStack, ReconfigureChangesTheDefaultsWithValidation)
   EXPECT_FALSE(boolOf(restored, "loop"));
 }
 
-// Every start-up parameter is validated: unknown names and wrong types are refused by name.
+// Every start-up parameter is validated: unknown values and wrong types are refused by name, and
+// a misspelled parameter is named with the closest known one.
 TEST(NodeStack, RefusedParametersKeepTheDefaults)
 {
   const std::string log = testing::TempDir() + "refused_parameters.log";
@@ -292,7 +293,8 @@ TEST(NodeStack, RefusedParametersKeepTheDefaults)
     dup2(fileno(stdout), fileno(stderr));
     execl(SE3_NODE_BIN, SE3_NODE_BIN, "__name:=refused_node", "_curve:=bspine", "_geometry:=screwy",
           "_parameterization:=chordal", "_timing:=fastest", "_tf_rate:=-5.0", "_loop:=maybe", "_sample_count:=1",
-          "_child_frame_id:=bad frame", "_master_check_period:=0.0", static_cast<char*>(nullptr));
+          "_child_frame_id:=bad frame", "_master_check_period:=0.0", "_max_velocity:=0.5",
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   ASSERT_GT(pid, 0);
@@ -306,7 +308,8 @@ TEST(NodeStack, RefusedParametersKeepTheDefaults)
          "~geometry: unknown value 'screwy'", "~parameterization: unknown value 'chordal'",
          "~timing: unknown value 'fastest'", "~tf_rate: refused -5 (must be in (0, 1000] Hz); keeping 50",
          "~loop: refused (not of the expected type); keeping 0", "~sample_count: refused 1 (must be >= 2)",
-         "~child_frame_id: " })
+         "~child_frame_id: ",
+         "~max_velocity: unknown parameter, ignored (did you mean ~max_linear_velocity?)" })
     EXPECT_NE(out.find(expected), std::string::npos) << expected << "\n" << out;
   EXPECT_EQ(out.find("request"), std::string::npos) << "a parameter error named as the request's\n" << out;
 

@@ -300,6 +300,24 @@ TEST(Conversions, TransformOfEveryPose)
   }
 }
 
+TEST(Conversions, TransformRoundTripsAsThePose)
+{
+  for (const TestPose& c : testPoses())
+  {
+    geometry_msgs::Transform t;
+    const Pose<double> back = fromMsg(toMsg(c.pose, t));
+    EXPECT_EQ(back.p, c.pose.p) << c.name;
+    EXPECT_EQ(back.q.coeffs(), c.pose.q.coeffs()) << c.name;  // the sign as given: q and -q both kept
+    // The same pose as the Pose message of the same numbers.
+    geometry_msgs::Pose m;
+    m.position.x = t.translation.x;
+    m.position.y = t.translation.y;
+    m.position.z = t.translation.z;
+    m.orientation = t.rotation;
+    EXPECT_EQ(fromMsg(m).q.coeffs(), back.q.coeffs()) << c.name;
+  }
+}
+
 TEST(Conversions, TwistOrderIsLinearThenAngular)
 {
   Twist v;

@@ -27,6 +27,8 @@ Twist fromMsg(const geometry_msgs::Twist& msg);
 geometry_msgs::Twist toMsg(const Twist& twist);
 /// The pose as the transform parent_T_child (tf2's convention for the same pose).
 geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transform& out);
+/// The pose of a transform parent_T_child (a tf2 lookup's), the quaternion kept as given.
+Pose<double> fromMsg(const geometry_msgs::Transform& msg);
 
 /// The core request from a service request (waypoints taken from `poses`: the request's own,
 /// transformed into the waypoints' frame, then those of waypoint_frames).

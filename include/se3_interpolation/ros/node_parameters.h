@@ -1,55 +1,56 @@
-// Parameters of se3_interpolation_node, read at start-up from the private namespace `~`;
-// the request defaults and the playback settings (loop, tf_rate) change at run time through
-// dynamic_reconfigure (cfg/InterpolationNode.cfg) under the same validation.
-// config/se3_interpolation.yaml documents each with its unit and default.
+// Parameters of se3_interpolation_node, read at start-up from the private namespace `~`: one
+// table, cfg/node_parameters.yaml (name, type, default, range, unit, run-time group, doc), from
+// which the build generates NodeParameterValues and kNodeParameterSpecs
+// (se3_interpolation/node_parameter_table.h), dynamic_reconfigure's server
+// (cfg/InterpolationNode.cfg), docs/ros_interface.md's table and config/se3_interpolation.yaml.
+// Everything here reads that table: nothing names a parameter twice.
 #pragma once
 
+#include <dynamic_reconfigure/Config.h>
 #include <ros/node_handle.h>
 
 #include <string>
+#include <vector>
 
-#include "se3_interpolation/planner/names.h"
+#include "se3_interpolation/node_parameter_table.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
 {
-struct NodeParameters
+/// The parameters in effect: one member per row of the table, initialised to its default.
+struct NodeParameters : NodeParameterValues
 {
-  std::string frame_id = "map";              ///< frame of waypoints whose header has none
-  std::string child_frame_id = "interpolated";  ///< moving TF frame and trajectory joint name
-  double tf_rate = 50.0;                     ///< Hz, moving frame broadcast rate
-  bool loop = false;                         ///< replay the trajectory forever (false: hold the last pose)
-  int max_tf_samples = 20;                   ///< static frames `<child_frame_id>_<k>` on /tf_static
-  bool auto_generate = true;                 ///< regenerate when the waypoint buffer changes
-  bool publish_tf = true;                    ///< broadcast the moving and static frames
-  int marker_axes = 20;                      ///< sampled axes drawn in ~markers
-  double axis_length = 0.1;                  ///< m, length of the drawn axes
-  double tf_timeout = 0.1;                   ///< s, wait for a transform of a ~waypoint pose
-  int waypoint_queue_size = 100;             ///< ~waypoint messages waiting to be handled (drops counted)
-  int service_threads = 4;                   ///< threads serving ~generate concurrently
-  double master_check_period = 1.0;          ///< s, master watchdog period (0: no watchdog)
-  bool replan_from_current = true;           ///< auto-generation starts from the current motion
-  double replan_lead = 0.1;                  ///< s, switch time after the request (from_current)
-  PlannerLimits limits;                      ///< ~max_samples, ~max_waypoints, ~max_work_seconds
-  /// Defaults for empty request fields (and the auto-generated trajectory): the core's
-  /// RequestDefaults until a parameter says otherwise.
-  std::string curve = toString(RequestDefaults::kCurve);
-  std::string geometry = toString(RequestDefaults::kGeometry);
-  std::string parameterization = toString(RequestDefaults::kParameterization);
-  std::string timing = toString(RequestDefaults::kTiming);
-  /// The max_* bounds of requests that leave them 0 (0 = unbounded); time_optimal needs some.
-  double max_linear_velocity = 0.0;
-  double max_angular_velocity = 0.0;
-  double max_linear_acceleration = 0.0;
-  double max_angular_acceleration = 0.0;
-  double duration = 0.0;
-  int sample_count = static_cast<int>(RequestDefaults::kSampleCount);
-  double blend_radius = 0.0;  ///< m, for piecewise_geodesic requests without one (0: sharp corners)
+  /// The resource bounds of a request: ~max_samples, ~max_waypoints, ~max_work_seconds.
+  PlannerLimits limits() const;
 };
+
+/// The row of `name` (without "~"); nullptr when the table has none.
+const ParameterSpec* findNodeParameter(const std::string& name);
+
+/// Why the parameter `spec` cannot take `value`, naming "~<name>" (a number outside its range,
+/// a choice not among its names, a frame id breaking tf2's rules, quoted to at most
+/// kMaxQuotedLength characters); "" when it can.
+std::string parameterError(const ParameterSpec& spec, double value);
+std::string parameterError(const ParameterSpec& spec, const std::string& value);
+
+/// The same for a parameter given by name; "" for a name the table does not have.
+std::string stringParameterError(const std::string& name, const std::string& value);
+std::string numberParameterError(const std::string& name, double value);
+
+/// The known name most like `name` (longest common subsequence), for the warning about an
+/// unknown one.
+std::string closestNodeParameter(const std::string& name);
+
+/// The names under the private namespace `ns` (as ros::NodeHandle::getNamespace() gives it) in
+/// `server_names` (every name on the parameter server) that are no parameter of the table, each
+/// with a message naming it and the closest known name.
+std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>& server_names,
+                                                  const std::string& ns);
 
 /// Reads every parameter from `nh` (the private handle). An invalid value (out of range, an
 /// unknown name such as curve "bspine", or of the wrong type) is refused with a ROS warning
-/// naming the parameter, and the default is kept.
+/// naming the parameter, and the default is kept; an unknown private parameter (a misspelling
+/// such as ~max_velocity) is warned about with the closest known name.
 NodeParameters loadNodeParameters(const ros::NodeHandle& nh);
 
 /// Writes every parameter of `p` to `nh` (the private handle) under the names and types
@@ -57,13 +58,13 @@ NodeParameters loadNodeParameters(const ros::NodeHandle& nh);
 /// after a master restart lost the launch file's parameters.
 void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p);
 
-/// Why the string parameter `name` (without "~") cannot take `value`, naming "~<name>" and
-/// quoting at most kMaxQuotedLength characters of the value; "" when it can. Covers curve,
-/// geometry, parameterization, timing, frame_id and child_frame_id.
-std::string stringParameterError(const std::string& name, const std::string& value);
+/// The run-time parameters of `p` (the rows with a reconfigure group) as dynamic_reconfigure's
+/// message, for the server's Config::__fromMessage__.
+dynamic_reconfigure::Config toReconfigureMessage(const NodeParameters& p);
 
-/// Why the numeric parameter `name` cannot take `value` (its range, as in
-/// config/se3_interpolation.yaml); "" when it can or when `name` has no range.
-std::string numberParameterError(const std::string& name, double value);
+/// Takes the run-time parameters of `message` (a Config::__toMessage__) into `p`; a value its
+/// row refuses keeps the value of `p`. Returns one message per refused value ("" when none
+/// was refused), naming the parameter and the value kept.
+std::string applyReconfigureMessage(const dynamic_reconfigure::Config& message, NodeParameters* p);
 
 }  // namespace se3_interpolation
