@@ -4,13 +4,22 @@
 
 namespace se3_interpolation
 {
-Pose<double> fromMsg(const geometry_msgs::Pose& msg)
+namespace
+{
+/// The quaternion kept as given (its sign too; not normalised here).
+Pose<double> poseOf(const geometry_msgs::Quaternion& orientation, const Eigen::Vector3d& position)
 {
   Eigen::Quaterniond q;
+  tf2::fromMsg(orientation, q);
+  return Pose<double>(q, position);
+}
+}  // namespace
+
+Pose<double> fromMsg(const geometry_msgs::Pose& msg)
+{
   Eigen::Vector3d p;
-  tf2::fromMsg(msg.orientation, q);
   tf2::fromMsg(msg.position, p);
-  return Pose<double>(q, p);
+  return poseOf(msg.orientation, p);
 }
 
 geometry_msgs::Pose toMsg(const Pose<double>& pose)
@@ -47,11 +56,9 @@ geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transfo
 
 Pose<double> fromMsg(const geometry_msgs::Transform& msg)
 {
-  Eigen::Quaterniond q;
   Eigen::Vector3d p;
-  tf2::fromMsg(msg.rotation, q);
   tf2::fromMsg(msg.translation, p);
-  return Pose<double>(q, p);
+  return poseOf(msg.rotation, p);
 }
 
 TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
