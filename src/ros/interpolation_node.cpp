@@ -279,7 +279,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   {
     res = GenerateTrajectory::Response();
     res.success = false;
-    res.message = bounded(e.what());
+    res.message = bounded(withLimitPrefix(e.what(), "~").c_str());
   }
   catch (...)
   {
