@@ -17,6 +17,23 @@ namespace
 /// kGoldenMaxIterations evaluations.
 constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
 constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
+/// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
+constexpr double kConstructionUnitsPerWaypoint = 10.0;
+/// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
+/// of T): at most 17 per piece plus 512.
+constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
+constexpr double kTimeOptimalMinIntervals = 512.0;
+/// time_optimal's curve evaluations: per grid interval (its ends' and middle's path jets, the
+/// corner checks, the checks' and the figures' searches where the rates peak, the refinement of
+/// intervals where the path's rates vary), and the searches that
+/// concentrate on few pieces (counted: 2.2 (piecewise_geodesic) ... 2.6 (hermite) per interval
+/// on 2000 waypoints, up to 3871 in all on the 513 intervals of a two-piece curve).
+constexpr double kTimeOptimalEvaluationsPerInterval = 6.0;
+constexpr double kTimeOptimalSearchEvaluations = 4096.0;
+/// time_optimal's work per grid interval besides the evaluations (bisections of the controllable
+/// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
+/// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
+constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
 double analyticPieces(const WorkShape& r)
 {

@@ -17,6 +17,10 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   static constexpr CurveType kType = CurveType::kPiecewiseGeodesic;
   static constexpr const char* kName = "piecewise_geodesic";
   static constexpr unsigned kFields = kBlendRadiusField;
+  /// Work units of one evaluation of a corner-blended polyline (blend_radius), measured like
+  /// blended's 2: 1.7 us per evaluation over its legs and blends against blended's 1.3 us
+  /// (piecewise_geodesic alone: 0.08 us) on the loaded development machine.
+  static constexpr double kBlendEvaluationCost = 3.0;
 
   /// @param r a validated request of the family
   /// @param times the waypoints' times (s)
@@ -43,8 +47,8 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   }
 
   /// @param shape the request's shape
-  /// @return one geodesic step per evaluation; kCornerBlendEvaluationCost with corner blends
-  static double evaluationCost(const WorkShape& shape) { return shape.corner_blends ? kCornerBlendEvaluationCost : 1.0; }
+  /// @return one geodesic step per evaluation; kBlendEvaluationCost with corner blends
+  static double evaluationCost(const WorkShape& shape) { return shape.corner_blends ? kBlendEvaluationCost : 1.0; }
 
   /// @param shape the request's shape
   /// @return the polyline's calibration, or the corner blends' with a blend radius
