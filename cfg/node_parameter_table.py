@@ -12,6 +12,7 @@ cfg/InterpolationNode.cfg imports add_to_generator() for dynamic_reconfigure.
 import difflib
 import math
 import os
+import re
 import sys
 
 import yaml
@@ -29,10 +30,39 @@ TYPES = ("bool", "int", "double", "frame", "choice")
 KEYS = {"name", "type", "default", "min", "min_exclusive", "max", "unit", "reconfigure", "choices", "doc"}
 
 
+FAMILIES = os.path.join(ROOT, "include", "se3_interpolation", "planner", "curve_families.h")
+
+
+def curve_family_names(path=FAMILIES):
+    """The names of the curve families, in the order planner/curve_families.h registers them
+    (its CurveFamilies tuple; each family's kName in planner/families/): a new family is a choice
+    of ~curve without an edit here. test_node_parameters compares them with the C++ table."""
+    with open(path) as f:
+        text = f.read()
+    registered = re.search(r"using CurveFamilies\s*=\s*std::tuple<([^>]*)>", text)
+    if not registered:
+        raise ValueError("%s: no CurveFamilies tuple" % path)
+    sources = ""
+    folder = os.path.join(os.path.dirname(path), "families")
+    for name in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, name)) as f:
+            sources += f.read()
+    names = []
+    for family in (x.strip() for x in registered.group(1).split(",")):
+        found = re.search(r"struct %s\b[^{]*\{.*?kName\s*=\s*\"([a-z_]+)\"" % re.escape(family), sources, re.S)
+        if not found:
+            raise ValueError("%s: no kName for %s in %s" % (path, family, folder))
+        names.append(found.group(1))
+    return names
+
+
 def load(path=TABLE):
     """The table's entries, checked for the schema described at the top of the table."""
     with open(path) as f:
         entries = yaml.safe_load(f)["parameters"]
+    for e in entries:
+        if e.get("choices") == "curve_families":
+            e["choices"] = curve_family_names()
     names = set()
     for e in entries:
         where = "%s: parameter %r" % (path, e.get("name"))

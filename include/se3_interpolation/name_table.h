@@ -1,8 +1,9 @@
 // Name tables: one table per enum, so that each name is spelled in one place, and the functions
 // that read them. A table is a specialisation NameTable<E> with kNames, an array of (name, value),
-// written next to the enum (planner/names.h for the request's enums, curves/interpolating_solver.h
-// for EndCondition). parseName gives the default for "" and refuses an unknown name with an
-// InvalidInputError naming the field and listing the known names.
+// written next to the enum (planner/names.h for the request's enums, planner/curve_families.h for
+// CurveType, made from the registered families, curves/end_condition.h for EndCondition).
+// parseName gives the default for "" and refuses an unknown name with an InvalidInputError naming
+// the field and listing the known names.
 #pragma once
 
 #include <string>

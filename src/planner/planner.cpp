@@ -4,11 +4,12 @@
 #include <limits>
 #include <memory>
 #include <type_traits>
+#include <utility>
 
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/curves/start_join.h"
 #include "se3_interpolation/deadline.h"
-#include "se3_interpolation/planner/curve_factory.h"
+#include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
 #include "se3_interpolation/timing/time_optimal.h"
@@ -226,7 +227,7 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
   const StartState& s = *r.start_state;
   const double rho = r.rotation_scale;
   const double t1 = times[1];
-  const bool native = r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart;
+  const bool native = continuesStartState(r);
   const bool at_rest = isZero(s.velocity) && isZero(s.acceleration);
   auto join = [&s](std::shared_ptr<const Curve<G>> rest, double h, double from) {
     return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
@@ -366,7 +367,7 @@ constexpr double kMaxStartLengthRatio = 10.0;
 template <class Space>
 void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveFigures& fig)
 {
-  if (!(r.curve == CurveType::kInterpolating && r.end_condition == EndCondition::kStart))
+  if (!continuesStartState(r))
     return;
   double polygon = 0.0;
   for (std::size_t i = 1; i < r.waypoints.size(); ++i)
@@ -390,11 +391,10 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   // Bounded work: refused from the fields alone, before the curve is built or measured.
   const WorkShape shape = workShape(r);
   requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
-  std::shared_ptr<const Curve<G>> curve = makeCurve<G>(r, times);
+  FamilyCurve<G> built = makeFamilyCurve<G>(r, times);
+  std::shared_ptr<const Curve<G>> curve = std::move(built.curve);
   BasicResult<Space> out;
-  if constexpr (std::is_same_v<Space, PoseSpace>)
-    if (const auto blended = std::dynamic_pointer_cast<const CornerBlendedGeodesic<G>>(curve))
-      out.blend_radii = blended->radii();
+  out.blend_radii = std::move(built.blend_radii);
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
   requireStableStartSolve(r, fig);
 

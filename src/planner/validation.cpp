@@ -6,6 +6,7 @@
 #include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/curves/blended_spline.h"
 #include "se3_interpolation/curves/bspline.h"
+#include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 
@@ -84,6 +85,15 @@ Quaternion<double> validQuaternion(const Quaternion<double>& q, const std::strin
   const double n = std::sqrt(q.coeffs().squaredNorm());
   requireUnitNorm(n, field, "quaternion ", "quaternion x, y, z, w");
   return Quaternion<double>(q.coeffs() / n);
+}
+
+/// A field only some families take (FamilyField) is refused, when `given`, for the others that
+/// kExclusiveFields names.
+void requireFamilyTakes(CurveType curve, FamilyField field, bool given, const char* name)
+{
+  if (given && (kExclusiveFields & field) != 0u && (familyFields(curve) & field) == 0u)
+    throw InvalidInputError(std::string(name) + ": only used by curve " + familiesTaking(field) + " (curve is '" +
+                            toString(curve) + "')");
 }
 
 /// A field without meaning in the space must stay 0.
@@ -183,9 +193,7 @@ void validateSpaceFields(const TrajectoryRequest& r, ValidatedRequest* v)
   requireFiniteNonNegative(r.rotation_scale, "rotation_scale");
   v->rotation_scale = r.rotation_scale == 0.0 ? RequestDefaults::kRotationScale : r.rotation_scale;
   requireFiniteNonNegative(r.blend_radius, "blend_radius");
-  if (r.blend_radius > 0.0 && v->curve != CurveType::kPiecewiseGeodesic)
-    throw InvalidInputError("blend_radius: only used by curve 'piecewise_geodesic' (curve is '" +
-                            std::string(toString(v->curve)) + "')");
+  requireFamilyTakes(v->curve, kBlendRadiusField, r.blend_radius > 0.0, "blend_radius");
   v->blend_radius = r.blend_radius;
 }
 
@@ -253,7 +261,7 @@ void applyStartState(const StartState& raw, int raw_degree, ValidatedRequest* v)
   }
   if (raw_degree == 0)
     v->degree = std::min(RequestDefaults::kDegree, static_cast<int>(v->waypoints.size()) - 1);
-  if (v->curve == CurveType::kInterpolating && v->end_condition == EndCondition::kStart)
+  if (continuesStartState(*v))
   {
     v->start_velocity = s.velocity;
     v->start_acceleration = s.acceleration;
@@ -267,6 +275,18 @@ void applyStartState(const StartState& /*raw*/, int /*raw_degree*/, ValidatedSph
   throw InvalidInputError("start_state: starting from a given state is for poses only (not on the sphere)");
 }
 }  // namespace
+
+std::string withLimitPrefix(const std::string& message, const std::string& prefix)
+{
+  std::string out = message;
+  for (const char* limit : { "(max_samples)", "(max_waypoints)", "(max_work_seconds)" })
+  {
+    const std::string name(limit);
+    for (std::size_t at = out.find(name); at != std::string::npos; at = out.find(name, at + name.size() + prefix.size()))
+      out.insert(at + 1, prefix);
+  }
+  return out;
+}
 
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
 {
@@ -285,7 +305,7 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
     throw InvalidInputError("waypoints: " + std::to_string(n) + " given; at least " + std::to_string(min_waypoints) +
                             " are needed");
   if (n > limits.max_waypoints)
-    throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (~max_waypoints) is " +
+    throw LimitExceededError("waypoints: " + std::to_string(n) + " given; the limit (max_waypoints) is " +
                              std::to_string(limits.max_waypoints));
   v.waypoints = validWaypoints(r.waypoints);
 
@@ -307,14 +327,12 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
     throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
   const int max_degree = static_cast<int>(n) - 1;
   v.degree = r.degree == 0 ? std::min(RequestDefaults::kDegree, max_degree) : r.degree;
-  if (v.curve == CurveType::kBspline && v.degree > max_degree)
+  if ((familyFields(v.curve) & kDegreeField) != 0u && v.degree > max_degree)
     throw InvalidInputError("degree: " + std::to_string(v.degree) + " is too high for " + std::to_string(n) +
                             " waypoints (at most " + std::to_string(max_degree) + ")");
   if (!r.knots.empty())
   {
-    if (v.curve != CurveType::kBspline)
-      throw InvalidInputError("knots: only used by curve 'bspline' (curve is '" + std::string(toString(v.curve)) +
-                              "')");
+    requireFamilyTakes(v.curve, kKnotsField, true, "knots");
     validateKnots(r.knots, n, v.degree);
     for (std::size_t i = 0; i < r.knots.size(); ++i)
       requireRosDuration(r.knots[i], indexedField("knots", i));
@@ -442,7 +460,7 @@ Sampling validateSampling(const std::vector<double>& sample_times, double sample
 {
   if (sample_times.size() > limits.max_samples)
     throw LimitExceededError("sample_times: " + std::to_string(sample_times.size()) +
-                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+                             " samples requested; the limit (max_samples) is " + std::to_string(limits.max_samples));
   for (std::size_t i = 0; i < sample_times.size(); ++i)
   {
     requireFinite(sample_times[i], indexedField("sample_times", i));
@@ -463,7 +481,7 @@ Sampling validateSampling(const std::vector<double>& sample_times, double sample
   s.sample_count = sample_count == 0 ? RequestDefaults::kSampleCount : sample_count;
   if (sample_times.empty() && sample_period == 0.0 && s.sample_count > limits.max_samples)
     throw LimitExceededError("sample_count: " + std::to_string(s.sample_count) +
-                             " samples requested; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+                             " samples requested; the limit (max_samples) is " + std::to_string(limits.max_samples));
   return s;
 }
 
@@ -495,7 +513,7 @@ std::vector<double> sampleTimes(const Sampling& r, double t0, double t1, const P
     const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
     if (!(count <= static_cast<double>(limits.max_samples)))
       throw LimitExceededError("sample_period: " + formatNumber(r.sample_period) + " s gives " + formatNumber(count) +
-                               " samples; the limit (~max_samples) is " + std::to_string(limits.max_samples));
+                               " samples; the limit (max_samples) is " + std::to_string(limits.max_samples));
     // Both ends always; a regular sample closer to t1 than the tolerance merges into t1.
     const double tol = std::max(1e-9 * r.sample_period, kRosDurationResolution);
     ts.push_back(t0);

@@ -5,8 +5,7 @@
 
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/planner/names.h"
-#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/planner/curve_families.h"
 
 namespace se3_interpolation
 {
@@ -18,23 +17,27 @@ namespace
 /// kGoldenMaxIterations evaluations.
 constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
 constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
+/// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
+constexpr double kConstructionUnitsPerWaypoint = 10.0;
+/// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
+/// of T): at most 17 per piece plus 512.
+constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
+constexpr double kTimeOptimalMinIntervals = 512.0;
+/// time_optimal's curve evaluations: per grid interval (its ends' and middle's path jets, the
+/// corner checks, the checks' and the figures' searches where the rates peak, the refinement of
+/// intervals where the path's rates vary), and the searches that
+/// concentrate on few pieces (counted: 2.2 (piecewise_geodesic) ... 2.6 (hermite) per interval
+/// on 2000 waypoints, up to 3871 in all on the 513 intervals of a two-piece curve).
+constexpr double kTimeOptimalEvaluationsPerInterval = 6.0;
+constexpr double kTimeOptimalSearchEvaluations = 4096.0;
+/// time_optimal's work per grid interval besides the evaluations (bisections of the controllable
+/// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
+/// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
+constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
 double analyticPieces(const WorkShape& r)
 {
-  const double n = static_cast<double>(r.waypoints);
-  switch (r.curve)
-  {
-    case CurveType::kBezier:
-      return 1.0;
-    case CurveType::kBspline:
-      return std::max(1.0, n - static_cast<double>(r.degree));
-    case CurveType::kPiecewiseGeodesic:
-      if (r.corner_blends)
-        return std::max(1.0, 2.0 * n - 3.0);  // legs and blends in turn
-      [[fallthrough]];
-    default:
-      return std::max(1.0, n - 1.0);
-  }
+  return visitFamily(r.curve, [&r](auto family) { return decltype(family)::pieces(r); });
 }
 
 std::string samplingField(const WorkShape& r)
@@ -47,27 +50,7 @@ std::string samplingField(const WorkShape& r)
 
 double evaluationCost(const WorkShape& r)
 {
-  switch (r.curve)
-  {
-    case CurveType::kPiecewiseGeodesic:
-      return r.corner_blends ? kCornerBlendEvaluationCost : 1.0;
-    case CurveType::kBezier:
-    {
-      const double d = static_cast<double>(r.waypoints) - 1.0;
-      return std::max(1.0, d * (d + 1.0) / 2.0);
-    }
-    case CurveType::kBspline:
-    {
-      const double m = static_cast<double>(r.degree);
-      return std::max(1.0, m * (m + 1.0) / 2.0);
-    }
-    case CurveType::kInterpolating:
-    case CurveType::kHermite:
-      return 6.0;
-    case CurveType::kBlended:
-      return 2.0;
-  }
-  return 1.0;
+  return visitFamily(r.curve, [&r](auto family) { return decltype(family)::evaluationCost(r); });
 }
 
 double expectedSamples(const WorkShape& r, double span)
@@ -116,28 +99,10 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   return w;
 }
 
-/// Seconds per work unit, per family, geometry and timing: the CPU time of generate() over the
-/// estimate's units at N = 1000 waypoints (a bezier 100) on one core of the development machine,
-/// measured by bench/bench_work_estimate.cpp; from 100 to 10⁴ waypoints (a bezier 20 to 400) the
-/// estimate is then within 0.67 … 1.6 of the measured time (re-measured after each change of the
-/// estimate's model, `bench_work_estimate --middle`). Rows: the curve families in the
-/// order of CurveType, then piecewise_geodesic with corner blends; columns: double geodesic
-/// (stretch, time_optimal), screw (stretch, time_optimal). The sphere uses the screw's.
-constexpr double kCalibratedSecondsPerUnit[7][4] = {
-  { 5.6e-08, 8.53e-08, 7.74e-08, 1.41e-07 },  // piecewise_geodesic
-  { 8.24e-08, 8.13e-08, 2.99e-07, 3.07e-07 },  // bezier
-  { 5.65e-08, 1.03e-07, 1.69e-07, 2.56e-07 },  // bspline
-  { 3.46e-08, 6.11e-08, 6.79e-08, 7.55e-08 },  // interpolating
-  { 5.97e-08, 8.23e-08, 1.85e-07, 2.04e-07 },  // hermite
-  { 2.14e-07, 3.04e-07, 3.28e-07, 4.29e-07 },  // blended
-  { 1.54e-07, 2.03e-07, 3.54e-07, 3.97e-07 },  // piecewise_geodesic with blend_radius
-};
-
 double secondsPerUnit(const WorkShape& r)
 {
-  const std::size_t row = r.curve == CurveType::kPiecewiseGeodesic && r.corner_blends ? 6 : static_cast<std::size_t>(r.curve);
-  const std::size_t column = (r.screw ? 2 : 0) + (r.timing == Timing::kTimeOptimal ? 1 : 0);
-  return kCalibratedSecondsPerUnit[row][column];
+  const SecondsPerUnit row = visitFamily(r.curve, [&r](auto family) { return decltype(family)::secondsPerUnit(r); });
+  return row[(r.screw ? 2 : 0) + (r.timing == Timing::kTimeOptimal ? 1 : 0)];
 }
 
 void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits)
@@ -151,12 +116,8 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
   else if (w.timing_units > w.figure_evaluations * w.evaluation_cost)
     what = "timing: 'time_optimal' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +
            " waypoints of curve '" + toString(r.curve) + "'";
-  else if (r.curve == CurveType::kBezier)
-    what = "waypoints: " + n + " waypoints make a bezier of degree " + std::to_string(r.waypoints - 1);
-  else if (r.curve == CurveType::kBspline)
-    what = "degree: " + std::to_string(r.degree) + " for curve 'bspline' with " + n + " waypoints";
   else
-    what = "waypoints: " + n + " waypoints for curve '" + toString(r.curve) + "'";
+    what = visitFamily(r.curve, [&r](auto family) { return decltype(family)::costlyField(r, decltype(family)::kName); });
   throw LimitExceededError(what + " would take about " + formatNumber(w.seconds) + " s (" +
                            formatNumber(w.figure_evaluations + w.samples + w.timing_evaluations) +
                            " curve evaluations of " + formatNumber(w.evaluation_cost) +

@@ -98,6 +98,7 @@ bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTraje
 
 void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res)
 {
+  std::vector<std::string> filled;  // the request fields taken from the node's parameters
   try
   {
     const NodeParameters params = parameters_->get();
@@ -137,7 +138,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
 
     const ResponseOutputs outputs = parseResponseOutputs(req.outputs);
     TrajectoryRequest r = fromMsg(req, poses);
-    applyRequestDefaults(params, &r);
+    filled = applyRequestDefaults(params, &r);
     ros::Time stamp = req.waypoints.header.stamp;
     if (req.from_current)
     {
@@ -194,7 +195,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   {
     res = GenerateTrajectory::Response();
     res.success = false;
-    res.message = boundedMessage(e.what());
+    res.message = boundedMessage(namingParameters(withLimitPrefix(e.what(), "~"), filled));
   }
   catch (...)
   {
@@ -204,30 +205,44 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   }
 }
 
-void InterpolationNode::applyRequestDefaults(const NodeParameters& params, TrajectoryRequest* request)
+std::vector<std::string> InterpolationNode::applyRequestDefaults(const NodeParameters& params,
+                                                                 TrajectoryRequest* request)
 {
   TrajectoryRequest& r = *request;
-  if (r.curve.empty())
-    r.curve = params.curve;
+  std::vector<std::string> filled;
+  auto fill = [&filled](auto* field, const auto& value, bool empty, const char* name) {
+    if (!empty || *field == value)
+      return;
+    *field = value;
+    filled.push_back(name);
+  };
+  fill(&r.curve, params.curve, r.curve.empty(), "curve");
   // The node's default radius applies to the curve that uses it only (never an error elsewhere).
-  if (r.blend_radius == 0.0 && r.curve == "piecewise_geodesic")
-    r.blend_radius = params.blend_radius;
-  if (r.geometry.empty())
-    r.geometry = params.geometry;
-  if (r.parameterization.empty())
-    r.parameterization = params.parameterization;
-  if (r.timing.empty())
-    r.timing = params.timing;
-  for (auto bound : { std::make_pair(&r.max_linear_velocity, params.max_linear_velocity),
-                      std::make_pair(&r.max_angular_velocity, params.max_angular_velocity),
-                      std::make_pair(&r.max_linear_acceleration, params.max_linear_acceleration),
-                      std::make_pair(&r.max_angular_acceleration, params.max_angular_acceleration) })
-    if (*bound.first == 0.0)
-      *bound.first = bound.second;
-  if (r.duration == 0.0)
-    r.duration = params.duration;
-  if (r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0)
-    r.sample_count = static_cast<std::uint32_t>(params.sample_count);
+  fill(&r.blend_radius, params.blend_radius, r.blend_radius == 0.0 && r.curve == "piecewise_geodesic",
+       "blend_radius");
+  fill(&r.geometry, params.geometry, r.geometry.empty(), "geometry");
+  fill(&r.parameterization, params.parameterization, r.parameterization.empty(), "parameterization");
+  fill(&r.timing, params.timing, r.timing.empty(), "timing");
+  fill(&r.max_linear_velocity, params.max_linear_velocity, r.max_linear_velocity == 0.0, "max_linear_velocity");
+  fill(&r.max_angular_velocity, params.max_angular_velocity, r.max_angular_velocity == 0.0, "max_angular_velocity");
+  fill(&r.max_linear_acceleration, params.max_linear_acceleration, r.max_linear_acceleration == 0.0,
+       "max_linear_acceleration");
+  fill(&r.max_angular_acceleration, params.max_angular_acceleration, r.max_angular_acceleration == 0.0,
+       "max_angular_acceleration");
+  fill(&r.duration, params.duration, r.duration == 0.0, "duration");
+  fill(&r.sample_count, static_cast<std::uint32_t>(params.sample_count),
+       r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0, "sample_count");
+  return filled;
+}
+
+std::string InterpolationNode::namingParameters(const std::string& message, const std::vector<std::string>& filled)
+{
+  // The core names the request's field; where the node filled it from its parameter of the same
+  // name, that parameter is what the user has to change.
+  for (const std::string& name : filled)
+    if (message.compare(0, name.size() + 1, name + ":") == 0)
+      return "~" + message + " (the node's parameter, used for the request's empty " + name + ")";
+  return message;
 }
 
 std::vector<geometry_msgs::Pose> InterpolationNode::lookUpWaypointFrames(const std::vector<std::string>& frames,

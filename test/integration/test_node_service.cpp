@@ -134,6 +134,23 @@ TEST(NodeServiceDefaults, TimingAndBoundsFromTheNodeParameters)
   ASSERT_TRUE(call(srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   EXPECT_NEAR(srv.response.max_linear_speed, 1.5, 1e-9);
+
+  // An error caused by a field the node filled from its parameter names that parameter: 15000
+  // waypoints timed time_optimal are refused by the work estimate, naming timing.
+  auto heavy = goodRequest();
+  heavy.request.waypoints.poses.clear();
+  for (int i = 0; i < 15000; ++i)
+    heavy.request.waypoints.poses.push_back(pose(0.1 * i, 0.05 * (i % 7), 0, 0.01 * (i % 5)));
+  heavy.request.timing = "time_optimal";
+  ASSERT_TRUE(call(heavy));
+  ASSERT_FALSE(heavy.response.success);
+  const std::string explicit_message = heavy.response.message;
+  ASSERT_EQ(explicit_message.rfind("timing: 'time_optimal'", 0), 0u) << explicit_message;
+  heavy.request.timing.clear();
+  ASSERT_TRUE(call(heavy));
+  ASSERT_FALSE(heavy.response.success);
+  EXPECT_EQ(heavy.response.message,
+            "~" + explicit_message + " (the node's parameter, used for the request's empty timing)");
 }
 
 TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)

@@ -1,4 +1,4 @@
-// name_table.h with the tables of planner/names.h and curves/interpolating_solver.h: every name
+// name_table.h with the tables of planner/names.h and curves/end_condition.h: every name
 // round-trips through parseName and toString, "" gives the default, and an unknown name is refused
 // naming the field, quoting at most a prefix of it and listing the known names.
 #include <gtest/gtest.h>

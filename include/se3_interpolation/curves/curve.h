@@ -159,40 +159,78 @@ private:
   std::vector<double> b_;
 };
 
-/// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
-/// so velocities scale by 1/k and accelerations by 1/k² (docs/timing.md).
+/// A base curve run on another clock: c(t) = base(s(t)), whose jets compose the base curve's with
+/// the clock's. A derived class gives the clock s (baseTime, in double and in jets, with the side
+/// of the base curve a time maps onto) and the time span; the control points are the base curve's.
 template <class G>
-class TimeScaledCurve final : public Curve<G>
+class RetimedCurve : public Curve<G>
 {
 public:
   using typename Curve<G>::Point;
   using typename Curve<G>::Jet2Point;
 
+  Point value(double t) const final { return base_->value(baseTime(t)); }
+  Jet2Point jet(const Jet<2>& t, Side side) const final
+  {
+    Side base_side = side;
+    const Jet<2> s = baseTime(t, side, &base_side);
+    return base_->jet(s, base_side);
+  }
+  std::vector<Point> controlPoints() const final { return base_->controlPoints(); }
+
+  /// @return the curve this one runs on another clock
+  const Curve<G>& base() const { return *base_; }
+
+protected:
+  /// @param base the curve run on the new clock
+  explicit RetimedCurve(std::shared_ptr<const Curve<G>> base) : base_(std::move(base)) {}
+
+  /// @param t a time of this curve (s)
+  /// @return s(t), the base curve's time
+  virtual double baseTime(double t) const = 0;
+  /// @param t the jet of a time of this curve
+  /// @param side the side of t that this curve is evaluated from
+  /// @param base_side receives the side of s(t) that the base curve is evaluated from (`side` on entry)
+  /// @return the jet of s at t
+  virtual Jet<2> baseTime(const Jet<2>& t, Side side, Side* base_side) const = 0;
+
+private:
+  std::shared_ptr<const Curve<G>> base_;
+};
+
+/// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
+/// so velocities scale by 1/k and accelerations by 1/k² (docs/timing.md).
+template <class G>
+class TimeScaledCurve final : public RetimedCurve<G>
+{
+public:
+  /// @param base the curve to stretch, from its start time
+  /// @param scale the stretch k
   TimeScaledCurve(std::shared_ptr<const Curve<G>> base, double scale)
-    : base_(std::move(base)), t0_(base_->startTime()), scale_(scale), snap_(base_->breakpoints())
+    : RetimedCurve<G>(std::move(base))
+    , t0_(this->base().startTime())
+    , scale_(scale)
+    , snap_(this->base().breakpoints())
   {
   }
 
-  Point value(double t) const override { return base_->value(baseTime(t)); }
-  Jet2Point jet(const Jet<2>& t, Side side) const override
-  {
-    return base_->jet(snap_.snap(Jet<2>(t0_) + (t - Jet<2>(t0_)) / Jet<2>(scale_)), side);
-  }
   double startTime() const override { return t0_; }
-  double endTime() const override { return t0_ + (base_->endTime() - t0_) * scale_; }
+  double endTime() const override { return t0_ + (this->base().endTime() - t0_) * scale_; }
   std::vector<double> breakpoints() const override
   {
-    std::vector<double> b = base_->breakpoints();
+    std::vector<double> b = this->base().breakpoints();
     for (double& x : b)
       x = t0_ + (x - t0_) * scale_;
     return b;
   }
-  std::vector<Point> controlPoints() const override { return base_->controlPoints(); }
 
 private:
-  double baseTime(double t) const { return t0_ + (t - t0_) / scale_; }
+  double baseTime(double t) const override { return t0_ + (t - t0_) / scale_; }
+  Jet<2> baseTime(const Jet<2>& t, Side /*side*/, Side* /*base_side*/) const override
+  {
+    return snap_.snap(Jet<2>(t0_) + (t - Jet<2>(t0_)) / Jet<2>(scale_));
+  }
 
-  std::shared_ptr<const Curve<G>> base_;
   double t0_;
   double scale_;
   BreakpointSnap snap_;

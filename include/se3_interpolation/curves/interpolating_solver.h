@@ -67,35 +67,16 @@
 
 #include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/curves/chart_cubic.h"
+#include "se3_interpolation/curves/end_condition.h"
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/geometry/geometry.h"
 #include "se3_interpolation/geometry/tangent_space.h"
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
-#include "se3_interpolation/name_table.h"
 #include "se3_interpolation/math/banded_lu.h"
 
 namespace se3_interpolation
 {
-/// The end conditions of the C² spline (request field `end_condition`).
-enum class EndCondition
-{
-  kNatural,  ///< "natural": zero acceleration at both ends
-  kClamped,  ///< "clamped": the given start and end velocities
-  kStart     ///< "start": the given start velocity and acceleration (Crouch Case 2)
-};
-
-/// The names of EndCondition (the request's `end_condition`).
-template <>
-struct NameTable<EndCondition>
-{
-  static constexpr std::array<std::pair<const char*, EndCondition>, 3> kNames = { {
-      { "natural", EndCondition::kNatural },
-      { "clamped", EndCondition::kClamped },
-      { "start", EndCondition::kStart },
-  } };
-};
-
 /// Limits of the iterative solve (natural / clamped).
 struct SplineSolverOptions
 {

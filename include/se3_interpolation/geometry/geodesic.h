@@ -20,17 +20,23 @@ typename G::template Point<S> geodesic(const typename G::template Point<S>& a, c
   return G::exp(a, typename G::template Tangent<S>(G::log(a, b) * lambda));
 }
 
-/// The point and tangent types of a geometry whose points are cast to another scalar
-/// coordinate by coordinate (every geometry but So3, whose quaternions cast per coefficient).
+/// The point and tangent types of a geometry (geometry.h), in every scalar type.
 template <template <class> class PointType, template <class> class TangentType>
-struct CoordinateTypes
+struct GeometryTypes
 {
   template <class S>
   using Point = PointType<S>;
   template <class S>
   using Tangent = TangentType<S>;
+};
+
+/// The types of a geometry whose points are cast to another scalar coordinate by coordinate
+/// (every geometry but So3, whose quaternions cast per coefficient).
+template <template <class> class PointType, template <class> class TangentType>
+struct CoordinateTypes : GeometryTypes<PointType, TangentType>
+{
   template <class T>
-  static Point<T> cast(const Point<double>& a)
+  static PointType<T> cast(const PointType<double>& a)
   {
     return a.template cast<T>();
   }

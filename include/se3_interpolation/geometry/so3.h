@@ -10,13 +10,8 @@
 namespace se3_interpolation
 {
 /// SO(3) with its bi-invariant metric (unit quaternions).
-struct So3
+struct So3 : GeometryTypes<Quaternion, Vector3>
 {
-  template <class S>
-  using Point = Quaternion<S>;
-  template <class S>
-  using Tangent = Vector3<S>;
-
   template <class S>
   static Tangent<S> log(const Point<S>& a, const Point<S>& b)
   {

@@ -1,7 +1,8 @@
 // The names of the request's string fields (curve, geometry, parameterization, timing, the
 // entries of outputs): one table per enum (name_table.h), read by the planner, the node's
-// parameters and the CLI, so that a name is spelled in one place. end_condition's table lives
-// with its enum in curves/interpolating_solver.h (curves/ must not include planner/).
+// parameters and the CLI, so that a name is spelled in one place. curve's table is made from the
+// registered families (planner/curve_families.h); end_condition's lives with its enum in
+// curves/end_condition.h (curves/ must not include planner/).
 #pragma once
 
 #include <array>
@@ -10,23 +11,11 @@
 #include <vector>
 
 #include "se3_interpolation/name_table.h"
+#include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
-template <>
-struct NameTable<CurveType>
-{
-  static constexpr std::array<std::pair<const char*, CurveType>, 6> kNames = { {
-      { "piecewise_geodesic", CurveType::kPiecewiseGeodesic },
-      { "bezier", CurveType::kBezier },
-      { "bspline", CurveType::kBspline },
-      { "interpolating", CurveType::kInterpolating },
-      { "hermite", CurveType::kHermite },
-      { "blended", CurveType::kBlended },
-  } };
-};
-
 template <>
 struct NameTable<GeometryType>
 {

@@ -23,11 +23,13 @@
 #include <vector>
 
 #include "se3_interpolation/analysis/figures.h"
-#include "se3_interpolation/curves/interpolating_spline.h"
+#include "se3_interpolation/curves/end_condition.h"
 #include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
 {
+/// The curve families (request field `curve`), in the order of their registry, CurveFamilies
+/// (planner/curve_families.h), whose descriptors say what each takes and builds.
 enum class CurveType
 {
   kPiecewiseGeodesic,

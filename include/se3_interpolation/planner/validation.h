@@ -41,6 +41,13 @@ constexpr double kMaxMagnitude = 1e100;
 template <class Space>
 BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& request, const PlannerLimits& limits);
 
+/// The limits of PlannerLimits as an error message names them ("the limit (max_samples)"), with
+/// `prefix` in front: a caller whose limits are its own parameters names those (the node: "~").
+/// @param message an error message of the core
+/// @param prefix what to put before each limit's name
+/// @return the message with "(max_samples)", "(max_waypoints)" and "(max_work_seconds)" prefixed
+std::string withLimitPrefix(const std::string& message, const std::string& prefix);
+
 /// A validated, normalised pose; throws InvalidInputError naming `field` (e.g. "waypoints[2]").
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field);
 

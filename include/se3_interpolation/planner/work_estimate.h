@@ -7,25 +7,27 @@
 // Unit: one geodesic step of a curve evaluation on second-order jets (the value and its first
 // two time derivatives), i.e. one exp/log pair of the geometry; converted to seconds by a factor
 // calibrated per family, geometry and timing on one core of the development machine
-// (secondsPerUnit, bench/bench_work_estimate.cpp).
+// (secondsPerUnit, bench/bench_work_estimate.cpp). What depends on the family (its pieces, the
+// cost of an evaluation, the calibration, the field a refusal names) is its descriptor's
+// (planner/curve_family.h, planner/families/); the sums below are the same for every family.
 //
 // The planner evaluates the curve (analysis/figures.h, measureCurve) at
 //   P (2 + 10 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
 // (P analytic pieces, 8 nodes and 2 ends, 4 golden-section searches of 2 + at most 60
 // evaluations; subintervals where the speed varies strongly are halved, see figures.h), then
-// once per sample. An evaluation costs, in geodesic steps,
+// once per sample. An evaluation costs, in geodesic steps (the families' evaluationCost),
 //   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
 //   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2
 //   with d = N - 1 (de Casteljau over all N points); bspline m (m + 1) / 2 (de Boor, degree m).
 // Corner blends (blend_radius on piecewise_geodesic) make up to 2N - 3 pieces, legs and
-// blends in turn, and an evaluation costs kCornerBlendEvaluationCost (measured).
+// blends in turn, and an evaluation costs PiecewiseGeodesicFamily::kBlendEvaluationCost (measured).
 // Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
 // G = 17 P + 512 intervals, with 6 G + 4096 curve evaluations and 3 units of its own (the
 // passes' bisections, the checks) per interval;
 // replanning (start_state) measures the figures again on the curve joined to the start state:
 // twice more under stretch (before and after the stretch, P pieces), once more on the
 // time-optimal curve (G pieces, one per grid interval).
-// Building the curve costs about kConstructionUnitsPerWaypoint per waypoint (times, logs, the
+// Building the curve costs about 10 units per waypoint (times, logs, the
 // C^2 solve's sweeps). The figures' effort is thus linear in the pieces; what grows as N^2 is
 // the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
 #pragma once
@@ -40,28 +42,6 @@
 
 namespace se3_interpolation
 {
-/// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
-constexpr double kConstructionUnitsPerWaypoint = 10.0;
-/// Work units of one evaluation of a corner-blended polyline (blend_radius), measured like
-/// blended's 2: 1.7 us per evaluation over its legs and blends against blended's 1.3 us
-/// (piecewise_geodesic alone: 0.08 us) on the loaded development machine.
-constexpr double kCornerBlendEvaluationCost = 3.0;
-/// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
-/// of T): at most 17 per piece plus 512.
-constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
-constexpr double kTimeOptimalMinIntervals = 512.0;
-/// time_optimal's curve evaluations: per grid interval (its ends' and middle's path jets, the
-/// corner checks, the checks' and the figures' searches where the rates peak, the refinement of
-/// intervals where the path's rates vary), and the searches that
-/// concentrate on few pieces (counted: 2.2 (piecewise_geodesic) ... 2.6 (hermite) per interval
-/// on 2000 waypoints, up to 3871 in all on the 513 intervals of a two-piece curve).
-constexpr double kTimeOptimalEvaluationsPerInterval = 6.0;
-constexpr double kTimeOptimalSearchEvaluations = 4096.0;
-/// time_optimal's work per grid interval besides the evaluations (bisections of the controllable
-/// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
-/// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
-constexpr double kTimeOptimalUnitsPerInterval = 3.0;
-
 /// The estimate of one request: curve evaluations for the figures, per-evaluation cost,
 /// samples, and their total in work units.
 struct WorkEstimate

@@ -70,8 +70,11 @@ private:
                const trajectory_msgs::MultiDOFJointTrajectory& trajectory, const std_msgs::Header& header,
                const std::string& child_frame_id, const NodeParameters& params);
   void autoGenerate();
-  /// Fills the request's empty fields from the (run-time) defaults.
-  static void applyRequestDefaults(const NodeParameters& params, TrajectoryRequest* request);
+  /// Fills the request's empty fields from the (run-time) defaults; returns the fields filled.
+  static std::vector<std::string> applyRequestDefaults(const NodeParameters& params, TrajectoryRequest* request);
+  /// `message` (the core's, starting with a request field) naming the node's parameter "~<field>"
+  /// instead where the node filled that field from it.
+  static std::string namingParameters(const std::string& message, const std::vector<std::string>& filled);
   /// The poses of `frames` in `target`, looked up with tf2 (each waiting up to ~tf_timeout);
   /// throws InvalidInputError naming waypoint_frames[i] for an invalid or unknown frame.
   std::vector<geometry_msgs::Pose> lookUpWaypointFrames(const std::vector<std::string>& frames,

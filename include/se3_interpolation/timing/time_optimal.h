@@ -264,47 +264,44 @@ private:
 /// The timed motion t ↦ C(s(t)) as a curve: sampling, figures and TF use it like any other.
 /// Its jets compose the path's jets with s(t) (eq. 1). Breakpoints: every grid time (s̈ jumps).
 template <class G>
-class TimeOptimalCurve final : public Curve<G>
+class TimeOptimalCurve final : public RetimedCurve<G>
 {
 public:
-  using typename Curve<G>::Point;
-  using typename Curve<G>::Jet2Point;
-
+  /// @param path the path, its time axis the path parameter s
+  /// @param profile the timing s(t) along it
   TimeOptimalCurve(std::shared_ptr<const Curve<G>> path, TimingProfile profile)
-    : path_(std::move(path)), profile_(std::move(profile))
+    : RetimedCurve<G>(std::move(path)), profile_(std::move(profile))
   {
   }
 
-  Point value(double t) const override { return path_->value(profile_.pathParameter(t, Side::kRight)); }
+  double startTime() const override { return profile_.t.front(); }
+  double endTime() const override { return profile_.t.back(); }
+  std::vector<double> breakpoints() const override { return profile_.t; }
+
+  const TimingProfile& profile() const { return profile_; }
+  const Curve<G>& path() const { return this->base(); }
+
+private:
+  double baseTime(double t) const override { return profile_.pathParameter(t, Side::kRight); }
   /// The path is evaluated from the side of the timing interval that t falls in: a time that maps
   /// exactly onto a breakpoint of the path (a velocity corner, reached at the end of an interval)
   /// takes the path's one-sided jet of that interval, not of the next one.
-  Jet2Point jet(const Jet<2>& t, Side side) const override
+  Jet<2> baseTime(const Jet<2>& t, Side side, Side* path_side) const override
   {
     const Jet<2> s = profile_.pathParameter(t, side);
     const std::size_t i = findInterval(profile_.t, t.value(), side);
     // (Within rounding of the interval's ends, s(t) computed from the interval's polynomial may
     // land on either side of the path's breakpoint there.)
-    Side path_side = side;
     const auto near = [](double a, double b) {
       return std::abs(a - b) <= kBreakpointSnapRelative * std::max(1.0, std::abs(b));
     };
     if (s.value() >= profile_.s[i + 1] || near(s.value(), profile_.s[i + 1]))
-      path_side = Side::kLeft;
+      *path_side = Side::kLeft;
     else if (s.value() <= profile_.s[i] || near(s.value(), profile_.s[i]))
-      path_side = Side::kRight;
-    return path_->jet(s, path_side);
+      *path_side = Side::kRight;
+    return s;
   }
-  double startTime() const override { return profile_.t.front(); }
-  double endTime() const override { return profile_.t.back(); }
-  std::vector<double> breakpoints() const override { return profile_.t; }
-  std::vector<Point> controlPoints() const override { return path_->controlPoints(); }
 
-  const TimingProfile& profile() const { return profile_; }
-  const Curve<G>& path() const { return *path_; }
-
-private:
-  std::shared_ptr<const Curve<G>> path_;
   TimingProfile profile_;
 };
 
