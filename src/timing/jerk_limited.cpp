@@ -1,6 +1,8 @@
 #include "se3_interpolation/timing/jerk_limited.h"
 
 #include <deque>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -23,6 +25,11 @@ constexpr double kMoveTolerance = 1e-9;
 constexpr double kSwitchTolerance = 1e-3;
 /// Bisection steps for a peak's cap (to rounding of ṡ).
 constexpr int kCapBisectionSteps = 60;
+/// The largest share β of the jerk bound left to the path's terms of eq. 1 (|C‴| ṡ³ + 3 |C″| ṡ s̈):
+/// the speed is capped so that |C‴| ṡ³ keeps to it, and each segment's window is widened by
+/// 1/(1 − β), β the share its path terms take (at most this), so that the window's term C′ s⃛
+/// keeps to the rest. Half: an even split between the window's term and the path's.
+constexpr double kPathJerkShare = 0.5;
 /// Segments shorter than this many windows are short moves (Biagiotti & Melchiorri eq. 3.31 with
 /// the triangular underlying profile: T < 2√2 τ).
 constexpr double kShortSegment = 2.8284271247461903;
@@ -200,12 +207,27 @@ private:
     TimeOptimalOptions o = options_.grid;
     o.start_speed = lead_speed_;
     o.hold_start = false;
-    o.local_limits = nullptr;
+    // The first run evaluates the path's third-order jets at its grid points and caps the speed
+    // for the path's share of the jerk there (pathSpeedCap); the later runs reuse them.
+    grid_.clear();
+    jets_.clear();
+    path_caps_.clear();
+    o.local_limits = [this](double s) {
+      grid_.push_back(s);
+      jets_.push_back(path_.jet3(s, s >= path_.end() ? Side::kLeft : Side::kRight));
+      path_caps_.push_back(pathSpeedCap(jets_.back()));
+      LocalLimit l;
+      l.speed_cap = path_caps_.back();
+      return l;
+    };
     TimingProfile base = timeOptimalProfile(stopping, b, o);
-    grid_ = base.s;
+    if (grid_ != base.s)
+      throw InterpolationError("timing: the jerk-limited timing's grid changed between its runs");
     factor_.assign(grid_.size(), 1.0);
-    cap_.assign(grid_.size(), kInf);
-    evaluateSpeeds(base);
+    cap_.resize(grid_.size());
+    for (std::size_t i = 0; i < grid_.size(); ++i)
+      cap_[i] = path_caps_[i] * path_caps_[i];
+    evaluateSpeeds();
     o.local_limits = [this](double s) { return localLimit(s); };
     // Short segments: lower the acceleration (and the window) by f.
     findSegments(base);
@@ -224,8 +246,11 @@ private:
     if (short_segments)
       rerun(stopping, b, o, &base);
     // Plateaus where s̈_T switches sign within a window.
+    setWindows(base);
     if (addPlateaus(base))
       rerun(stopping, b, o, &base);
+    if (seg_tau_.size() != seg_first_.size())
+      setWindows(base);
     buildProfile(std::move(base));
   }
 
@@ -238,6 +263,8 @@ private:
     findSegments(*base);
     if (f.size() == seg_f_.size())
       seg_f_ = f;
+    else
+      seg_tau_.clear();
   }
 
   /// The underlying timing's local limit at a grid point (the previous run's grid: the grid
@@ -254,18 +281,59 @@ private:
     return l;
   }
 
+  /// The path's share of the jerk at (ṡ, s̈) (eq. 1 without C′ s⃛): |C‴| ṡ³ + 3 |C″| ṡ |s̈|,
+  /// relative to the bound, the largest over the jerk-bounded channels.
+  double pathJerkShare(const PathJet3& j, double sd, double sdd) const
+  {
+    double share = 0.0;
+    for (int c = 0; c < 2; ++c)
+      if (moves_[c] && under_.jerk[c] > 0.0)
+        share = std::max(share, (std::sqrt(j[c].cc) * sd * sd * sd + 3.0 * std::sqrt(j[c].aa) * sd * std::abs(sdd)) /
+                                    under_.jerk[c]);
+    return share;
+  }
+
+  /// The speed at which the path's jerk at constant ṡ, |C‴| ṡ³, is kPathJerkShare of the bound,
+  /// the least over the channels; ∞ where C‴ = 0 (a straight line).
+  double pathSpeedCap(const PathJet3& j) const
+  {
+    double cap = kInf;
+    for (int c = 0; c < 2; ++c)
+      if (moves_[c] && under_.jerk[c] > 0.0 && j[c].cc > 0.0)
+        cap = std::min(cap, std::cbrt(kPathJerkShare * under_.jerk[c] / std::sqrt(j[c].cc)));
+    return cap;
+  }
+
   /// The jerk budget of the window in path units at each grid point: J_s = min_c j_c / |C′_c|
   /// over the moving, jerk-bounded channels.
-  void evaluateSpeeds(const TimingProfile& base)
+  void evaluateSpeeds()
   {
-    jerk_s_.assign(base.s.size(), kInf);
-    for (std::size_t i = 0; i < base.s.size(); ++i)
-    {
-      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-      const PathJet j = path_.jet(base.s[i], i + 1 == base.s.size() ? Side::kLeft : Side::kRight);
+    jerk_s_.assign(grid_.size(), kInf);
+    for (std::size_t i = 0; i < grid_.size(); ++i)
       for (int c = 0; c < 2; ++c)
-        if (moves_[c] && under_.jerk[c] > 0.0 && j[c].bb > 0.0)
-          jerk_s_[i] = std::min(jerk_s_[i], under_.jerk[c] / std::sqrt(j[c].bb));
+        if (moves_[c] && under_.jerk[c] > 0.0 && jets_[i][c].bb > 0.0)
+          jerk_s_[i] = std::min(jerk_s_[i], under_.jerk[c] / std::sqrt(jets_[i][c].bb));
+  }
+
+  /// The window of each segment: f τ, widened by 1/(1 − β) where the path takes the share β of
+  /// the jerk (pathJerkShare at the timing's speeds, at most kPathJerkShare by the caps).
+  void setWindows(const TimingProfile& base)
+  {
+    seg_tau_.assign(seg_first_.size(), 0.0);
+    seg_budget_.assign(seg_first_.size(), 1.0);
+    for (std::size_t k = 0; k < seg_first_.size(); ++k)
+    {
+      double share = 0.0;
+      // (The first segment of a moving start keeps the window its start was laid out for.)
+      if (k > 0 || !fixed_start_)
+        for (std::size_t i = seg_first_[k]; i <= seg_last_[k]; ++i)
+        {
+          const double u = std::max(i > seg_first_[k] ? std::abs(base.u[i - 1]) : 0.0,
+                                    i < seg_last_[k] ? std::abs(base.u[i]) : 0.0);
+          share = std::max(share, pathJerkShare(jets_[i], std::sqrt(base.x[i]), u));
+        }
+      seg_budget_[k] = 1.0 - std::min(share, kPathJerkShare);
+      seg_tau_[k] = seg_f_[k] * tau_ / seg_budget_[k];
     }
   }
 
@@ -317,7 +385,7 @@ private:
     for (std::size_t k = 0; k < seg_first_.size(); ++k)
     {
       const std::size_t first = seg_first_[k], last = seg_last_[k];
-      const double tau = seg_f_[k] * tau_;
+      const double tau = seg_tau_[k];
       std::deque<std::size_t> high, low;  // interval indices with decreasing / increasing u
       std::size_t window = first;
       std::size_t done_peak = first, done_dip = first;  // extrema handled (grid points)
@@ -338,7 +406,8 @@ private:
             low.pop_front();
           ++window;
         }
-        const double budget = std::min(jerk_s_[i], jerk_s_[i + 1]) * tau * (1.0 + kSwitchTolerance);
+        const double budget =
+            std::min(jerk_s_[i], jerk_s_[i + 1]) * seg_budget_[k] * tau * (1.0 + kSwitchTolerance);
         const std::size_t h = high.front(), l = low.front();
         if (b.u[i] < 0.0 && b.u[h] > 0.0 && b.u[h] - b.u[i] > budget && h + 1 > done_peak)
         {
@@ -406,7 +475,7 @@ private:
       JerkLimitedProfile::Segment g;
       g.first = seg_first_[k];
       g.last = seg_last_[k];
-      g.tau = seg_f_[k] * tau_;
+      g.tau = seg_tau_[k];
       g.start = start;
       if (k == 0)
       {
@@ -587,6 +656,24 @@ private:
       }
     }
     peak_ = peak;
+    if (std::getenv("JERK_DEBUG"))
+    {
+      fprintf(stderr, "peaks v %g %g a %g %g j %g %g tau %g segs %zu\n", peak[0], peak[1], peak[2], peak[3], peak[4], peak[5], tau_, profile_.segments.size());
+      // the worst pieces for jerk
+      std::vector<std::pair<double, std::size_t>> w;
+      for (std::size_t i = 0; i < all.size(); ++i)
+        w.push_back({ std::max({ all[i].f0[4] / bounds_.jerk[0], all[i].fm[4] / bounds_.jerk[0], all[i].f1[4] / bounds_.jerk[0], all[i].f0[5] / bounds_.jerk[1], all[i].fm[5] / bounds_.jerk[1], all[i].f1[5] / bounds_.jerk[1] }), i });
+      std::sort(w.rbegin(), w.rend());
+      for (int q = 0; q < 8 && q < (int)w.size(); ++q)
+      {
+        const Piece& p = all[w[q].second];
+        const auto& g = profile_.segments[p.segment];
+        const Jet<3> s = profile_.segmentParameter(g, Jet<3>::variable(p.lo), Side::kRight);
+        const PathJet3 j = path_.jet3(s.value(), Side::kRight);
+        const double sd = s.derivative(1), sdd = s.derivative(2), sddd = s.derivative(3);
+        fprintf(stderr, "  ratio %g at tb %g s %g sd %g sdd %g sddd %g | lin: b %g a %g c %g | terms C's3 %g 3C''sdsdd %g C'''sd3 %g\n", w[q].first, p.lo, s.value(), sd, sdd, sddd, std::sqrt(j[0].bb), std::sqrt(j[0].aa), std::sqrt(j[0].cc), std::sqrt(j[0].bb) * std::abs(sddd), 3 * std::sqrt(j[0].aa) * sd * std::abs(sdd), std::sqrt(j[0].cc) * sd * sd * sd);
+      }
+    }
     double k = 1.0;
     for (int c = 0; c < 2; ++c)
     {
@@ -627,6 +714,10 @@ private:
   std::vector<double> factor_;  ///< its acceleration factor at each grid point
   std::vector<double> cap_;     ///< its cap on x at each grid point
   std::vector<double> jerk_s_;  ///< J_s at each grid point
+  std::vector<PathJet3> jets_;  ///< the path's third-order jets at the grid points
+  std::vector<double> path_caps_;  ///< pathSpeedCap at the grid points
+  std::vector<double> seg_tau_;     ///< the window of each segment
+  std::vector<double> seg_budget_;  ///< 1 − β: the window's share of the jerk in each segment
   std::vector<std::size_t> seg_first_, seg_last_;
   std::vector<double> seg_f_;   ///< the short-segment factor f of each segment
   Rates6 peak_{};
