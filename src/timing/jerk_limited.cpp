@@ -1,8 +1,6 @@
 #include "se3_interpolation/timing/jerk_limited.h"
 
 #include <deque>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -17,9 +15,6 @@ namespace timing
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// A channel moves where its largest |C′| exceeds this fraction of the other's (time_optimal.cpp's
-/// rule: rounding of a pure rotation's translation, or vice versa, does not move).
-constexpr double kMoveTolerance = 1e-9;
 /// A change of s̈_T within one window counts as a switch to be given a plateau where it exceeds the
 /// window's jerk budget J_s τ by this fraction (eq. 2; below it, the final check's stretch absorbs it).
 constexpr double kSwitchTolerance = 1e-3;
@@ -656,24 +651,6 @@ private:
       }
     }
     peak_ = peak;
-    if (std::getenv("JERK_DEBUG"))
-    {
-      fprintf(stderr, "peaks v %g %g a %g %g j %g %g tau %g segs %zu\n", peak[0], peak[1], peak[2], peak[3], peak[4], peak[5], tau_, profile_.segments.size());
-      // the worst pieces for jerk
-      std::vector<std::pair<double, std::size_t>> w;
-      for (std::size_t i = 0; i < all.size(); ++i)
-        w.push_back({ std::max({ all[i].f0[4] / bounds_.jerk[0], all[i].fm[4] / bounds_.jerk[0], all[i].f1[4] / bounds_.jerk[0], all[i].f0[5] / bounds_.jerk[1], all[i].fm[5] / bounds_.jerk[1], all[i].f1[5] / bounds_.jerk[1] }), i });
-      std::sort(w.rbegin(), w.rend());
-      for (int q = 0; q < 8 && q < (int)w.size(); ++q)
-      {
-        const Piece& p = all[w[q].second];
-        const auto& g = profile_.segments[p.segment];
-        const Jet<3> s = profile_.segmentParameter(g, Jet<3>::variable(p.lo), Side::kRight);
-        const PathJet3 j = path_.jet3(s.value(), Side::kRight);
-        const double sd = s.derivative(1), sdd = s.derivative(2), sddd = s.derivative(3);
-        fprintf(stderr, "  ratio %g at tb %g s %g sd %g sdd %g sddd %g | lin: b %g a %g c %g | terms C's3 %g 3C''sdsdd %g C'''sd3 %g\n", w[q].first, p.lo, s.value(), sd, sdd, sddd, std::sqrt(j[0].bb), std::sqrt(j[0].aa), std::sqrt(j[0].cc), std::sqrt(j[0].bb) * std::abs(sddd), 3 * std::sqrt(j[0].aa) * sd * std::abs(sdd), std::sqrt(j[0].cc) * sd * sd * sd);
-      }
-    }
     double k = 1.0;
     for (int c = 0; c < 2; ++c)
     {

@@ -14,10 +14,6 @@ namespace timing
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// A channel moves at a grid point when |C′| exceeds this fraction of its largest |C′| on the
-/// path; a channel whose largest |C′| is below this fraction of the other's does not move at all
-/// (rounding of a pure rotation's translation, or vice versa).
-constexpr double kMoveTolerance = 1e-9;
 /// Bisection of the controllable sets' upper ends: relative width (rounding level of x).
 constexpr double kBisectionTolerance = 1e-12;
 constexpr int kBisectionSteps = 200;

@@ -33,6 +33,12 @@
 //    segment shorter than 2√2 τ (a short move of the double S: its acceleration does not reach a′)
 //    both a′ and τ are lowered by f = (T²/(8τ²))^{1/3}, T the segment's duration (the double S
 //    whose acceleration phase lasts exactly its jerk phase, eq. 3.31);
+//  - the path's share of the jerk: eq. 1 adds |C‴| ṡ³ + 3 |C″| ṡ s̈ to the window's C′ s⃛ on a
+//    curved path; the speed is capped where |C‴| ṡ³ would exceed half the bound (the first run of
+//    the underlying timing evaluates the third-order jets at its grid points for it), and each
+//    segment's window is widened to τ / (1 − β), β ≤ ½ the largest share of the bound the path's
+//    terms take along it at the underlying timing's ṡ and s̈, so that C′ s⃛ keeps to the rest
+//    (β = 0 on a straight line: the double S is unchanged);
 //  - plateaus: by eq. 2 the window's jerk is the change of s̈_T over τ; where s̈_T switches sign
 //    within τ (a peak of the speed between full acceleration and full braking, or a dip between
 //    braking and acceleration) by more than the jerk bound allows, the underlying timing is rerun
@@ -47,9 +53,10 @@
 //    final check does); the whole motion is then run slower by the uniform factor
 //    k = max(1, v/v_max, √(a/a_max), ∛(j/j_max)) over the peaks (velocities scale by 1/k,
 //    accelerations by 1/k², jerks by 1/k³).
-// Cost: up to three runs of the underlying timing (plain, with lowered accelerations on short
-// segments, with plateaus) and a check of about twice its grid's intervals, each with two
-// third-order path jets: linear in the path's length.
+// Cost: up to three runs of the underlying timing (with the path's speed caps, with lowered
+// accelerations on short segments, with plateaus; two on most paths) and a check of about twice
+// its grid's intervals, each with two third-order path jets: linear in the path's length
+// (bench/bench_jerk_limited.cpp: about 2.6 times the acceleration-only timing's cost).
 //
 // Start state (JerkLimitedOptions): a motion that starts moving at path speed ṡ0 ≥ 0 with path
 // acceleration s̈0 starts its window on the timing s_T extended before its start by the motion it

@@ -239,6 +239,11 @@ inline PathJet pathJetAt(const Curve<Sphere>& curve, double s, Side side)
   return { ChannelJet(), channelJet(k.velocity, k.acceleration) };
 }
 
+/// A channel moves at a grid point when |C′| exceeds this fraction of its largest |C′| on the
+/// path; a channel whose largest |C′| is below this fraction of the other's does not move at all
+/// (rounding of a pure rotation's translation, or vice versa).
+constexpr double kMoveTolerance = 1e-9;
+
 /// Relative jump of C′ across s above which the breakpoint is a velocity corner: far above the
 /// rounding of the one-sided jets (~1e-15) at breakpoints where the curve is C¹.
 constexpr double kCornerTolerance = 1e-8;

@@ -206,6 +206,19 @@ double timeOptimalDuration(const std::shared_ptr<const Curve<G>>& path, RateBoun
   return timing::makeTimeOptimalCurve<G>(path, b)->profile().duration();
 }
 
+/// The jerk-limited motion along a path from rest to rest: within every bound (10⁵ samples),
+/// at rest at both ends, and never faster than the acceleration-only optimum.
+template <class G>
+std::shared_ptr<const timing::JerkLimitedCurve<G>> expectJerkLimited(const std::shared_ptr<const Curve<G>>& path,
+                                                                     const RateBounds& b, const std::string& what)
+{
+  const auto m = timing::makeJerkLimitedCurve<G>(path, b);
+  expectWithinBounds(*m, b, what);
+  expectRestAtEnds(*m, what);
+  EXPECT_GE(m->profile().duration(), timeOptimalDuration<G>(path, b)) << what;
+  return m;
+}
+
 // ---- Straight lines: the double S in every case ----------------------------------------
 
 struct LineCase
@@ -334,23 +347,15 @@ TEST(JerkLimited, CurvedPathsOfBothGeometriesKeepEveryBound)
   const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
   {
     const auto path = naturalSpline<DoubleGeodesicSe3>(points, times);
-    const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
-    expectWithinBounds(*m, b, "double geodesic spline");
-    expectRestAtEnds(*m, "double geodesic spline");
-    EXPECT_GE(m->profile().duration(), timeOptimalDuration<DoubleGeodesicSe3>(path, b));
+    expectJerkLimited<DoubleGeodesicSe3>(path, b, "double geodesic spline");
   }
   {
     const auto path = naturalSpline<ScrewSe3>(points, times);
-    const auto m = timing::makeJerkLimitedCurve<ScrewSe3>(path, b);
-    expectWithinBounds(*m, b, "screw spline");
-    expectRestAtEnds(*m, "screw spline");
-    EXPECT_GE(m->profile().duration(), timeOptimalDuration<ScrewSe3>(path, b));
+    expectJerkLimited<ScrewSe3>(path, b, "screw spline");
   }
   {
     const auto path = std::make_shared<CornerBlendedGeodesic<DoubleGeodesicSe3>>(points, times, 0.3, 1.0);
-    const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
-    expectWithinBounds(*m, b, "corner blend");
-    EXPECT_GE(m->profile().duration(), timeOptimalDuration<DoubleGeodesicSe3>(path, b));
+    expectJerkLimited<DoubleGeodesicSe3>(path, b, "corner blend");
   }
 }
 
@@ -363,10 +368,7 @@ TEST(JerkLimited, SphereSplineKeepsEveryBound)
   const std::vector<double> times = unevenTimes(points.size(), rng);
   const auto path = naturalSpline<Sphere>(points, times);
   const RateBounds b = bounds(0.0, 0.0, 0.0, 1.0, 2.0, 4.0);
-  const auto m = timing::makeJerkLimitedCurve<Sphere>(path, b);
-  expectWithinBounds(*m, b, "sphere spline");
-  expectRestAtEnds(*m, "sphere spline");
-  EXPECT_GE(m->profile().duration(), timeOptimalDuration<Sphere>(path, b));
+  expectJerkLimited<Sphere>(path, b, "sphere spline");
 }
 
 TEST(JerkLimited, ALooseJerkBoundCostsAtMostThreePercent)
@@ -507,10 +509,7 @@ TEST(JerkLimited, TinyJerkBoundsOnACurvedPath)
   const std::vector<double> times = unevenTimes(points.size(), rng);
   const auto path = naturalSpline<DoubleGeodesicSe3>(points, times);
   const RateBounds b = bounds(1.0, 2.0, 1e-3, 1.5, 3.0, 2e-3);
-  const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
-  expectWithinBounds(*m, b, "tiny jerk");
-  expectRestAtEnds(*m, "tiny jerk");
-  EXPECT_GE(m->profile().duration(), timeOptimalDuration<DoubleGeodesicSe3>(path, b));
+  expectJerkLimited<DoubleGeodesicSe3>(path, b, "tiny jerk");
 }
 
 TEST(JerkLimited, UnevenWaypointTimes)
@@ -521,9 +520,7 @@ TEST(JerkLimited, UnevenWaypointTimes)
   const std::vector<double> times{ 0.0, 1.0, 1.001, 2.001, 2.002, 3.0 };
   const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
   const auto path = naturalSpline<DoubleGeodesicSe3>(points, times);
-  const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
-  expectWithinBounds(*m, b, "uneven times");
-  EXPECT_GE(m->profile().duration(), timeOptimalDuration<DoubleGeodesicSe3>(path, b));
+  expectJerkLimited<DoubleGeodesicSe3>(path, b, "uneven times");
 }
 
 TEST(JerkLimited, AC1PathStopsAtItsJoints)
