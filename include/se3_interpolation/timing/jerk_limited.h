@@ -398,13 +398,13 @@ public:
   Point value(double t) const override { return path_->value(profile_.pathParameter(t, Side::kRight)); }
   Jet2Point jet(const Jet<2>& t, Side side) const override
   {
-    const Jet<2> s = profile_.pathParameter(t, side);
-    return path_->jet(snap_.snap(s), pathSide(t.value(), s.value(), side));
+    const Jet<2> s = snap_.snap(profile_.pathParameter(t, side));
+    return path_->jet(s, pathSide(t.value(), s.value(), side));
   }
   Jet3Point jet3(const Jet<3>& t, Side side) const override
   {
-    const Jet<3> s = profile_.pathParameter(t, side);
-    return jet3Of(*path_, snap_.snap(s), pathSide(t.value(), s.value(), side));
+    const Jet<3> s = snap_.snap(profile_.pathParameter(t, side));
+    return jet3Of(*path_, s, pathSide(t.value(), s.value(), side));
   }
   double startTime() const override { return profile_.startTime(); }
   double endTime() const override { return profile_.endTime(); }
@@ -418,8 +418,9 @@ public:
   const Curve<G>& path() const { return *path_; }
 
 private:
-  /// The path's side at s: the time's while the motion moves; at a stop between segments (a
-  /// corner of the path), the side of the segment that the time falls in.
+  /// The path's side at s (snapped onto the path's breakpoints): the time's while the motion
+  /// moves; at a stop between segments (a corner of the path), the side of the segment that the
+  /// time falls in, also within rounding before the stop, where s has been snapped onto it.
   Side pathSide(double t, double s, Side side) const
   {
     if (profile_.segments.empty())

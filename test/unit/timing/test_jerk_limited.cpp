@@ -105,7 +105,10 @@ Rates ratesOf(const Curve<G>& c, double t, Side side = Side::kRight)
 /// Velocity and acceleration vectors of both channels stacked (pose: linear then angular; sphere:
 /// the ambient covariant ones), for finite differences.
 Eigen::VectorXd velocityOf(const Curve<Sphere>& c, double t) { return kinematicsAt(c, t).velocity; }
-Eigen::VectorXd accelerationOf(const Curve<Sphere>& c, double t) { return kinematicsAt(c, t).acceleration; }
+Eigen::VectorXd accelerationOf(const Curve<Sphere>& c, double t, Side side = Side::kRight)
+{
+  return kinematicsAt(c, t, side).acceleration;
+}
 template <class G>
 Eigen::VectorXd velocityOf(const Curve<G>& c, double t)
 {
@@ -115,9 +118,9 @@ Eigen::VectorXd velocityOf(const Curve<G>& c, double t)
   return v;
 }
 template <class G>
-Eigen::VectorXd accelerationOf(const Curve<G>& c, double t)
+Eigen::VectorXd accelerationOf(const Curve<G>& c, double t, Side side = Side::kRight)
 {
-  const Kinematics k = kinematicsAt(c, t);
+  const Kinematics k = kinematicsAt(c, t, side);
   Eigen::VectorXd v(6);
   v << k.acceleration.linear, k.acceleration.angular;
   return v;
@@ -206,14 +209,31 @@ double timeOptimalDuration(const std::shared_ptr<const Curve<G>>& path, RateBoun
   return timing::makeTimeOptimalCurve<G>(path, b)->profile().duration();
 }
 
+/// The acceleration is continuous: its one-sided limits agree at every breakpoint of the motion
+/// (where s⃛ or the path's C‴ jumps, and at the stops between segments).
+template <class G>
+void expectContinuousAcceleration(const Curve<G>& c, const std::string& what)
+{
+  double worst = 0.0, scale = 0.0;
+  for (double t : c.breakpoints())
+  {
+    const Eigen::VectorXd l = accelerationOf(c, t, Side::kLeft), r = accelerationOf(c, t, Side::kRight);
+    worst = std::max(worst, (l - r).norm());
+    scale = std::max(scale, l.norm());
+  }
+  EXPECT_LE(worst, 1e-9 * std::max(scale, 1.0)) << what;
+}
+
 /// The jerk-limited motion along a path from rest to rest: within every bound (10⁵ samples),
-/// at rest at both ends, and never faster than the acceleration-only optimum.
+/// with a continuous acceleration, at rest at both ends, and never faster than the
+/// acceleration-only optimum.
 template <class G>
 std::shared_ptr<const timing::JerkLimitedCurve<G>> expectJerkLimited(const std::shared_ptr<const Curve<G>>& path,
                                                                      const RateBounds& b, const std::string& what)
 {
   const auto m = timing::makeJerkLimitedCurve<G>(path, b);
   expectWithinBounds(*m, b, what);
+  expectContinuousAcceleration(*m, what);
   expectRestAtEnds(*m, what);
   EXPECT_GE(m->profile().duration(), timeOptimalDuration<G>(path, b)) << what;
   return m;
@@ -314,6 +334,21 @@ TEST(JerkLimited, GreatCircleArcOnTheSphereIsTheDoubleS)
     expectDoubleS<Sphere>(path, bounds(0.0, 0.0, 0.0, c.v, c.a, c.j), doubleS(1.0, c.v, c.a, c.j),
                           "sphere j=" + std::to_string(c.j));
   }
+}
+
+TEST(JerkLimited, PolylineIsTheSumOfItsSegmentsDoubleS)
+{
+  // Velocity corners: the motion stops at each, every segment is a straight line of its own.
+  const std::vector<Pose<double>> points{ pose({ 0, 0, 0 }, { 0, 0, 0 }), pose({ 0, 0, 0 }, { 1, 0, 0 }),
+                                          pose({ 0, 0, 0 }, { 1, 0.3, 0 }), pose({ 0, 0, 0 }, { 1, 0.3, 2 }) };
+  const auto path = std::make_shared<PiecewiseGeodesic<DoubleGeodesicSe3>>(points, std::vector<double>{ 0, 1, 2, 4 });
+  const RateBounds b = bounds(0.8, 1.5, 6.0, 1.0, 1.0, 1.0);
+  double reference = 0.0;
+  for (double length : { 1.0, 0.3, 2.0 })
+    reference += doubleS(length, 0.8, 1.5, 6.0).duration;
+  const auto m = expectJerkLimited<DoubleGeodesicSe3>(path, b, "polyline");
+  EXPECT_NEAR(m->profile().duration() / reference, 1.0, 0.01);
+  EXPECT_EQ(m->profile().segments.size(), 3u);
 }
 
 // ---- Curved paths ---------------------------------------------------------------------
