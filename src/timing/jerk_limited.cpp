@@ -15,6 +15,7 @@ namespace timing
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// A change of s̈_T within one window counts as a switch to be given a plateau where it exceeds the
 /// window's jerk budget J_s τ by this fraction (eq. 2; below it, the final check's stretch absorbs it).
 constexpr double kSwitchTolerance = 1e-3;
@@ -515,16 +516,38 @@ private:
     return side;
   }
 
-  Rates6 ratesAt(const JerkLimitedProfile::Segment& g, double tb, Side side) const
+  /// The Taylor coefficients of the cubic p at h from those at 0: s(t) is a cubic polynomial on
+  /// each piece, so the jet at its middle gives it exactly on the whole piece, ends included
+  /// (one-sided by construction: no rounding of t − τ can pick a neighbouring piece).
+  static Jet<3> shifted(const Jet<3>& p, double h)
   {
-    const Jet<3> s = profile_.segmentParameter(g, Jet<3>::variable(tb), side);
-    return rates(path_.jet3(s.value(), pathSide(g, s.value(), side)), s);
+    const double c0 = p.coefficient(0), c1 = p.coefficient(1), c2 = p.coefficient(2), c3 = p.coefficient(3);
+    Jet<3> q(c0 + h * (c1 + h * (c2 + h * c3)));
+    q.coefficient(1) = c1 + h * (2.0 * c2 + 3.0 * h * c3);
+    q.coefficient(2) = c2 + 3.0 * h * c3;
+    q.coefficient(3) = c3;
+    return q;
+  }
+
+  /// The path's jet at s within segment g: s clamped to the segment (the cubic of a piece
+  /// evaluated at its end rounds to either side of a stop), from `side` inside, inwards at its ends.
+  PathJet3 segmentPathJet(const JerkLimitedProfile::Segment& g, double s, Side side) const
+  {
+    const double c = std::min(std::max(s, profile_.base.s[g.first]), profile_.base.s[g.last]);
+    return path_.jet3(c, pathSide(g, c, side));
+  }
+
+  /// The rates at the point of a piece whose cubic is `s` (inside the piece: no breakpoint).
+  Rates6 ratesInside(const JerkLimitedProfile::Segment& g, const Jet<3>& s) const
+  {
+    return rates(segmentPathJet(g, s.value(), Side::kRight), s);
   }
 
   /// The pieces of segment g in base time: the grid's times, shifted by τ, and the passages of the
-  /// path's breakpoints; the latter are flagged (the path's C‴ jumps there).
+  /// path's breakpoints; `crossing` holds the breakpoint passed at each time (NaN: none), where
+  /// the path's C‴ jumps.
   void pieces(const JerkLimitedProfile::Segment& g, const std::vector<double>& path_breaks, std::vector<double>* times,
-              std::vector<char>* crossing) const
+              std::vector<double>* crossing) const
   {
     const TimingProfile& b = profile_.base;
     std::vector<double> t;
@@ -545,7 +568,7 @@ private:
         ++j;
       }
     }
-    std::vector<double> cross;
+    std::vector<double> cross, cross_s;
     const double sa = b.s[g.first], sb = b.s[g.last];
     for (auto it = std::upper_bound(path_breaks.begin(), path_breaks.end(), sa);
          it != path_breaks.end() && *it < sb; ++it)
@@ -560,6 +583,7 @@ private:
         (profile_.segmentParameter(g, mid, Side::kRight) < *it ? lo : hi) = mid;
       }
       cross.push_back(hi);
+      cross_s.push_back(*it);
     }
     times->clear();
     crossing->clear();
@@ -571,18 +595,18 @@ private:
         if (times->empty() || cross[k] > times->back())
         {
           times->push_back(cross[k]);
-          crossing->push_back(1);
+          crossing->push_back(cross_s[k]);
         }
         else
         {
-          crossing->back() = 1;
+          crossing->back() = cross_s[k];
         }
         ++k;
       }
       if (times->empty() || x > times->back())
       {
         times->push_back(x);
-        crossing->push_back(0);
+        crossing->push_back(kNaN);
       }
     }
   }
@@ -596,12 +620,13 @@ private:
     {
       std::size_t segment;
       double lo, hi;
+      Jet<3> middle;  ///< s at the middle: the piece's cubic
       Rates6 f0, fm, f1;
     };
     std::vector<Piece> all;
     Rates6 peak{};
     std::vector<double> times;
-    std::vector<char> crossing;
+    std::vector<double> crossing;
     std::vector<double>& motion_breaks = profile_.breakpoints;
     motion_breaks.clear();
     std::size_t count = 0;
@@ -613,20 +638,23 @@ private:
       for (std::size_t i = 0; i < times.size(); ++i)
         if (motion_breaks.empty() || times[i] + shift > motion_breaks.back())
           motion_breaks.push_back(times[i] + shift);
-      // The path jet at each piece boundary: one for both sides unless a path breakpoint is there.
-      PathJet3 jl{}, jr{};
-      Jet<3> sl, sr;
+      // The path jet at each piece boundary: one for both sides unless a path breakpoint is
+      // passed there (evaluated at the breakpoint itself, from each side).
+      PathJet3 jl{};
       for (std::size_t i = 0; i + 1 < times.size(); ++i)
       {
         checkDeadlineEvery(count++, kPointsPerDeadlineCheck / 4, kPhase);
-        const double lo = times[i], hi = times[i + 1];
-        Piece p{ k, lo, hi, {}, {}, {} };
-        sr = profile_.segmentParameter(g, Jet<3>::variable(lo), Side::kRight);
-        jr = i == 0 || crossing[i] ? path_.jet3(sr.value(), pathSide(g, sr.value(), Side::kRight)) : jl;
+        const double lo = times[i], hi = times[i + 1], mid = 0.5 * (lo + hi);
+        Piece p{ k, lo, hi, profile_.segmentParameter(g, Jet<3>::variable(mid), Side::kRight), {}, {}, {} };
+        const Jet<3> sr = shifted(p.middle, lo - mid), sl = shifted(p.middle, hi - mid);
+        PathJet3 jr = jl;
+        if (i == 0)
+          jr = segmentPathJet(g, sr.value(), Side::kRight);
+        else if (!std::isnan(crossing[i]))
+          jr = segmentPathJet(g, crossing[i], Side::kRight);
         p.f0 = rates(jr, sr);
-        p.fm = ratesAt(g, 0.5 * (lo + hi), Side::kRight);
-        sl = profile_.segmentParameter(g, Jet<3>::variable(hi), Side::kLeft);
-        jl = path_.jet3(sl.value(), pathSide(g, sl.value(), Side::kLeft));
+        p.fm = ratesInside(g, p.middle);
+        jl = segmentPathJet(g, std::isnan(crossing[i + 1]) ? sl.value() : crossing[i + 1], Side::kLeft);
         p.f1 = rates(jl, sl);
         for (int q = 0; q < 6; ++q)
           peak[q] = std::max({ peak[q], p.f0[q], p.fm[q], p.f1[q] });
@@ -645,7 +673,8 @@ private:
           continue;
         peak[q] = std::max(peak[q], detail::localMaxOf(
                                         [&](double lambda) {
-                                          return ratesAt(g, p.lo + lambda * (p.hi - p.lo), Side::kRight)[q];
+                                          const double h = (lambda - 0.5) * (p.hi - p.lo);
+                                          return ratesInside(g, shifted(p.middle, h))[q];
                                         },
                                         p.f0[q], p.fm[q], p.f1[q]));
       }

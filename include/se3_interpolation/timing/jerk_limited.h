@@ -345,16 +345,19 @@ private:
   template <class S>
   S integral(const Segment& g, const S& tb, Side side) const
   {
-    const double ta = base.t[g.first];
+    // A time within rounding of a grid time (tb − τ of a time τ after one) takes the requested
+    // side of that grid time: s⃛ jumps there.
     const double tv = valueOf(tb);
-    if (tv < ta || (tv == ta && side == Side::kLeft))
+    const auto near = [tv](double a) { return std::abs(tv - a) <= kBreakpointSnapRelative * std::max(1.0, std::abs(a)); };
+    const double ta = base.t[g.first];
+    if (near(ta) ? side == Side::kLeft : tv < ta)
     {
       const S h = tb - S(ta);
       return (0.5 * g.lead_speed) * (h * h) + (g.lead_acceleration / 6.0) * (h * h * h);
     }
     const double te = base.t[g.last];
     const double sa = base.s[g.first];
-    if (tv > te || (tv == te && side == Side::kRight))
+    if (near(te) ? side == Side::kRight : tv > te)
       return S(g.integral.back()) + S(base.s[g.last] - sa) * (tb - S(te));
     // The base interval containing tb, within the segment.
     const auto begin = base.t.begin() + static_cast<std::ptrdiff_t>(g.first);
@@ -362,6 +365,10 @@ private:
     auto it = side == Side::kRight ? std::upper_bound(begin, end, tv) : std::lower_bound(begin, end, tv);
     std::size_t i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - base.t.begin() - 1, g.first));
     i = std::min(i, g.last - 1);
+    if (side == Side::kLeft && i > g.first && near(base.t[i]))
+      --i;
+    else if (side == Side::kRight && i + 1 < g.last && near(base.t[i + 1]))
+      ++i;
     const S h = tb - S(base.t[i]);
     return S(g.integral[i - g.first]) + S(base.s[i] - sa) * h + (0.5 * std::sqrt(base.x[i])) * (h * h) +
            (base.u[i] / 6.0) * (h * h * h);
