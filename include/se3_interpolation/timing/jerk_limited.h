@@ -3,7 +3,9 @@
 //
 // Jerk-limited timing along a fixed path under velocity, acceleration and jerk norm bounds.
 //
-// The path C(s) and its channels are those of time_optimal.h. A timing s(t) with ṡ ≥ 0 gives the
+// The path C(s) and its channels are those of time_optimal.h; C‴ comes exactly from the curve's
+// third-order jets (curve.h, ThirdOrderJets: every construction evaluates itself in Jet<3>
+// arithmetic as it does in Jet<2>; a curve without them is refused, not approximated). A timing s(t) with ṡ ≥ 0 gives the
 // rates of each channel by the chain rule
 //   v = C′ ṡ,   a = C″ ṡ² + C′ s̈,   j = C‴ ṡ³ + 3 C″ ṡ s̈ + C′ s⃛                      (1)
 // (linear: p and its s-derivatives; angular: the spatial ω_s, ω′_s, ω″_s, so that j = ω̈; on the
@@ -453,7 +455,12 @@ private:
 };
 
 /// The jerk-limited motion along `path` (a curve whose time axis is the path parameter).
-/// @throws as jerkLimitedProfile
+/// @param path the path; its third derivatives come from its third-order jets (ThirdOrderJets:
+///   every curve construction, exactly, through its evaluate() in Jet<3> arithmetic)
+/// @param bounds the six bounds (0 = unbounded)
+/// @param options the underlying grid and the start state
+/// @return the timed motion, a curve on [s_0, s_0 + duration]
+/// @throws as jerkLimitedProfile; InvalidInputError for a path without third-order jets
 template <class G>
 std::shared_ptr<const JerkLimitedCurve<G>> makeJerkLimitedCurve(std::shared_ptr<const Curve<G>> path,
                                                                  const RateBounds& bounds,

@@ -13,6 +13,8 @@
 
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/bezier.h"
+#include "se3_interpolation/curves/blended_spline.h"
+#include "se3_interpolation/curves/bspline.h"
 #include "se3_interpolation/curves/corner_blend.h"
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/curves/interpolating_spline.h"
@@ -126,6 +128,15 @@ Eigen::VectorXd accelerationOf(const Curve<G>& c, double t, Side side = Side::kR
   return v;
 }
 
+template <class G>
+std::shared_ptr<const Curve<G>> naturalSpline(const std::vector<typename G::template Point<double>>& points,
+                                              const std::vector<double>& times)
+{
+  using Tangent = typename G::template Tangent<double>;
+  const Tangent zero = G::log(points[0], points[0]);
+  return makeInterpolatingSpline<G>(points, times, EndCondition::kNatural, zero, zero, zero);
+}
+
 /// The finite difference of the ambient covariant acceleration on the sphere has a normal part
 /// (the covariant jerk is its tangent part); pose motions have none.
 void removeNormal(const Curve<Sphere>& c, double t, Eigen::VectorXd* d)
@@ -237,6 +248,87 @@ std::shared_ptr<const timing::JerkLimitedCurve<G>> expectJerkLimited(const std::
   expectRestAtEnds(*m, what);
   EXPECT_GE(m->profile().duration(), timeOptimalDuration<G>(path, b)) << what;
   return m;
+}
+
+// ---- Third-order path jets ------------------------------------------------------------
+
+namespace
+{
+/// C‴ of both channels from the third-order jet against the central difference of C″ from the
+/// second-order one, at interior points of every piece (relative to the jerk's scale). Pieces
+/// shorter than 1 ms are left out: the difference's step, 1e-5 of the piece, would drown in
+/// rounding there.
+template <class G>
+void expectThirdOrderJetsMatch(const Curve<G>& c, const std::string& what)
+{
+  const std::vector<double> b = c.breakpoints();
+  double worst = 0.0;
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+    for (double f : { 0.21, 0.5, 0.77 })
+    {
+      if (b[i + 1] - b[i] < 1e-3)
+        continue;
+      ++checked;
+      const double t = b[i] + f * (b[i + 1] - b[i]);
+      const double h = 1e-5 * (b[i + 1] - b[i]);
+      const timing::PathJet3 j = timing::pathJet3At(c, t, Side::kRight);
+      const Eigen::VectorXd d = (accelerationOf(c, t + h) - accelerationOf(c, t - h)) / (2.0 * h);
+      Eigen::VectorXd difference = d;
+      removeNormal(c, t, &difference);
+      const std::array<double, 2> fd = channelNorms(difference);
+      for (int ch = 0; ch < 2; ++ch)
+      {
+        const double exact = std::sqrt(j[ch].cc);
+        worst = std::max(worst, std::abs(exact - fd[ch]) / (1.0 + exact));
+      }
+    }
+  EXPECT_LE(worst, 1e-5) << what;
+  EXPECT_GT(checked, 0u) << what;
+}
+}  // namespace
+
+TEST(JerkLimited, ThirdOrderJetsOfEveryFamilyAreTheDerivativesOfTheAccelerations)
+{
+  std::mt19937 rng(29);
+  const std::vector<Pose<double>> points = test::randomPolygon(rng, 5, 0.8);
+  const std::vector<double> times{ 0.0, 0.7, 1.9, 2.5, 4.0 };
+  std::vector<Vector6<double>> tangents(points.size(), Vector6<double>::Constant(0.2));
+  const auto knots = [](std::size_t n, int m) {
+    std::vector<double> k(static_cast<std::size_t>(m), 0.0);
+    for (std::size_t i = 0; i + static_cast<std::size_t>(m) <= n; ++i)
+      k.push_back(static_cast<double>(i));
+    k.resize(n + static_cast<std::size_t>(m) + 1, k.back());
+    return k;
+  };
+  {
+    using G = DoubleGeodesicSe3;
+    expectThirdOrderJetsMatch(*naturalSpline<G>(points, times), "natural double geodesic");
+    expectThirdOrderJetsMatch(HermiteSpline<G>(points, times, tangents), "hermite double geodesic");
+    expectThirdOrderJetsMatch(BezierCurve<G>(points, 0.0, 2.0), "bezier double geodesic");
+    expectThirdOrderJetsMatch(BSplineCurve<G>(points, 3, knots(points.size(), 3)), "bspline double geodesic");
+    expectThirdOrderJetsMatch(BlendedSpline<G>(points, times, 2), "blended double geodesic");
+    expectThirdOrderJetsMatch(CornerBlendedGeodesic<G>(points, times, 0.3, 1.0), "corner blend double geodesic");
+  }
+  {
+    using G = ScrewSe3;
+    expectThirdOrderJetsMatch(*naturalSpline<G>(points, times), "natural screw");
+    expectThirdOrderJetsMatch(HermiteSpline<G>(points, times, tangents), "hermite screw");
+    expectThirdOrderJetsMatch(BSplineCurve<G>(points, 3, knots(points.size(), 3)), "bspline screw");
+    expectThirdOrderJetsMatch(CornerBlendedGeodesic<G>(points, times, 0.3, 1.0), "corner blend screw");
+  }
+  {
+    std::vector<Eigen::VectorXd> x;
+    for (int i = 0; i < 5; ++i)
+      x.push_back(test::randomUnitVectorX(rng, 3));
+    expectThirdOrderJetsMatch(*naturalSpline<Sphere>(x, times), "natural sphere");
+    expectThirdOrderJetsMatch(BezierCurve<Sphere>(x, 0.0, 2.0), "bezier sphere");
+  }
+  // The timed motion's own third-order jets, too (its jerk is measured from them).
+  const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
+  expectThirdOrderJetsMatch(*timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(
+                                naturalSpline<DoubleGeodesicSe3>(points, times), b),
+                            "jerk-limited motion");
 }
 
 // ---- Straight lines: the double S in every case ----------------------------------------
@@ -364,14 +456,6 @@ std::vector<double> unevenTimes(std::size_t n, std::mt19937& rng)
   return t;
 }
 
-template <class G>
-std::shared_ptr<const Curve<G>> naturalSpline(const std::vector<typename G::template Point<double>>& points,
-                                              const std::vector<double>& times)
-{
-  using Tangent = typename G::template Tangent<double>;
-  const Tangent zero = G::log(points[0], points[0]);
-  return makeInterpolatingSpline<G>(points, times, EndCondition::kNatural, zero, zero, zero);
-}
 }  // namespace
 
 TEST(JerkLimited, CurvedPathsOfBothGeometriesKeepEveryBound)
@@ -662,18 +746,25 @@ TEST(JerkLimited, ReportedFiguresAreThoseOfTheTimedMotion)
   const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
   const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
   const auto& p = m->profile();
-  // The peaks by dense sampling: at most the figures, and close to them.
+  // The peaks by dense sampling (the jerk as the finite difference of the accelerations): at most
+  // the figures, and close to them.
   std::array<double, 6> sampled{};
   const std::size_t n = 100000;
+  const double dt = (m->endTime() - m->startTime()) / n;
+  Eigen::VectorXd previous = accelerationOf(*m, m->startTime());
   for (std::size_t i = 0; i <= n; ++i)
   {
-    const double t = m->startTime() + (m->endTime() - m->startTime()) * static_cast<double>(i) / n;
-    const timing::PathJet3 j = timing::pathJet3At(*m, t, Side::kRight);
+    const double t = m->startTime() + dt * static_cast<double>(i);
+    const std::array<double, 2> v = channelNorms(velocityOf(*m, t));
+    const Eigen::VectorXd a = accelerationOf(*m, t);
+    const std::array<double, 2> an = channelNorms(a), jn = channelNorms((a - previous) / dt);
+    previous = a;
     for (int c = 0; c < 2; ++c)
     {
-      sampled[c] = std::max(sampled[c], std::sqrt(j[c].bb));
-      sampled[2 + c] = std::max(sampled[2 + c], std::sqrt(j[c].aa));
-      sampled[4 + c] = std::max(sampled[4 + c], std::sqrt(j[c].cc));
+      sampled[c] = std::max(sampled[c], v[c]);
+      sampled[2 + c] = std::max(sampled[2 + c], an[c]);
+      if (i > 0)
+        sampled[4 + c] = std::max(sampled[4 + c], jn[c]);
     }
   }
   const std::array<double, 6> reported{ p.max_speed[0],        p.max_speed[1], p.max_acceleration[0],
