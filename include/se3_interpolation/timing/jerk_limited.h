@@ -58,7 +58,7 @@
 // Cost: up to three runs of the underlying timing (with the path's speed caps, with lowered
 // accelerations on short segments, with plateaus; two on most paths) and a check of about twice
 // its grid's intervals, each with two third-order path jets: linear in the path's length
-// (bench/bench_jerk_limited.cpp: about 2.6 times the acceleration-only timing's cost).
+// (bench/bench_time_optimal.cpp: about 2.5 times the acceleration-only timing's cost).
 //
 // Start state (JerkLimitedOptions): a motion that starts moving at path speed ṡ0 ≥ 0 with path
 // acceleration s̈0 starts its window on the timing s_T extended before its start by the motion it

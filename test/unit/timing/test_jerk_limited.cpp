@@ -137,6 +137,25 @@ std::shared_ptr<const Curve<G>> naturalSpline(const std::vector<typename G::temp
   return makeInterpolatingSpline<G>(points, times, EndCondition::kNatural, zero, zero, zero);
 }
 
+/// Times 0.5 … 1.5 s apart.
+std::vector<double> unevenTimes(std::size_t n, std::mt19937& rng)
+{
+  std::vector<double> t{ 0.0 };
+  std::uniform_real_distribution<double> u(0.5, 1.5);
+  for (std::size_t i = 1; i < n; ++i)
+    t.push_back(t.back() + u(rng));
+  return t;
+}
+
+/// The natural spline through a random polygon of n poses (rotation steps below `step`) at
+/// random uneven times, from a fixed seed.
+std::shared_ptr<const Curve<DoubleGeodesicSe3>> randomSpline(unsigned seed, std::size_t n, double step)
+{
+  std::mt19937 rng(seed);
+  const std::vector<Pose<double>> points = test::randomPolygon(rng, n, step);
+  return naturalSpline<DoubleGeodesicSe3>(points, unevenTimes(n, rng));
+}
+
 /// The finite difference of the ambient covariant acceleration on the sphere has a normal part
 /// (the covariant jerk is its tangent part); pose motions have none.
 void removeNormal(const Curve<Sphere>& c, double t, Eigen::VectorXd* d)
@@ -445,19 +464,6 @@ TEST(JerkLimited, PolylineIsTheSumOfItsSegmentsDoubleS)
 
 // ---- Curved paths ---------------------------------------------------------------------
 
-namespace
-{
-std::vector<double> unevenTimes(std::size_t n, std::mt19937& rng)
-{
-  std::vector<double> t{ 0.0 };
-  std::uniform_real_distribution<double> u(0.5, 1.5);
-  for (std::size_t i = 1; i < n; ++i)
-    t.push_back(t.back() + u(rng));
-  return t;
-}
-
-}  // namespace
-
 TEST(JerkLimited, CurvedPathsOfBothGeometriesKeepEveryBound)
 {
   std::mt19937 rng(7);
@@ -692,9 +698,7 @@ TEST(JerkLimited, BadJerkBoundsAreRefusedNamingTheField)
 
 TEST(JerkLimited, WithoutJerkBoundsTheResultIsTimeOptimalsExactly)
 {
-  std::mt19937 rng(17);
-  const std::vector<Pose<double>> points = test::randomPolygon(rng, 5, 0.8);
-  const auto path = naturalSpline<DoubleGeodesicSe3>(points, unevenTimes(points.size(), rng));
+  const auto path = randomSpline(17, 5, 0.8);
   const RateBounds b = bounds(1.0, 2.0, 0.0, 1.5, 3.0, 0.0);
   const auto reference = timing::makeTimeOptimalCurve<DoubleGeodesicSe3>(path, b);
   const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
@@ -715,9 +719,7 @@ TEST(JerkLimited, WithoutJerkBoundsTheResultIsTimeOptimalsExactly)
 
 TEST(JerkLimited, StartsFromAMovingStateWithZeroAcceleration)
 {
-  std::mt19937 rng(19);
-  const std::vector<Pose<double>> points = test::randomPolygon(rng, 5, 0.6);
-  const auto path = naturalSpline<DoubleGeodesicSe3>(points, unevenTimes(points.size(), rng));
+  const auto path = randomSpline(19, 5, 0.6);
   const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
   // Half the speed the bounds allow at the start, then a small path acceleration too.
   const Kinematics k0 = kinematicsAt(*path, path->startTime());
@@ -740,9 +742,7 @@ TEST(JerkLimited, StartsFromAMovingStateWithZeroAcceleration)
 
 TEST(JerkLimited, ReportedFiguresAreThoseOfTheTimedMotion)
 {
-  std::mt19937 rng(23);
-  const std::vector<Pose<double>> points = test::randomPolygon(rng, 5, 0.8);
-  const auto path = naturalSpline<DoubleGeodesicSe3>(points, unevenTimes(points.size(), rng));
+  const auto path = randomSpline(23, 5, 0.8);
   const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
   const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
   const auto& p = m->profile();
