@@ -58,7 +58,7 @@
 // Cost: up to three runs of the underlying timing (with the path's speed caps, with lowered
 // accelerations on short segments, with plateaus; two on most paths) and a check of about twice
 // its grid's intervals, each with two third-order path jets: linear in the path's length
-// (bench/bench_time_optimal.cpp: about 2.5 times the acceleration-only timing's cost).
+// (bench/bench_time_optimal.cpp: about 2.2 times the acceleration-only timing's cost).
 //
 // Start state (JerkLimitedOptions): a motion that starts moving at path speed ṡ0 ≥ 0 with path
 // acceleration s̈0 starts its window on the timing s_T extended before its start by the motion it
@@ -68,7 +68,8 @@
 // ṡ_T0 − s̈0 τ ≥ 0 (ṡ0 ≥ |s̈0| τ/2: the extension does not run backwards within a window);
 // others are refused naming `start_state`. A moving start cannot be stretched (its speed would
 // change): instead the bounds of the underlying timing are lowered by the excess and it is rerun
-// (at most kFixedStartPasses times); a start the bounds cannot hold is refused.
+// (at most 8 times); a start the bounds cannot hold is refused (InterpolationError naming
+// `start_state`).
 //
 // The planner's use (the request fields max_linear_jerk, max_angular_jerk; validated by
 // jerkLimitedProfile, which names them): where it calls makeTimeOptimalCurve(path, bounds,
