@@ -41,6 +41,8 @@ constexpr double kFixedStartMargin = 1e-3;
 /// Relative distance below which a breakpoint of the path counts as the moving start's s_a′.
 constexpr double kSameBreakpoint = 1e-12;
 constexpr std::size_t kPointsPerDeadlineCheck = 256;
+/// Bisection steps for the time at which the motion passes a path parameter (to rounding).
+constexpr int kTimeBisectionSteps = 100;
 constexpr const char* kPhase = "timing: jerk-limited 'time_optimal'";
 
 const char* const kJerkName[2] = { "max_linear_jerk", "max_angular_jerk" };
@@ -194,6 +196,12 @@ private:
                               " while moving at only " + formatNumber(sd0) +
                               " (the jerk-limited timing needs a speed of at least |acceleration| * " +
                               formatNumber(0.5 * tau_) + " s)");
+    for (double x : path_.breakpoints())
+      if (fixed_start_ && x > path_.start() && x <= s_start &&
+          (path_.isCorner(x) || path_.accelerationJumps(x, x - path_.start())))
+        throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
+                                "before path time " + formatNumber(x) +
+                                " s; start slower, place the first waypoint farther away, or raise the bounds");
     StoppingPath stopping(path_, s_start);
     const double first_stop = stopping.stops().empty() ? path_.end() : stopping.stops().front();
     if (fixed_start_ && !(s_start < first_stop))
@@ -473,6 +481,7 @@ private:
       g.last = seg_last_[k];
       g.tau = seg_tau_[k];
       g.start = start;
+      g.s_start = k == 0 ? path_.start() : base.s[g.first];
       if (k == 0)
       {
         g.lead_speed = lead_speed_;
@@ -511,7 +520,7 @@ private:
   {
     if (s >= profile_.base.s[g.last])
       return Side::kLeft;
-    if (s <= profile_.base.s[g.first])
+    if (s <= g.s_start)
       return Side::kRight;
     return side;
   }
@@ -533,7 +542,7 @@ private:
   /// evaluated at its end rounds to either side of a stop), from `side` inside, inwards at its ends.
   PathJet3 segmentPathJet(const JerkLimitedProfile::Segment& g, double s, Side side) const
   {
-    const double c = std::min(std::max(s, profile_.base.s[g.first]), profile_.base.s[g.last]);
+    const double c = std::min(std::max(s, g.s_start), profile_.base.s[g.last]);
     return path_.jet3(c, pathSide(g, c, side));
   }
 
@@ -569,20 +578,11 @@ private:
       }
     }
     std::vector<double> cross, cross_s;
-    const double sa = b.s[g.first], sb = b.s[g.last];
+    const double sa = g.s_start, sb = b.s[g.last];
     for (auto it = std::upper_bound(path_breaks.begin(), path_breaks.end(), sa);
          it != path_breaks.end() && *it < sb; ++it)
     {
-      // s(t) is nondecreasing and passes s_bp between the base's passage and τ after it.
-      double lo = std::max(b.t[g.first], b.timeAt(*it)), hi = std::min(lo + g.tau, b.t[g.last] + g.tau);
-      for (int step = 0; step < 100 && hi > lo; ++step)
-      {
-        const double mid = 0.5 * (lo + hi);
-        if (mid <= lo || mid >= hi)
-          break;
-        (profile_.segmentParameter(g, mid, Side::kRight) < *it ? lo : hi) = mid;
-      }
-      cross.push_back(hi);
+      cross.push_back(profile_.segmentTime(g, *it));
       cross_s.push_back(*it);
     }
     times->clear();
@@ -730,6 +730,36 @@ private:
   JerkLimitedProfile profile_;
 };
 }  // namespace
+
+double JerkLimitedProfile::segmentTime(const Segment& g, double path_parameter) const
+{
+  if (path_parameter <= g.s_start)
+    return base.t[g.first];
+  if (path_parameter >= base.s[g.last])
+    return base.t[g.last] + g.tau;
+  // s(t) is nondecreasing and passes s between the base's passage and τ after it.
+  double lo = std::max(base.t[g.first], base.timeAt(path_parameter));
+  double hi = std::min(lo + g.tau, base.t[g.last] + g.tau);
+  for (int step = 0; step < kTimeBisectionSteps; ++step)
+  {
+    const double mid = 0.5 * (lo + hi);
+    if (!(mid > lo && mid < hi))
+      break;
+    (segmentParameter(g, mid, Side::kRight) < path_parameter ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+double JerkLimitedProfile::timeAt(double path_parameter) const
+{
+  if (segments.empty())
+    return base.timeAt(path_parameter);
+  std::size_t k = 0;
+  while (k + 1 < segments.size() && base.s[segments[k].last] < path_parameter)
+    ++k;
+  const Segment& g = segments[k];
+  return t0 + (g.start + (segmentTime(g, path_parameter) - g.baseStart(base)) - t0) * stretch;
+}
 
 std::size_t JerkLimitedProfile::segmentAt(double time, Side side) const
 {

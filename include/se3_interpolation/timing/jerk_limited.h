@@ -285,6 +285,9 @@ struct JerkLimitedProfile
     std::size_t last = 0;   ///< base grid index of its end (x = 0 there)
     double tau = 0.0;       ///< the window τ (s)
     double start = 0.0;     ///< the motion time at which it starts, before the stretch
+    /// The path parameter at which it starts: base.s[first], but the path's start for a moving
+    /// start, whose base timing starts at s_a′ beyond it (file comment).
+    double s_start = 0.0;
     double lead_speed = 0.0;         ///< ṡ_T0: the extension of base before its start (file comment)
     double lead_acceleration = 0.0;  ///< s̈0 of that extension
     /// ∫ (s_T − s_first) dt from base.t[first] to base.t[first + k], k = 0 … last − first.
@@ -342,6 +345,13 @@ struct JerkLimitedProfile
 
   /// The index of the segment that motion time `time` falls in (at a joint, the one on `side`).
   std::size_t segmentAt(double time, Side side) const;
+
+  /// The motion time at which the motion passes the path parameter s (s⁻¹, e.g. for the waypoint
+  /// times; at a stop, the time it arrives there), to rounding.
+  double timeAt(double path_parameter) const;
+
+  /// The base time (segment g's clock) at which it passes s, to rounding.
+  double segmentTime(const Segment& g, double path_parameter) const;
 
 private:
   /// ∫_{t_a}^{tb} (s_T − s_a) dσ of segment g (negative before t_a: the extension).
@@ -445,7 +455,7 @@ private:
     const auto& g = profile_.segments[profile_.segmentAt(t, side)];
     if (s >= profile_.base.s[g.last])
       return Side::kLeft;
-    if (s <= profile_.base.s[g.first])
+    if (s <= g.s_start)
       return Side::kRight;
     return side;
   }

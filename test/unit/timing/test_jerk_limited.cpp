@@ -752,6 +752,30 @@ TEST(JerkLimited, StartsFromAMovingStateWithZeroAcceleration)
   }
 }
 
+TEST(JerkLimited, TimeAtInvertsThePathParameter)
+{
+  const RateBounds b = bounds(1.0, 2.0, 5.0, 1.5, 3.0, 8.0);
+  const auto path = randomSpline(31, 5, 0.8);
+  for (const auto& m : { timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b),
+                         timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, bounds(1, 2, 0, 1.5, 3, 0)) })
+  {
+    const auto& p = m->profile();
+    for (int i = 0; i <= 200; ++i)
+    {
+      const double t = m->startTime() + (m->endTime() - m->startTime()) * i / 200.0;
+      const double s = p.pathParameter(t, Side::kRight);
+      // Where the motion rests (its ends) any time of the rest maps back: compare path parameters.
+      EXPECT_NEAR(p.pathParameter(p.timeAt(s), Side::kRight), s, 1e-9) << t;
+      if (i > 0 && i < 200)
+      {
+        EXPECT_NEAR(p.timeAt(s), t, 1e-6) << t;
+      }
+    }
+    EXPECT_EQ(p.timeAt(path->startTime()), m->startTime());
+    EXPECT_NEAR(p.timeAt(path->endTime()), m->endTime(), 1e-9);
+  }
+}
+
 TEST(JerkLimited, ReportedFiguresAreThoseOfTheTimedMotion)
 {
   const auto path = randomSpline(23, 5, 0.8);
