@@ -78,7 +78,8 @@
 // set options.start_speed / start_acceleration to the start state's ṡ and s̈ along the path
 // instead of TimeOptimalOptions::start_speed / hold_start. With both jerk bounds 0 the result is
 // time_optimal's, exactly. The figures are JerkLimitedProfile::max_speed, max_acceleration,
-// max_jerk.
+// max_jerk; the waypoint times map through JerkLimitedProfile::timeAt (as TimingProfile::timeAt);
+// duration() and stretch as TimingProfile's.
 #pragma once
 
 #include <Eigen/Core>
