@@ -26,8 +26,8 @@ constexpr int kCapBisectionSteps = 60;
 /// 1/(1 − β), β the share its path terms take (at most this), so that the window's term C′ s⃛
 /// keeps to the rest. Half: an even split between the window's term and the path's.
 constexpr double kPathJerkShare = 0.5;
-/// Segments shorter than this many windows are short moves (Biagiotti & Melchiorri eq. 3.31 with
-/// the triangular underlying profile: T < 2√2 τ).
+/// Segments shorter than this many windows are short moves (Biagiotti & Melchiorri §3.4, neither
+/// v_max nor a_max reached: L < 2 a³/j², for the triangular underlying profile T = 2√(L/a) < 2√2 τ).
 constexpr double kShortSegment = 2.8284271247461903;
 /// Pieces whose parabola through ends and middle comes within this fraction of the largest value
 /// seen are searched for their interior maximum (time_optimal.cpp's margin).

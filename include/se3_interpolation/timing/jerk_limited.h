@@ -5,8 +5,8 @@
 //
 // The path C(s) and its channels are those of time_optimal.h; C‴ comes exactly from the curve's
 // third-order jets (curve.h, ThirdOrderJets: every construction evaluates itself in Jet<3>
-// arithmetic as it does in Jet<2>; a curve without them is refused, not approximated). A timing s(t) with ṡ ≥ 0 gives the
-// rates of each channel by the chain rule
+// arithmetic as it does in Jet<2>; a curve without them is refused, not approximated). A timing
+// s(t) with ṡ ≥ 0 gives the rates of each channel by the chain rule
 //   v = C′ ṡ,   a = C″ ṡ² + C′ s̈,   j = C‴ ṡ³ + 3 C″ ṡ s̈ + C′ s⃛                      (1)
 // (linear: p and its s-derivatives; angular: the spatial ω_s, ω′_s, ω″_s, so that j = ω̈; on the
 // sphere the covariant derivatives x′, D²x/ds², D³x/ds³, for which eq. 1 holds as well, the
@@ -22,9 +22,9 @@
 // "double S" of L. Biagiotti, C. Melchiorri, "Trajectory Planning for Automatic Machines and
 // Robots", Springer 2008, §3.4) is the trapezoidal velocity profile with acceleration a′ and a cruise
 // of at least T_j, averaged over T_j = a′/j (its jerk phases are the window sliding over the
-// acceleration's steps), with a′ = min(a_max, √(v_max j_max)) (Biagiotti & Melchiorri eq. 3.30:
-// the acceleration is not reached when v_max j_max < a_max²) and, for short moves (eq. 3.31:
-// neither the speed nor a_max reached), a′ lowered further so that the acceleration lasts T_j.
+// acceleration's steps), with a′ = min(a_max, √(v_max j_max)) (Biagiotti & Melchiorri §3.4:
+// a_max is not reached when v_max j_max < a_max²) and, for short moves (neither the speed nor
+// a_max reached), a′ lowered further so that the acceleration lasts T_j.
 // The construction in general:
 //  - segments: the motion stops (ṡ = 0, s̈ = 0) at velocity corners, where C″ jumps (a continuous
 //    acceleration at ṡ > 0 needs continuous C″: hermite, blended continuity 1, B-splines of
@@ -34,7 +34,7 @@
 //    acceleration bound the underlying timing runs with (a′_c = √(v_c j_c) where a_c = 0); on a
 //    segment shorter than 2√2 τ (a short move of the double S: its acceleration does not reach a′)
 //    both a′ and τ are lowered by f = (T²/(8τ²))^{1/3}, T the segment's duration (the double S
-//    whose acceleration phase lasts exactly its jerk phase, eq. 3.31);
+//    whose acceleration phase lasts exactly its jerk phase: T_a = 2 T_j, L = 2 j T_j³);
 //  - the path's share of the jerk: eq. 1 adds |C‴| ṡ³ + 3 |C″| ṡ s̈ to the window's C′ s⃛ on a
 //    curved path; the speed is capped where |C‴| ṡ³ would exceed half the bound (the first run of
 //    the underlying timing evaluates the third-order jets at its grid points for it), and each
@@ -77,7 +77,7 @@
 // bounds.jerk set and options.grid = the TimeOptimalOptions it passes today; from_current replans
 // set options.start_speed / start_acceleration to the start state's ṡ and s̈ along the path
 // instead of TimeOptimalOptions::start_speed / hold_start. With both jerk bounds 0 the result is
-// time_optimal's, exactly. The figures are JerkLimitedProfile::max_speed, max_acceleration,
+// time_optimal's, exactly (start_acceleration is then not read). The figures are JerkLimitedProfile::max_speed, max_acceleration,
 // max_jerk; the waypoint times map through JerkLimitedProfile::timeAt (as TimingProfile::timeAt);
 // duration() and stretch as TimingProfile's.
 #pragma once

@@ -31,9 +31,11 @@ namespace
 // ---- Independent references ------------------------------------------------------------
 
 /// The rest-to-rest double S over distance L with |v| ≤ v, |a| ≤ a, |j| ≤ j (Biagiotti &
-/// Melchiorri §3.4, zero boundary velocities): eq. 3.19 (a_max not reached when v j < a²),
-/// 3.25 (v_max reached when T_v ≥ 0), 3.26 (otherwise: T_a from the quadratic of the cruise-free
-/// profile), and, when that T_a < 2 T_j, neither reached: T_j = (L / (2 j))^{1/3}, T_a = 2 T_j.
+/// Melchiorri §3.4, zero boundary velocities): a_max not reached when v j < a² (then
+/// T_j = √(v/j), T_a = 2 T_j, else T_j = a/j, T_a = T_j + v/a); v_max reached when
+/// T_v = L/v − T_a ≥ 0 (T = 2 T_a + T_v); otherwise T_j = a/j and T_a from the cruise-free
+/// profile's quadratic T_a² − T_j T_a − L/a = 0, and, when that T_a < 2 T_j, neither reached:
+/// T_j = (L / (2 j))^{1/3}, T_a = 2 T_j (T = 2 T_a).
 struct DoubleS
 {
   double duration = 0.0;
@@ -542,7 +544,7 @@ CircleRates circleRates(double R, double v, double at, double jt)
   return { v, std::hypot(at, v * v / R), std::hypot(jt - v * v * v / (R * R), 3.0 * v * at / R) };
 }
 
-/// The rest-to-rest double S of eq. 3.19–3.26 (doubleS) as a motion: its arc speed, acceleration
+/// The rest-to-rest double S of doubleS as a motion: its arc speed, acceleration
 /// and jerk at time t, by integrating its seven constant-jerk phases.
 struct DoubleSMotion
 {
