@@ -3,7 +3,7 @@
 #  1. bench_core (Google Benchmark): ns per operation for the screw and double-geodesic
 #     geometries against KDL and plain Eigen, the ratio table, and sampling throughput;
 #     bench_interpolating (the interpolating solve, N = 10 … 10⁴) when bench/bench_interpolating.cpp exists;
-#     bench_time_optimal (time-optimal timing of the interpolating spline, N = 100 … 3000);
+#     bench_time_optimal (time-optimal and jerk-limited timing of the interpolating spline, N = 100 … 3000);
 #  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
 #     the committed bench/instruction_counts.txt.
 # The benchmarks are built without catkin with g++ into $SE3_WS/bench.

@@ -5,6 +5,7 @@
 
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/timing/peak_search.h"
 
 namespace se3_interpolation
 {
@@ -13,20 +14,12 @@ namespace timing
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// A channel moves at a grid point when |C′| exceeds this fraction of its largest |C′| on the
-/// path; a channel whose largest |C′| is below this fraction of the other's does not move at all
-/// (rounding of a pure rotation's translation, or vice versa).
-constexpr double kMoveTolerance = 1e-9;
 /// Bisection of the controllable sets' upper ends: relative width (rounding level of x).
 constexpr double kBisectionTolerance = 1e-12;
 constexpr int kBisectionSteps = 200;
 /// Intervals whose middle suggests (by a parabola through ends and middle) a rate within this
 /// fraction of the worst one seen are searched for their maximum.
 constexpr double kRefineMargin = 1e-3;
-/// That search: steps, and the step (fraction of the interval) at which it stops; the maximum's
-/// value is then exact to ~(1e-7)² relative.
-constexpr int kLocalMaxSteps = 12;
-constexpr double kLocalMaxTolerance = 1e-7;
 /// Local passes: where an interval's middle exceeds a bound by more than kLocalTolerance, the
 /// bound is tightened at its ends by the excess and the passes are rerun (at most kLocalPasses
 /// times), so that the final uniform stretch only absorbs what is left (typically < 1e-3).
@@ -120,7 +113,7 @@ public:
       throw InvalidInputError("start_state: its speed along the path is " + formatNumber(options.start_speed) +
                               " (it must be finite)");
     buildGrid(options);
-    evaluateGrid();
+    evaluateGrid(options);
   }
 
   TimingProfile solve()
@@ -274,10 +267,20 @@ private:
     }
   }
 
-  void evaluateGrid()
+  void evaluateGrid(const TimeOptimalOptions& options)
   {
     const std::size_t n = profile_.s.size();
     factor_.assign(n, Rates{ 1.0, 1.0, 1.0, 1.0 });
+    if (options.local_limits)
+    {
+      speed_cap_.assign(n, kInf);
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        const LocalLimit l = options.local_limits(profile_.s[i]);
+        factor_[i][2] = factor_[i][3] = l.acceleration_factor;
+        speed_cap_[i] = l.speed_cap * l.speed_cap;
+      }
+    }
     // The largest |C′| of each channel: the scale of "moves".
     std::array<double, 2> largest{};
     for (std::size_t i = 0; i < n; ++i)
@@ -366,7 +369,7 @@ private:
     for (std::size_t i = 0; i < profile_.s.size(); ++i)
       for (PointData* p : { &right_[i], &left_[i] })
       {
-        p->x_max = kInf;
+        p->x_max = speed_cap_.empty() ? kInf : speed_cap_[i];
         for (int c = 0; c < 2; ++c)
         {
           const ChannelJet& j = p->jet[c];
@@ -645,25 +648,13 @@ private:
     return f;
   }
 
-  /// Whether the parabola through (0, f0), (½, fm), (1, f1), f0 + c1 λ + c2 λ², has a maximum
-  /// inside the interval at or above `threshold` (where a rate could rise above the checked points).
-  static bool parabolaPeaksInside(double f0, double fm, double f1, double threshold)
-  {
-    const double c1 = -3.0 * f0 + 4.0 * fm - f1;
-    const double c2 = 2.0 * f0 - 4.0 * fm + 2.0 * f1;
-    if (!(c2 < 0.0))
-      return false;
-    const double vertex = -c1 / (2.0 * c2);
-    return vertex > 0.0 && vertex < 1.0 && f0 + c1 * vertex + c2 * vertex * vertex >= threshold;
-  }
-
   /// The peak of need q on interval i: the largest of its ends and middle, or, where the parabola
   /// through the three peaks inside at or above `threshold`, the maximum found by localMax on the
   /// exact rates.
   double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
   {
     const double f0 = f.start[i][q], fm = f.middle[i][q], f1 = f.end[i][q];
-    *searched = parabolaPeaksInside(f0, fm, f1, threshold);
+    *searched = detail::parabolaPeaksInside(f0, fm, f1, threshold);
     return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
   }
 
@@ -813,9 +804,9 @@ private:
       const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
       for (int q = 0; q < 4; ++q)
       {
-        if (!parabolaPeaksInside(a[q], m[q], b[q], peak[q] * (1.0 - kRefineMargin)))
+        if (!detail::parabolaPeaksInside(a[q], m[q], b[q], peak[q] * (1.0 - kRefineMargin)))
           continue;
-        peak[q] = std::max(peak[q], localMaxOf(
+        peak[q] = std::max(peak[q], detail::localMaxOf(
                                         [this, i, q](double lambda) {
                                           const TimingProfile& pr = profile_;
                                           const double x = pr.x[i] + lambda * (pr.x[i + 1] - pr.x[i]);
@@ -841,57 +832,7 @@ private:
   /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
   double localMax(std::size_t i, int q, double f0, double fm, double f1) const
   {
-    return localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
-  }
-
-  /// The largest value of `value(λ)` on [0, 1] (λ the fraction of an interval) from its values at
-  /// 0, ½, 1: successive parabolic interpolation, golden-section steps when a parabola fails.
-  template <class F>
-  static double localMaxOf(F value, double f0, double fm, double f1)
-  {
-    std::array<double, 3> l{ 0.0, 0.5, 1.0 };
-    std::array<double, 3> f{ f0, fm, f1 };
-    double best = std::max({ f0, fm, f1 });
-    for (int step = 0; step < kLocalMaxSteps; ++step)
-    {
-      // The vertex of the parabola through the three points (l sorted, f[1] the largest inside).
-      const double d1 = (l[1] - l[0]) * (f[1] - f[2]);
-      const double d2 = (l[1] - l[2]) * (f[1] - f[0]);
-      const double den = 2.0 * (d1 - d2);
-      double next = den != 0.0 ? l[1] - ((l[1] - l[0]) * d1 - (l[1] - l[2]) * d2) / den : -1.0;
-      if (!(next > l[0] && next < l[2]) || next == l[1])
-        next = l[2] - l[1] > l[1] - l[0] ? l[1] + 0.381966 * (l[2] - l[1]) : l[1] - 0.381966 * (l[1] - l[0]);
-      const double fn = value(next);
-      best = std::max(best, fn);
-      const double moved = std::abs(next - l[1]);
-      // Keep the bracket around the best interior point.
-      if (fn >= f[1])
-      {
-        if (next > l[1])
-        {
-          l = { l[1], next, l[2] };
-          f = { f[1], fn, f[2] };
-        }
-        else
-        {
-          l = { l[0], next, l[1] };
-          f = { f[0], fn, f[1] };
-        }
-      }
-      else if (next > l[1])
-      {
-        l[2] = next;
-        f[2] = fn;
-      }
-      else
-      {
-        l[0] = next;
-        f[0] = fn;
-      }
-      if (moved < kLocalMaxTolerance)
-        break;
-    }
-    return best;
+    return detail::localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
   }
 
   const PathModel& path_;
@@ -910,6 +851,7 @@ private:
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
   std::vector<bool> corner_;
   std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
+  std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
   std::vector<double> k_;        ///< upper ends of the controllable sets
 };
 }  // namespace

@@ -94,16 +94,43 @@ public:
   virtual std::vector<Point> controlPoints() const = 0;
 };
 
+/// The third-order jets of a curve (value and the first three time derivatives), for the timings
+/// that bound jerk (timing/jerk_limited.h). Every construction of CurveBase provides them, as do
+/// the wrappers that change a curve's clock; a curve without them (one that forwards only jet())
+/// is refused by those timings (jet3Of).
+template <class G>
+class ThirdOrderJets
+{
+public:
+  using Jet3Point = typename G::template Point<Jet<3>>;
+
+  virtual ~ThirdOrderJets() = default;
+  /// The curve at a third-order jet of time (one-sided at a breakpoint).
+  virtual Jet3Point jet3(const Jet<3>& t, Side side) const = 0;
+};
+
+/// The third-order jet of a curve at t. Throws InvalidInputError when the curve has none.
+template <class G>
+typename ThirdOrderJets<G>::Jet3Point jet3Of(const Curve<G>& curve, const Jet<3>& t, Side side)
+{
+  const auto* jets = dynamic_cast<const ThirdOrderJets<G>*>(&curve);
+  if (jets == nullptr)
+    throw InvalidInputError("curve: this curve gives no third derivatives (a timing that bounds jerk needs them)");
+  return jets->jet3(t, side);
+}
+
 /// CRTP adapter: Derived provides `template <class S> Point<S> evaluate(const S& t, Side) const`.
 template <class G, class Derived>
-class CurveBase : public Curve<G>
+class CurveBase : public Curve<G>, public ThirdOrderJets<G>
 {
 public:
   using typename Curve<G>::Point;
   using typename Curve<G>::Jet2Point;
+  using typename ThirdOrderJets<G>::Jet3Point;
 
   Point value(double t) const final { return self().template evaluate<double>(t, Side::kRight); }
   Jet2Point jet(const Jet<2>& t, Side side) const final { return self().template evaluate<Jet<2>>(t, side); }
+  Jet3Point jet3(const Jet<3>& t, Side side) const final { return self().template evaluate<Jet<3>>(t, side); }
 
 private:
   const Derived& self() const { return static_cast<const Derived&>(*this); }
@@ -201,9 +228,11 @@ private:
 /// A curve run on a uniformly stretched clock: c(t) = base(t0 + (t − t0)/k), k ≥ 1,
 /// so velocities scale by 1/k and accelerations by 1/k² (docs/timing.md).
 template <class G>
-class TimeScaledCurve final : public RetimedCurve<G>
+class TimeScaledCurve final : public RetimedCurve<G>, public ThirdOrderJets<G>
 {
 public:
+  using typename ThirdOrderJets<G>::Jet3Point;
+
   /// @param base the curve to stretch, from its start time
   /// @param scale the stretch k
   TimeScaledCurve(std::shared_ptr<const Curve<G>> base, double scale)
@@ -214,6 +243,11 @@ public:
   {
   }
 
+  /// Throws InvalidInputError when the base curve has no third-order jets.
+  Jet3Point jet3(const Jet<3>& t, Side side) const override
+  {
+    return jet3Of(this->base(), snap_.snap(Jet<3>(t0_) + (t - Jet<3>(t0_)) / Jet<3>(scale_)), side);
+  }
   double startTime() const override { return t0_; }
   double endTime() const override { return t0_ + (this->base().endTime() - t0_) * scale_; }
   std::vector<double> breakpoints() const override

@@ -67,6 +67,7 @@
 
 #include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/curves/chart_cubic.h"
+#include "se3_interpolation/curves/chart_transition.h"
 #include "se3_interpolation/curves/end_condition.h"
 #include "se3_interpolation/curves/hermite.h"
 #include "se3_interpolation/geometry/geometry.h"
@@ -88,14 +89,6 @@ struct SplineSolverOptions
 
 namespace detail
 {
-inline std::string scientific(double x)
-{
-  std::ostringstream s;
-  s.precision(3);
-  s << x;
-  return s.str();
-}
-
 /// Newton iterations per continuation step before the step is retried shorter.
 constexpr int kIterationsPerStep = 16;
 /// The smallest continuation step in λ before the solve gives up, and the relative tolerance of
@@ -127,83 +120,6 @@ constexpr double kContinuityTolerance = 1e-9;
 /// kinematics: ten times this, for the rounding of the other evaluation path.
 constexpr double kStateContinuityTolerance = 1e-7;
 
-/// The C^2 solve on S^m refuses a waypoint step closer than this to pi (the sphere's first
-/// conjugate point, where D_i is singular). Measured (natural splines on S^2 through x0, x1 at
-/// pi - gap from x0 after h, and a third point; 60 random configurations per gap and h in
-/// 1e-6 ... 1 s): the acceleration at x1 from its two sides, both evaluated from the ambient jet,
-/// differs by up to 2e-8 of its size at a gap of 1e-8 rad, 1e-7 at 1e-7 rad (h = 1e-5 s),
-/// 2e-6 at 1e-10 and 1e-11 rad (h = 1e-3 s), 0.15 at 1e-10 rad and 1 (the value itself) at
-/// 1e-12 rad (h = 2.5e-6 s): the rounding of the segment's terms, which grow with the condition
-/// of D_i, swamps the acceleration. verifyContinuity, on the scale of those terms, passes all of
-/// these but the last. Below 1e-8 rad such steps are refused, naming the waypoints.
-constexpr double kMinSphereConjugateGap = 1e-8;
-
-/// c q for a constant unit quaternion c and a quaternion of jets q (Hamilton product, double ×
-/// jet products only).
-inline Quaternion<Jet<2>> constantTimes(const Quaternion<double>& c, const Quaternion<Jet<2>>& q)
-{
-  return Quaternion<Jet<2>>(c.w() * q.w() - c.x() * q.x() - c.y() * q.y() - c.z() * q.z(),
-                            c.w() * q.x() + c.x() * q.w() + c.y() * q.z() - c.z() * q.y(),
-                            c.w() * q.y() - c.x() * q.z() + c.y() * q.w() + c.z() * q.x(),
-                            c.w() * q.z() + c.x() * q.y() - c.y() * q.x() + c.z() * q.w());
-}
-
-/// D = dF(0) and Q = d²F(0) of the transition map F(δ) = H::log(x1, H::exp(x0, L + δ)) (C3) of a
-/// geometry H whose frames are the identity, at compile-time size N: Q(e_j, e_j) and D e_j from
-/// the jet of s ↦ F(s e_j), the mixed Q(e_j, e_k) by polarisation from s ↦ F(s (e_j + e_k)) (as
-/// chart_cubic.h's transitionDerivatives). `quadratic` holds the blocks Q(e_j, ·) side by side.
-template <class H, int N>
-void unitFrameTransition(const typename H::template Point<double>& x0, const typename H::template Point<double>& x1,
-                         const typename H::template Tangent<double>& log, Eigen::Matrix<double, N, N>* jacobian,
-                         Eigen::Matrix<double, N, N * N>* quadratic)
-{
-  using J2 = Jet<2>;
-  using TangentJ = typename H::template Tangent<J2>;
-  const typename H::template Point<J2> x0j = H::template cast<J2>(x0);
-  const typename H::template Point<J2> x1j = H::template cast<J2>(x1);
-  // On SO(3), x1⁻¹ (x0 Exp(δ)) = (x1⁻¹ x0) Exp(δ): one product of a constant with a jet.
-  const auto between = [&] {
-    if constexpr (std::is_same<H, So3>::value)
-      return Quaternion<double>(x1.conjugate() * x0);
-    else
-      return 0;  // unused
-  }();
-  // s ↦ F(s (e_j + e_k)) (e_j alone when j = k): velocity and acceleration.
-  auto motion = [&](int j, int k, Eigen::Matrix<double, N, 1>* velocity, Eigen::Matrix<double, N, 1>* acceleration) {
-    TangentJ delta;
-    for (int m = 0; m < N; ++m)
-      delta[m] = J2(log[m]);
-    delta[j].coefficient(1) = 1.0;
-    delta[k].coefficient(1) = 1.0;
-    TangentJ y;
-    if constexpr (std::is_same<H, So3>::value)
-      y = so3Log(constantTimes(between, so3Exp(delta)));  // = So3::log(x1, So3::exp(x0, δ))
-    else
-      y = H::log(x1j, H::exp(x0j, delta));
-    for (int m = 0; m < N; ++m)
-    {
-      (*velocity)[m] = y[m].coefficient(1);
-      (*acceleration)[m] = 2.0 * y[m].coefficient(2);
-    }
-  };
-  Eigen::Matrix<double, N, 1> velocity, acceleration;
-  for (int j = 0; j < N; ++j)
-  {
-    motion(j, j, &velocity, &acceleration);
-    jacobian->col(j) = velocity;
-    quadratic->col(j * N + j) = acceleration;
-  }
-  for (int j = 0; j < N; ++j)
-    for (int k = j + 1; k < N; ++k)
-    {
-      motion(j, k, &velocity, &acceleration);
-      const Eigen::Matrix<double, N, 1> mixed =
-          (acceleration - quadratic->col(j * N + j) - quadratic->col(k * N + k)) / 2.0;
-      quadratic->col(j * N + k) = mixed;
-      quadratic->col(k * N + j) = mixed;
-    }
-}
-
 /// Newton's method with continuation for the velocities of the natural / clamped spline.
 /// The phase a deadline (deadline.h) names when the solve runs past it, and the segments handled
 /// between two checks inside one sweep (a sweep of 2·10⁵ waypoints takes longer than a deadline).
@@ -223,7 +139,7 @@ public:
   using Mat = Eigen::Matrix<double, kDof, kDof>;
   /// The leading coordinates that Q_i depends on and acts in: the rotation's 3 for the double
   /// geodesic (file comment, Cost), all of them otherwise.
-  static constexpr int kCurved = std::is_same<G, DoubleGeodesicSe3>::value ? 3 : kDof;
+  static constexpr int kCurved = ChartTransition<G>::curvedCoordinates(kDof);
   using CurvedVec = Eigen::Matrix<double, kCurved, 1>;
   using CurvedMat = Eigen::Matrix<double, kCurved, kCurved>;
   using Quad = Eigen::Matrix<double, kCurved, kCurved == Eigen::Dynamic ? Eigen::Dynamic : kCurved * kCurved>;
@@ -248,16 +164,7 @@ public:
       checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       Segment& s = segments_[i];
       s.h = t_[i + 1] - t_[i];
-      if constexpr (std::is_same<G, Sphere>::value)
-      {
-        const double gap = EIGEN_PI - logs_[i].norm();
-        if (gap < kMinSphereConjugateGap)
-          throw ConvergenceError(prefix() + "the step from " + indexedField("waypoints", i) + " to " +
-                                 indexedField("waypoints", i + 1) + " is " + scientific(gap) +
-                                 " rad from the antipode, closer than " + scientific(kMinSphereConjugateGap) +
-                                 " rad (the sphere's conjugate point, where the spline's acceleration is lost "
-                                 "to rounding); add a waypoint between them or use curve 'hermite'");
-      }
+      ChartTransition<G>::checkStep(logs_[i], i, prefix());
       s.log = toFrame(i, logs_[i]);
       transition(i, &s.d, &s.q);
       if (!s.d.allFinite() || !s.q.allFinite())
@@ -477,63 +384,12 @@ private:
   /// D_i and Q_i of segment i (file comment, Cost).
   void transition(std::size_t i, Mat* d, Quad* q) const
   {
-    if constexpr (std::is_same<G, DoubleGeodesicSe3>::value)
-    {
-      Eigen::Matrix3d rd;
-      Eigen::Matrix<double, 3, 9> rq;
-      unitFrameTransition<So3, 3>(x_[i].q, x_[i + 1].q, Eigen::Vector3d(logs_[i].template head<3>()), &rd, &rq);
-      d->setIdentity();
-      d->template topLeftCorner<3, 3>() = rd;
-      *q = rq;
-    }
-    else if constexpr (std::is_same<G, Euclidean>::value)
-    {
-      *d = Mat::Identity(dof_, dof_);
-      *q = Quad::Zero(dof_, dof_ * dof_);
-    }
-    else if constexpr (kDof != Eigen::Dynamic)
-    {
-      unitFrameTransition<G, kDof>(x_[i], x_[i + 1], logs_[i], d, q);
-    }
-    else
-    {
-      const Eigen::MatrixXd b0 = kIdentityFrame ? Eigen::MatrixXd::Identity(dof_, dof_) : frames_[i];
-      const Eigen::MatrixXd b1 = kIdentityFrame ? Eigen::MatrixXd::Identity(dof_, dof_) : frames_[i + 1];
-      const TransitionDerivatives t = transitionDerivatives<G>(x_[i], x_[i + 1], logs_[i], b0, b1);
-      *d = t.jacobian;
-      *q = t.quadratic;
-    }
+    ChartTransition<G>::template derivatives<Mat, Quad>(x_[i], x_[i + 1], logs_[i], kIdentityFrame ? nullptr : &frames_[i],
+                                                        kIdentityFrame ? nullptr : &frames_[i + 1], d, q);
   }
 
-  /// E = D⁻¹ if D is invertible (rank-revealing LU). For the double geodesic only the rotation
-  /// block R (the right Jacobian J_r(L), det = 2 (1 − cos θ)/θ² ≥ 4/π² below half a turn) is
-  /// not the identity; it is inverted by cofactors, refused when |det R| ≤ ε · (max |R_ab|)³.
-  static bool invert(const Mat& d, Mat* e)
-  {
-    if constexpr (std::is_same<G, DoubleGeodesicSe3>::value)
-    {
-      const Eigen::Matrix3d r = d.template topLeftCorner<3, 3>();
-      Eigen::Matrix3d inverse;
-      double det = 0.0;
-      bool invertible = false;
-      const double size = r.cwiseAbs().maxCoeff();
-      r.computeInverseAndDetWithCheck(inverse, det, invertible,
-                                      std::numeric_limits<double>::epsilon() * size * size * size);
-      if (!invertible || !(size > 0.0))
-        return false;
-      e->setIdentity();
-      e->template topLeftCorner<3, 3>() = inverse;
-      return true;
-    }
-    else
-    {
-      const Eigen::FullPivLU<Mat> lu(d);
-      if (!lu.isInvertible())
-        return false;
-      *e = lu.inverse();
-      return true;
-    }
-  }
+  /// E = D⁻¹ if D is invertible (ChartTransition<G>).
+  static bool invert(const Mat& d, Mat* e) { return ChartTransition<G>::invert(d, e); }
 
   auto block(const Eigen::VectorXd& z, std::size_t i) const
   {

@@ -46,6 +46,11 @@ typename G::template Point<Jet<2>> evaluateAt(const Curve<G>& c, const Jet<2>& t
 {
   return c.jet(t, side);
 }
+template <class G>
+typename G::template Point<Jet<3>> evaluateAt(const Curve<G>& c, const Jet<3>& t, Side side)
+{
+  return jet3Of(c, t, side);
+}
 
 /// The coefficients 0, 1, 2 of a tangent of jets, as three tangents of doubles.
 template <class G>

@@ -68,6 +68,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -116,6 +118,16 @@ struct RateBounds
 {
   std::array<double, 2> velocity{};
   std::array<double, 2> acceleration{};
+  /// max_linear_jerk (m/s³, |d³p/dt³|), max_angular_jerk (rad/s³, |ω̈|): bounded by the
+  /// jerk-limited timing (jerk_limited.h) only; timeOptimalProfile does not read them.
+  std::array<double, 2> jerk{};
+};
+
+/// A local limit at one path parameter (TimeOptimalOptions::local_limits).
+struct LocalLimit
+{
+  double acceleration_factor = 1.0;                              ///< in (0, 1], on both channels
+  double speed_cap = std::numeric_limits<double>::infinity();  ///< largest ṡ (∞: none)
 };
 
 /// The path as the timing sees it: the channels' derivatives w.r.t. the path parameter.
@@ -150,6 +162,10 @@ struct TimeOptimalOptions
   /// acceleration at s_0 is the path's C″ ṡ² (with start_speed 1 on a path whose own time is the
   /// motion's: the start state's acceleration, exactly).
   bool hold_start = false;
+  /// Limits tighter than the bounds at some path parameters, for timings built on this one (the
+  /// jerk-limited timing: its plateaus and per-segment accelerations): read once at every grid
+  /// point (at a breakpoint, the tighter of its two sides is the caller's to give). Empty: none.
+  std::function<LocalLimit(double)> local_limits;
 };
 
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].
@@ -222,6 +238,11 @@ inline PathJet pathJetAt(const Curve<Sphere>& curve, double s, Side side)
   const SphereKinematics k = kinematicsAt(curve, s, side);
   return { ChannelJet(), channelJet(k.velocity, k.acceleration) };
 }
+
+/// A channel moves at a grid point when |C′| exceeds this fraction of its largest |C′| on the
+/// path; a channel whose largest |C′| is below this fraction of the other's does not move at all
+/// (rounding of a pure rotation's translation, or vice versa).
+constexpr double kMoveTolerance = 1e-9;
 
 /// Relative jump of C′ across s above which the breakpoint is a velocity corner: far above the
 /// rounding of the one-sided jets (~1e-15) at breakpoints where the curve is C¹.

@@ -1,0 +1,84 @@
+// timing/: the interior-maximum search shared by the timings' final checks (time_optimal.cpp,
+// jerk_limited.cpp): a rate checked at the two ends and the middle of an interval is searched
+// inside it where the parabola through the three values peaks inside.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace se3_interpolation
+{
+namespace timing
+{
+namespace detail
+{
+/// The search's steps, and the step (fraction of the interval) at which it stops; the maximum's
+/// value is then exact to ~(1e-7)² relative.
+constexpr int kLocalMaxSteps = 12;
+constexpr double kLocalMaxTolerance = 1e-7;
+
+/// Whether the parabola through (0, f0), (½, fm), (1, f1), f0 + c1 λ + c2 λ², has a maximum
+/// inside the interval at or above `threshold` (where a rate could rise above the checked points).
+inline bool parabolaPeaksInside(double f0, double fm, double f1, double threshold)
+{
+  const double c1 = -3.0 * f0 + 4.0 * fm - f1;
+  const double c2 = 2.0 * f0 - 4.0 * fm + 2.0 * f1;
+  if (!(c2 < 0.0))
+    return false;
+  const double vertex = -c1 / (2.0 * c2);
+  return vertex > 0.0 && vertex < 1.0 && f0 + c1 * vertex + c2 * vertex * vertex >= threshold;
+}
+
+/// The largest value of `value(λ)` on [0, 1] (λ the fraction of an interval) from its values at
+/// 0, ½, 1: successive parabolic interpolation, golden-section steps when a parabola fails.
+template <class F>
+double localMaxOf(F value, double f0, double fm, double f1)
+{
+  std::array<double, 3> l{ 0.0, 0.5, 1.0 };
+  std::array<double, 3> f{ f0, fm, f1 };
+  double best = std::max({ f0, fm, f1 });
+  for (int step = 0; step < kLocalMaxSteps; ++step)
+  {
+    // The vertex of the parabola through the three points (l sorted, f[1] the largest inside).
+    const double d1 = (l[1] - l[0]) * (f[1] - f[2]);
+    const double d2 = (l[1] - l[2]) * (f[1] - f[0]);
+    const double den = 2.0 * (d1 - d2);
+    double next = den != 0.0 ? l[1] - ((l[1] - l[0]) * d1 - (l[1] - l[2]) * d2) / den : -1.0;
+    if (!(next > l[0] && next < l[2]) || next == l[1])
+      next = l[2] - l[1] > l[1] - l[0] ? l[1] + 0.381966 * (l[2] - l[1]) : l[1] - 0.381966 * (l[1] - l[0]);
+    const double fn = value(next);
+    best = std::max(best, fn);
+    const double moved = std::abs(next - l[1]);
+    // Keep the bracket around the best interior point.
+    if (fn >= f[1])
+    {
+      if (next > l[1])
+      {
+        l = { l[1], next, l[2] };
+        f = { f[1], fn, f[2] };
+      }
+      else
+      {
+        l = { l[0], next, l[1] };
+        f = { f[0], fn, f[1] };
+      }
+    }
+    else if (next > l[1])
+    {
+      l[2] = next;
+      f[2] = fn;
+    }
+    else
+    {
+      l[0] = next;
+      f[0] = fn;
+    }
+    if (moved < kLocalMaxTolerance)
+      break;
+  }
+  return best;
+}
+}  // namespace detail
+}  // namespace timing
+}  // namespace se3_interpolation
