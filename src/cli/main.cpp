@@ -1,7 +1,8 @@
 // se3_interpolate REQUEST.yaml [-o OUT.csv] [--space sphere]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
-// (or OUT.csv, written atomically: on any error no file is left), the response figures
+// (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
+// number in its shortest round-trip form, into one text written at once), the response figures
 // on stderr as `name: value`. Exit status 0 on success, 2 on any error (message on stderr),
 // including any error writing the output (a full disk, a closed pipe).
 //
@@ -23,11 +24,10 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner/planner.h"
+#include "csv_writer.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -87,43 +87,6 @@ Arguments parseArguments(int argc, char** argv)
   if (a.space != "pose" && a.space != "sphere")
     throw std::invalid_argument("--space: unknown value '" + a.space + "' (expected pose or sphere)");
   return a;
-}
-
-std::string poseCsv(const se3_interpolation::TrajectoryResult& result)
-{
-  std::ostringstream out;
-  out << std::setprecision(17);
-  out << "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz\n";
-  for (const auto& s : result.samples)
-  {
-    out << s.time;
-    for (double v : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.x(), s.pose.q.y(), s.pose.q.z(), s.pose.q.w() })
-      out << ',' << v;
-    for (const Eigen::Vector3d* v : { &s.velocity.linear, &s.velocity.angular, &s.acceleration.linear,
-                                      &s.acceleration.angular })
-      out << ',' << v->x() << ',' << v->y() << ',' << v->z();
-    out << '\n';
-  }
-  return out.str();
-}
-
-/// `--space sphere`: t,x1,…,x{m+1}.
-std::string sphereCsv(const se3_interpolation::SphereResult& result)
-{
-  std::ostringstream out;
-  out << std::setprecision(17) << 't';
-  const Eigen::Index dim = result.waypoints.front().size();
-  for (Eigen::Index j = 1; j <= dim; ++j)
-    out << ",x" << j;
-  out << '\n';
-  for (const auto& s : result.samples)
-  {
-    out << s.time;
-    for (Eigen::Index j = 0; j < dim; ++j)
-      out << ',' << s.point[j];
-    out << '\n';
-  }
-  return out.str();
 }
 
 /// `waypoint_times: t0, t1, ...`: when the trajectory passes (or is controlled by) each waypoint,
@@ -273,14 +236,14 @@ int main(int argc, char** argv)
     {
       const se3_interpolation::SphereResult result =
           se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), {});
-      csv = sphereCsv(result);
+      csv = se3_interpolation::cli::sphereCsv(result);
       printSphereFigures(result);
     }
     else
     {
       const se3_interpolation::TrajectoryResult result =
           se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(root), args.limits);
-      csv = poseCsv(result);
+      csv = se3_interpolation::cli::poseCsv(result);
       printFigures(result);
     }
     if (args.output.empty())
