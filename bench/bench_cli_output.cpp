@@ -2,8 +2,9 @@
 // latency": 1000 waypoints on the deterministic walk of bench/service_latency.cpp, an
 // `interpolating` double-geodesic curve, 10⁵ samples.
 //  - planner: generate(), what the CLI computes before it writes;
-//  - pose_csv: the CSV text of those samples (src/cli/csv_writer.h: std::to_chars, shortest
-//    round-trip form, one reserved buffer);
+//  - pose_csv: the CSV text of those samples as the CLI makes it (src/cli/csv_writer.h:
+//    std::to_chars, shortest round-trip form, 1 MiB pieces of one reused buffer), the pieces
+//    counted, not written;
 //  - pose_csv_iostreams: the same rows through an std::ostringstream at 17 significant digits,
 //    how the CLI formatted them before csv_writer.h (the peer of pose_csv).
 // Counters: bytes of CSV per second and samples per second. scripts/cli_latency.py times the
@@ -73,9 +74,11 @@ void pose_csv(benchmark::State& state)
   std::size_t bytes = 0;
   for (auto _ : state)
   {
-    const std::string csv = cli::poseCsv(result());
-    bytes = csv.size();
-    benchmark::DoNotOptimize(csv.data());
+    bytes = 0;
+    cli::writePoseCsv(result(), [&bytes](const char* text, std::size_t size) {
+      benchmark::DoNotOptimize(text);
+      bytes += size;
+    });
   }
   counters(state, bytes);
 }

@@ -1,8 +1,8 @@
-// se3_interpolate REQUEST.yaml [-o OUT.csv] [--space sphere]
+// se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
 // (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
-// number in its shortest round-trip form, into one text written at once), the response figures
+// number in its shortest round-trip form, in pieces of 1 MiB written as they fill), the response figures
 // on stderr as `name: value`. Exit status 0 on success, 2 on any error (message on stderr),
 // including any error writing the output (a full disk, a closed pipe).
 //
@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <string>
@@ -123,12 +124,12 @@ std::string systemError(const std::string& what)
 }
 
 /// Writes all of `text` to `fd`; throws naming `what` on any error.
-void writeAll(int fd, const std::string& text, const std::string& what)
+void writeAll(int fd, const char* text, std::size_t size, const std::string& what)
 {
   std::size_t done = 0;
-  while (done < text.size())
+  while (done < size)
   {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    const ssize_t n = ::write(fd, text + done, size - done);
     if (n < 0 && errno == EINTR)
       continue;
     if (n <= 0)
@@ -137,9 +138,18 @@ void writeAll(int fd, const std::string& text, const std::string& what)
   }
 }
 
-/// Writes `text` to `path` through an exclusively created temporary file renamed into place
-/// (see the file comment); an existing non-regular `path` is written directly.
-void writeAtomically(const std::string& path, const std::string& text)
+/// Produces the output: hands the text, in pieces, to the sink it is given.
+using Producer = std::function<void(const se3_interpolation::cli::CsvSink&)>;
+
+/// Writes everything `produce` hands on to `fd`; throws naming `what` on any error.
+void writeProduced(int fd, const Producer& produce, const std::string& what)
+{
+  produce([fd, &what](const char* text, std::size_t size) { writeAll(fd, text, size, what); });
+}
+
+/// Writes the text of `produce` to `path` through an exclusively created temporary file renamed
+/// into place (see the file comment); an existing non-regular `path` is written directly.
+void writeAtomically(const std::string& path, const Producer& produce)
 {
   const std::string what = "'" + path + "'";
   struct stat existing;
@@ -150,7 +160,7 @@ void writeAtomically(const std::string& path, const std::string& text)
       throw std::runtime_error(systemError("cannot open " + what));
     try
     {
-      writeAll(fd, text, what);
+      writeProduced(fd, produce, what);
     }
     catch (...)
     {
@@ -175,7 +185,7 @@ void writeAtomically(const std::string& path, const std::string& text)
     ::umask(mask);
     if (::fchmod(fd, 0666 & ~mask) != 0)
       throw std::runtime_error(systemError("cannot set the mode of " + what));
-    writeAll(fd, text, what);
+    writeProduced(fd, produce, what);
     if (::fsync(fd) != 0)
       throw std::runtime_error(systemError("cannot write " + what));
   }
@@ -231,25 +241,28 @@ int main(int argc, char** argv)
     {
       throw std::invalid_argument("request file '" + args.request + "' is not valid YAML: " + e.what());
     }
-    std::string csv;
+    const auto output = [&args](const Producer& csv) {
+      if (args.output.empty())
+        writeProduced(STDOUT_FILENO, csv, "the standard output");
+      else
+        writeAtomically(args.output, csv);
+    };
     if (args.space == "sphere")
     {
       const se3_interpolation::SphereResult result =
           se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), {});
-      csv = se3_interpolation::cli::sphereCsv(result);
       printSphereFigures(result);
+      output([&result](const se3_interpolation::cli::CsvSink& sink) {
+        se3_interpolation::cli::writeSphereCsv(result, sink);
+      });
     }
     else
     {
       const se3_interpolation::TrajectoryResult result =
           se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(root), args.limits);
-      csv = se3_interpolation::cli::poseCsv(result);
       printFigures(result);
+      output([&result](const se3_interpolation::cli::CsvSink& sink) { se3_interpolation::cli::writePoseCsv(result, sink); });
     }
-    if (args.output.empty())
-      writeAll(STDOUT_FILENO, csv, "the standard output");
-    else
-      writeAtomically(args.output, csv);
     return 0;
   }
   catch (const std::exception& e)
