@@ -28,8 +28,8 @@ constexpr std::size_t kMaxNumberChars = 24;
 /// cache while it is formatted and copied out).
 constexpr std::size_t kChunkChars = std::size_t(1) << 20;
 
-/// Receives the CSV text in consecutive pieces (each at most kChunkChars unless a single row is
-/// longer); may throw, which ends the formatting.
+/// Receives the CSV text in consecutive pieces, in order: of about kChunkChars from the calling
+/// thread's slice, then each later slice's whole text; may throw, which ends the formatting.
 using CsvSink = std::function<void(const char* text, std::size_t size)>;
 
 /// Writes `value` at `first` in its shortest round-trip form.

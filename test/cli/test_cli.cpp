@@ -476,7 +476,9 @@ TEST(CsvWriter, EveryNumberParsesBackBitForBit)
 }
 
 // A large CLI output is the planner's samples for the same request file, bit for bit: poses
-// (three curves, screw and double geodesic, time-optimal with rests) and a sphere.
+// (three curves, screw and double geodesic, time-optimal with rests) and a sphere. 2 × 10⁴ rows
+// are two slices formatted at once (csv_writer.cpp) on a machine of two or more cores, and
+// several 1 MiB pieces each.
 TEST(Cli, LargeCsvIsTheSamplesBitForBit)
 {
   using namespace se3_interpolation;
