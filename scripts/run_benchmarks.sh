@@ -4,6 +4,8 @@
 #     geometries against KDL and plain Eigen, the ratio table, and sampling throughput;
 #     bench_interpolating (the interpolating solve, N = 10 … 10⁴) when bench/bench_interpolating.cpp exists;
 #     bench_time_optimal (time-optimal and jerk-limited timing of the interpolating spline, N = 100 … 3000);
+#     bench_cli_output (se3_interpolate's CSV of 10⁵ samples against iostreams, and the planner
+#     on that request);
 #  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
 #     the committed bench/instruction_counts.txt.
 # The benchmarks are built without catkin with g++ into $SE3_WS/bench.
@@ -70,6 +72,12 @@ build bench_time_optimal
 echo
 echo "== bench_time_optimal"
 "$OUT/bench_time_optimal" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true
+
+build bench_cli_output -I"$SE3_ROOT/src/cli" "$SE3_ROOT/src/cli/csv_writer.cpp"
+echo
+echo "== bench_cli_output"
+"$OUT/bench_cli_output" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
   --benchmark_display_aggregates_only=true
 
 echo

@@ -6,11 +6,12 @@
 # (scripts/service_latency.py) with the same request: N waypoints, `interpolating`,
 # double_geodesic, M samples; with both outputs (the default), then `outputs: [trajectory]`, then
 # `[path]`. Prints the clients' round trips and the node's time inside the callback (planner;
-# filling the response messages). Stops what it started. SE3_KEEP=1 keeps its logs (roscore,
+# filling the response messages); then times se3_interpolate on the same request
+# (scripts/cli_latency.py). Stops what it started. SE3_KEEP=1 keeps its logs (roscore,
 # node) in the temporary folder it names.
 #
 # Usage: scripts/service_latency.sh [WAYPOINTS [SAMPLES [REPETITIONS]]]   (default 1000 100000 3)
-# Needs the catkin build ($SE3_WS; targets se3_interpolation_node and service_latency).
+# Needs the catkin build ($SE3_WS; targets se3_interpolation_node, service_latency and se3_interpolate).
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 set +u
@@ -60,3 +61,7 @@ for outputs in "" trajectory path; do
   echo "node, inside the callback (roscpp calls first, then rospy):"
   tail -n +"$((before + 1))" "$work/node.log" | sed -n 's/.*\(generate: [^\x1b]*\).*/  \1/p'
 done
+
+echo "== se3_interpolate (no ROS)"
+"$SE3_ROOT/scripts/cli_latency.py" "$SE3_WS/devel/lib/se3_interpolation/se3_interpolate" --waypoints "$waypoints" \
+  --samples "$samples" --repetitions "$repetitions"

@@ -1,7 +1,8 @@
-// se3_interpolate REQUEST.yaml [-o OUT.csv] [--space sphere]
+// se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
-// (or OUT.csv, written atomically: on any error no file is left), the response figures
+// (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
+// number in its shortest round-trip form, in pieces of 1 MiB written as they fill), the response figures
 // on stderr as `name: value`. Exit status 0 on success, 2 on any error (message on stderr),
 // including any error writing the output (a full disk, a closed pipe).
 //
@@ -21,13 +22,13 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "se3_interpolation/planner/planner.h"
+#include "csv_writer.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -89,43 +90,6 @@ Arguments parseArguments(int argc, char** argv)
   return a;
 }
 
-std::string poseCsv(const se3_interpolation::TrajectoryResult& result)
-{
-  std::ostringstream out;
-  out << std::setprecision(17);
-  out << "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz\n";
-  for (const auto& s : result.samples)
-  {
-    out << s.time;
-    for (double v : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.x(), s.pose.q.y(), s.pose.q.z(), s.pose.q.w() })
-      out << ',' << v;
-    for (const Eigen::Vector3d* v : { &s.velocity.linear, &s.velocity.angular, &s.acceleration.linear,
-                                      &s.acceleration.angular })
-      out << ',' << v->x() << ',' << v->y() << ',' << v->z();
-    out << '\n';
-  }
-  return out.str();
-}
-
-/// `--space sphere`: t,x1,…,x{m+1}.
-std::string sphereCsv(const se3_interpolation::SphereResult& result)
-{
-  std::ostringstream out;
-  out << std::setprecision(17) << 't';
-  const Eigen::Index dim = result.waypoints.front().size();
-  for (Eigen::Index j = 1; j <= dim; ++j)
-    out << ",x" << j;
-  out << '\n';
-  for (const auto& s : result.samples)
-  {
-    out << s.time;
-    for (Eigen::Index j = 0; j < dim; ++j)
-      out << ',' << s.point[j];
-    out << '\n';
-  }
-  return out.str();
-}
-
 /// `waypoint_times: t0, t1, ...`: when the trajectory passes (or is controlled by) each waypoint,
 /// after any stretch; scripts/plot_trajectory.py --figures marks them.
 void printWaypointTimes(const std::vector<double>& times)
@@ -160,12 +124,12 @@ std::string systemError(const std::string& what)
 }
 
 /// Writes all of `text` to `fd`; throws naming `what` on any error.
-void writeAll(int fd, const std::string& text, const std::string& what)
+void writeAll(int fd, const char* text, std::size_t size, const std::string& what)
 {
   std::size_t done = 0;
-  while (done < text.size())
+  while (done < size)
   {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    const ssize_t n = ::write(fd, text + done, size - done);
     if (n < 0 && errno == EINTR)
       continue;
     if (n <= 0)
@@ -174,9 +138,18 @@ void writeAll(int fd, const std::string& text, const std::string& what)
   }
 }
 
-/// Writes `text` to `path` through an exclusively created temporary file renamed into place
-/// (see the file comment); an existing non-regular `path` is written directly.
-void writeAtomically(const std::string& path, const std::string& text)
+/// Produces the output: hands the text, in pieces, to the sink it is given.
+using Producer = std::function<void(const se3_interpolation::cli::CsvSink&)>;
+
+/// Writes everything `produce` hands on to `fd`; throws naming `what` on any error.
+void writeProduced(int fd, const Producer& produce, const std::string& what)
+{
+  produce([fd, &what](const char* text, std::size_t size) { writeAll(fd, text, size, what); });
+}
+
+/// Writes the text of `produce` to `path` through an exclusively created temporary file renamed
+/// into place (see the file comment); an existing non-regular `path` is written directly.
+void writeAtomically(const std::string& path, const Producer& produce)
 {
   const std::string what = "'" + path + "'";
   struct stat existing;
@@ -187,7 +160,7 @@ void writeAtomically(const std::string& path, const std::string& text)
       throw std::runtime_error(systemError("cannot open " + what));
     try
     {
-      writeAll(fd, text, what);
+      writeProduced(fd, produce, what);
     }
     catch (...)
     {
@@ -212,7 +185,7 @@ void writeAtomically(const std::string& path, const std::string& text)
     ::umask(mask);
     if (::fchmod(fd, 0666 & ~mask) != 0)
       throw std::runtime_error(systemError("cannot set the mode of " + what));
-    writeAll(fd, text, what);
+    writeProduced(fd, produce, what);
     if (::fsync(fd) != 0)
       throw std::runtime_error(systemError("cannot write " + what));
   }
@@ -268,25 +241,28 @@ int main(int argc, char** argv)
     {
       throw std::invalid_argument("request file '" + args.request + "' is not valid YAML: " + e.what());
     }
-    std::string csv;
+    const auto output = [&args](const Producer& csv) {
+      if (args.output.empty())
+        writeProduced(STDOUT_FILENO, csv, "the standard output");
+      else
+        writeAtomically(args.output, csv);
+    };
     if (args.space == "sphere")
     {
       const se3_interpolation::SphereResult result =
           se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), {});
-      csv = sphereCsv(result);
       printSphereFigures(result);
+      output([&result](const se3_interpolation::cli::CsvSink& sink) {
+        se3_interpolation::cli::writeSphereCsv(result, sink);
+      });
     }
     else
     {
       const se3_interpolation::TrajectoryResult result =
           se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(root), args.limits);
-      csv = poseCsv(result);
       printFigures(result);
+      output([&result](const se3_interpolation::cli::CsvSink& sink) { se3_interpolation::cli::writePoseCsv(result, sink); });
     }
-    if (args.output.empty())
-      writeAll(STDOUT_FILENO, csv, "the standard output");
-    else
-      writeAtomically(args.output, csv);
     return 0;
   }
   catch (const std::exception& e)

@@ -1,14 +1,30 @@
 // The se3_interpolate command line: happy paths with checked CSV, and errors with exit
-// status 2, a message on stderr and no output file.
+// status 2, a message on stderr and no output file. The CSV's numbers parse back to the planner's
+// samples bit for bit (csv_writer.h), checked on hard values and on large outputs.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <yaml-cpp/yaml.h>
+
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
+
+#include "csv_writer.h"
+#include "se3_interpolation/planner/planner.h"
+#include "yaml_request.h"
 
 namespace
 {
@@ -56,6 +72,77 @@ std::string writeTemp(const std::string& name, const std::string& text)
   const std::string path = testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
+}
+
+std::uint64_t bits(double v)
+{
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+/// The rows of a CSV text, every cell parsed with std::from_chars (which must consume the whole
+/// cell); `*malformed` counts the cells that did not parse.
+std::vector<std::vector<double>> parseCsvExactly(const std::string& text, std::string* header, int* malformed)
+{
+  std::vector<std::vector<double>> rows;
+  const std::size_t header_end = text.find('\n');
+  *header = text.substr(0, header_end);
+  *malformed = 0;
+  const char* p = text.data() + header_end + 1;
+  const char* const end = text.data() + text.size();
+  while (p < end)
+  {
+    std::vector<double> row;
+    for (;;)
+    {
+      const char* cell_end = p;
+      while (cell_end < end && *cell_end != ',' && *cell_end != '\n')
+        ++cell_end;
+      double v = 0.0;
+      const std::from_chars_result r = std::from_chars(p, cell_end, v);
+      if (r.ec != std::errc() || r.ptr != cell_end)
+        ++*malformed;
+      row.push_back(v);
+      p = cell_end + 1;
+      if (cell_end == end || *cell_end == '\n')
+        break;
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// The request file at `path` with its sample_count replaced, written to the test's temporary
+/// directory (yaml-cpp keeps each scalar's text, so the numbers are those of `path`).
+std::string withSampleCount(const std::string& path, const std::string& name, int sample_count)
+{
+  YAML::Node root = YAML::LoadFile(path);
+  root["sample_count"] = sample_count;
+  std::ostringstream text;
+  text << root << "\n";
+  return writeTemp(name, text.str());
+}
+
+/// Compares the CSV's rows with the expected rows bit for bit; returns the number of differing
+/// values (the first few are reported).
+int countBitDifferences(const std::vector<std::vector<double>>& rows, const std::vector<std::vector<double>>& expected)
+{
+  int differences = 0;
+  EXPECT_EQ(rows.size(), expected.size());
+  for (std::size_t i = 0; i < std::min(rows.size(), expected.size()); ++i)
+  {
+    EXPECT_EQ(rows[i].size(), expected[i].size()) << "row " << i;
+    for (std::size_t j = 0; j < std::min(rows[i].size(), expected[i].size()); ++j)
+    {
+      if (bits(rows[i][j]) != bits(expected[i][j]) && ++differences <= 5)
+      {
+        ADD_FAILURE() << "row " << i << ", column " << j << ": " << std::hexfloat << rows[i][j] << " read, "
+                      << expected[i][j] << " sampled";
+      }
+    }
+  }
+  return differences;
 }
 
 std::vector<std::vector<double>> parseCsv(const std::string& text, std::string* header)
@@ -307,6 +394,149 @@ TEST(Cli, SphereSpaceBlendedCircleAndErrors)
   const CliRun unknown = run(data("sphere_circle_blended.yaml") + " --space torus");
   EXPECT_EQ(unknown.status, 2);
   EXPECT_NE(unknown.err.find("--space: unknown value 'torus'"), std::string::npos) << unknown.err;
+}
+
+// Every number the CSV prints parses back to the same double: the hard cases of shortest
+// round-trip printing, and many random doubles of every exponent.
+TEST(CsvWriter, EveryNumberParsesBackBitForBit)
+{
+  using Limits = std::numeric_limits<double>;
+  const double two53 = 9007199254740992.0;
+  std::vector<double> values = { 0.0,
+                                 -0.0,
+                                 Limits::denorm_min(),
+                                 -Limits::denorm_min(),
+                                 std::nextafter(Limits::min(), 0.0),  // the largest subnormal
+                                 Limits::min(),
+                                 -Limits::min(),
+                                 1e-300,
+                                 -1e-300,
+                                 two53,
+                                 two53 - 1.0,
+                                 two53 + 2.0,
+                                 -(two53 + 2.0),
+                                 9223372036854775808.0,
+                                 1e22,
+                                 1e23,
+                                 5e-324 * 3,
+                                 Limits::max(),
+                                 Limits::lowest(),
+                                 0.1,
+                                 0.1 + 0.2,
+                                 1.0 / 3.0,
+                                 -2.0 / 3.0,
+                                 M_PI,
+                                 std::nextafter(1.0, 2.0),
+                                 std::nextafter(1.0, 0.0),
+                                 -123456789012345680.0,
+                                 100000.0,
+                                 1e-7 };
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> typical(-10.0, 10.0);
+  for (int i = 0; i < 100000; ++i)
+  {
+    const std::uint64_t pattern = rng();
+    double v;
+    std::memcpy(&v, &pattern, sizeof v);
+    if (std::isfinite(v))
+      values.push_back(v);
+    values.push_back(typical(rng));
+  }
+  int failures = 0;
+  for (double v : values)
+  {
+    char text[se3_interpolation::cli::kMaxNumberChars + 1];
+    char* const end = se3_interpolation::cli::formatNumber(text, v);
+    *end = '\0';
+    double read = 0.0;
+    const std::from_chars_result r = std::from_chars(text, end, read);
+    const bool exact = r.ec == std::errc() && r.ptr == end && bits(read) == bits(v) &&
+                       bits(std::strtod(text, nullptr)) == bits(v);
+    if (!exact && ++failures <= 5)
+    {
+      ADD_FAILURE() << std::hexfloat << v << " printed as '" << text << "'";
+    }
+  }
+  EXPECT_EQ(failures, 0);
+
+  // The shortest form: what a reader expects, not the 17 digits of iostreams.
+  auto printed = [](double v) {
+    char text[se3_interpolation::cli::kMaxNumberChars];
+    return std::string(text, se3_interpolation::cli::formatNumber(text, v));
+  };
+  EXPECT_EQ(printed(0.1), "0.1");
+  EXPECT_EQ(printed(-0.0), "-0");
+  EXPECT_EQ(printed(0.0), "0");
+  EXPECT_EQ(printed(2.0), "2");
+  EXPECT_EQ(printed(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(printed(1e-300), "1e-300");
+  EXPECT_EQ(printed(two53), "9007199254740992");
+  EXPECT_EQ(printed(-Limits::min()), "-2.2250738585072014e-308");
+  EXPECT_EQ(printed(-Limits::min()).size(), se3_interpolation::cli::kMaxNumberChars);
+}
+
+// A large CLI output is the planner's samples for the same request file, bit for bit: poses
+// (three curves, screw and double geodesic, time-optimal with rests) and a sphere. 2 × 10⁴ rows
+// are two slices formatted at once (csv_writer.cpp) on a machine of two or more cores, and
+// several 1 MiB pieces each.
+TEST(Cli, LargeCsvIsTheSamplesBitForBit)
+{
+  using namespace se3_interpolation;
+  constexpr int kSamples = 20000;
+  const std::string csv = testing::TempDir() + "large.csv";
+  for (const std::string& source : { data("bezier_screw.yaml"), data("time_optimal.yaml"),
+                                    std::string(SE3_TEST_DATA) + "/../../../config/example_request.yaml" })
+  {
+    const std::string request = withSampleCount(source, "large_request.yaml", kSamples);
+    const CliRun r = run(request + " -o " + csv);
+    ASSERT_EQ(r.status, 0) << source << ": " << r.err;
+    const TrajectoryResult result = generate(cli::requestFromYaml(YAML::LoadFile(request)), PlannerLimits());
+    std::vector<std::vector<double>> expected;
+    for (const auto& s : result.samples)
+      expected.push_back({ s.time,
+                           s.pose.p.x(),
+                           s.pose.p.y(),
+                           s.pose.p.z(),
+                           s.pose.q.x(),
+                           s.pose.q.y(),
+                           s.pose.q.z(),
+                           s.pose.q.w(),
+                           s.velocity.linear.x(),
+                           s.velocity.linear.y(),
+                           s.velocity.linear.z(),
+                           s.velocity.angular.x(),
+                           s.velocity.angular.y(),
+                           s.velocity.angular.z(),
+                           s.acceleration.linear.x(),
+                           s.acceleration.linear.y(),
+                           s.acceleration.linear.z(),
+                           s.acceleration.angular.x(),
+                           s.acceleration.angular.y(),
+                           s.acceleration.angular.z() });
+    ASSERT_EQ(expected.size(), static_cast<std::size_t>(kSamples)) << source;
+    const std::string text = slurp(csv);
+    EXPECT_EQ(text, cli::poseCsv(result)) << source;
+    std::string header;
+    int malformed = 0;
+    const auto rows = parseCsvExactly(text, &header, &malformed);
+    EXPECT_EQ(header, "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz");
+    EXPECT_EQ(malformed, 0) << source;
+    EXPECT_EQ(countBitDifferences(rows, expected), 0) << source;
+  }
+
+  const std::string request = withSampleCount(data("sphere_circle_blended.yaml"), "large_sphere.yaml", kSamples);
+  const CliRun r = run(request + " --space sphere -o " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const SphereResult result = generate(cli::sphereRequestFromYaml(YAML::LoadFile(request)), PlannerLimits());
+  std::vector<std::vector<double>> expected;
+  for (const auto& s : result.samples)
+    expected.push_back({ s.time, s.point[0], s.point[1], s.point[2] });
+  std::string header;
+  int malformed = 0;
+  const auto rows = parseCsvExactly(slurp(csv), &header, &malformed);
+  EXPECT_EQ(header, "t,x1,x2,x3");
+  EXPECT_EQ(malformed, 0);
+  EXPECT_EQ(countBitDifferences(rows, expected), 0);
 }
 
 // The same request in the list spelling and in the service's (rosservice call) spelling: a
