@@ -83,7 +83,7 @@ struct CurveFamilyDefaults
   /// @return whether the family's curve starts in request.start_state itself (false: the joining
   ///         segment enters it)
   template <class Request>
-  static bool continuesStartState(const Request& /*request*/)
+  static bool continuesStartState([[maybe_unused]] const Request& request)
   {
     return false;
   }

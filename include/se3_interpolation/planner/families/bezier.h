@@ -38,9 +38,9 @@ struct BezierFamily : CurveFamilyDefaults
   static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 8.24e-08, 8.13e-08, 2.99e-07, 3.07e-07 }; }
 
   /// @param shape the request's shape
-  /// @param name the family's name
+  /// @param name the family's name (the message names the degree instead)
   /// @return the waypoints, naming the degree they make
-  static std::string costlyField(const WorkShape& shape, const char* /*name*/)
+  static std::string costlyField(const WorkShape& shape, [[maybe_unused]] const char* name)
   {
     return "waypoints: " + std::to_string(shape.waypoints) + " waypoints make a bezier of degree " +
            std::to_string(shape.waypoints - 1);
