@@ -250,7 +250,7 @@ int main(int argc, char** argv)
     if (args.space == "sphere")
     {
       const se3_interpolation::SphereResult result =
-          se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), {});
+          se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), args.limits);
       printSphereFigures(result);
       output([&result](const se3_interpolation::cli::CsvSink& sink) {
         se3_interpolation::cli::writeSphereCsv(result, sink);

@@ -827,4 +827,11 @@ TEST(CliHostile, MaxWorkSecondsBoundsTheRequest)
   const CliRun bad = run(data("bezier_screw.yaml") + " --max-work-seconds -3");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("--max-work-seconds: '-3' is not a positive number"), std::string::npos) << bad.err;
+  // On the sphere too.
+  const std::string sphere = data("sphere_circle_blended.yaml") + " --space sphere";
+  const CliRun tight_sphere = run(sphere + " --max-work-seconds 1e-6");
+  EXPECT_EQ(tight_sphere.status, 2);
+  EXPECT_NE(tight_sphere.err.find("the limit (max_work_seconds) is 9.9999999999999995e-07 s"), std::string::npos)
+      << tight_sphere.err;
+  EXPECT_EQ(run(sphere + " --max-work-seconds 100").status, 0);
 }

@@ -404,28 +404,22 @@ JerkLimitedProfile jerkLimitedProfile(const JerkPathModel& path, const RateBound
 /// The jerk-limited motion t ↦ C(s(t)) as a curve (like TimeOptimalCurve): its jets compose the
 /// path's jets with s(t); third-order jets too, so that its jerk can be measured.
 template <class G>
-class JerkLimitedCurve final : public Curve<G>, public ThirdOrderJets<G>
+class JerkLimitedCurve final : public RetimedCurve<G>, public ThirdOrderJets<G>
 {
 public:
-  using typename Curve<G>::Point;
-  using typename Curve<G>::Jet2Point;
   using typename ThirdOrderJets<G>::Jet3Point;
 
+  /// @param path the path, its time axis the path parameter s
+  /// @param profile the timing s(t) along it
   JerkLimitedCurve(std::shared_ptr<const Curve<G>> path, JerkLimitedProfile profile)
-    : path_(std::move(path)), profile_(std::move(profile)), snap_(path_->breakpoints())
+    : RetimedCurve<G>(std::move(path)), profile_(std::move(profile)), snap_(this->base().breakpoints())
   {
   }
 
-  Point value(double t) const override { return path_->value(profile_.pathParameter(t, Side::kRight)); }
-  Jet2Point jet(const Jet<2>& t, Side side) const override
-  {
-    const Jet<2> s = snap_.snap(profile_.pathParameter(t, side));
-    return path_->jet(s, pathSide(t.value(), s.value(), side));
-  }
   Jet3Point jet3(const Jet<3>& t, Side side) const override
   {
     const Jet<3> s = snap_.snap(profile_.pathParameter(t, side));
-    return jet3Of(*path_, s, pathSide(t.value(), s.value(), side));
+    return jet3Of(this->base(), s, pathSide(t.value(), s.value(), side));
   }
   double startTime() const override { return profile_.startTime(); }
   double endTime() const override { return profile_.endTime(); }
@@ -433,12 +427,19 @@ public:
   {
     return profile_.segments.empty() ? profile_.base.t : profile_.breakpoints;
   }
-  std::vector<Point> controlPoints() const override { return path_->controlPoints(); }
 
   const JerkLimitedProfile& profile() const { return profile_; }
-  const Curve<G>& path() const { return *path_; }
+  const Curve<G>& path() const { return this->base(); }
 
 private:
+  double baseTime(double t) const override { return profile_.pathParameter(t, Side::kRight); }
+  Jet<2> baseTime(const Jet<2>& t, Side side, Side* path_side) const override
+  {
+    const Jet<2> s = snap_.snap(profile_.pathParameter(t, side));
+    *path_side = pathSide(t.value(), s.value(), side);
+    return s;
+  }
+
   /// The path's side at s (snapped onto the path's breakpoints): the time's while the motion
   /// moves; at a stop between segments (a corner of the path), the side of the segment that the
   /// time falls in, also within rounding before the stop, where s has been snapped onto it.
@@ -461,7 +462,6 @@ private:
     return side;
   }
 
-  std::shared_ptr<const Curve<G>> path_;
   JerkLimitedProfile profile_;
   BreakpointSnap snap_;
 };
