@@ -161,11 +161,11 @@ struct GenericChartTransition
     return true;
   }
 
-  /// Throws ConvergenceError (message prefixed by `prefix`) for a step from waypoints[i], whose
-  /// log is `log`, that the solve cannot take.
-  static void checkStep(const typename G::template Tangent<double>& /*log*/, std::size_t /*i*/,
-                        const std::string& /*prefix*/)
+  /// Why the solve cannot take the step from waypoints[i], whose log is `log` ("" when it can:
+  /// no allocation on the solve's path).
+  static std::string refusedStep(const typename G::template Tangent<double>& /*log*/, std::size_t /*i*/)
   {
+    return std::string();
   }
 };
 
@@ -228,15 +228,15 @@ struct ChartTransition<DoubleGeodesicSe3> : GenericChartTransition<DoubleGeodesi
 template <>
 struct ChartTransition<Sphere> : GenericChartTransition<Sphere>
 {
-  static void checkStep(const Eigen::VectorXd& log, std::size_t i, const std::string& prefix)
+  static std::string refusedStep(const Eigen::VectorXd& log, std::size_t i)
   {
     const double gap = EIGEN_PI - log.norm();
-    if (gap < kMinSphereConjugateGap)
-      throw ConvergenceError(prefix + "the step from " + indexedField("waypoints", i) + " to " +
-                             indexedField("waypoints", i + 1) + " is " + scientific(gap) +
-                             " rad from the antipode, closer than " + scientific(kMinSphereConjugateGap) +
-                             " rad (the sphere's conjugate point, where the spline's acceleration is lost "
-                             "to rounding); add a waypoint between them or use curve 'hermite'");
+    if (gap >= kMinSphereConjugateGap)
+      return std::string();
+    return "the step from " + indexedField("waypoints", i) + " to " + indexedField("waypoints", i + 1) + " is " +
+           scientific(gap) + " rad from the antipode, closer than " + scientific(kMinSphereConjugateGap) +
+           " rad (the sphere's conjugate point, where the spline's acceleration is lost to rounding); add a "
+           "waypoint between them or use curve 'hermite'";
   }
 };
 

@@ -164,7 +164,9 @@ public:
       checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
       Segment& s = segments_[i];
       s.h = t_[i + 1] - t_[i];
-      ChartTransition<G>::checkStep(logs_[i], i, prefix());
+      const std::string refused = ChartTransition<G>::refusedStep(logs_[i], i);
+      if (!refused.empty())
+        throw ConvergenceError(prefix() + refused);
       s.log = toFrame(i, logs_[i]);
       transition(i, &s.d, &s.q);
       if (!s.d.allFinite() || !s.q.allFinite())
