@@ -95,7 +95,7 @@ contents() {
   done
   for f in "$prefix"/lib/libse3_interpolation_{core,ros,nodelet}.so "$share"/{package.xml,nodelet_plugins.xml} \
            "$share/cfg/InterpolationNode.cfg" "$prefix"/include/se3_interpolation/{InterpolationNodeConfig.h,GenerateTrajectory.h} \
-           "$prefix/include/se3_interpolation/planner/planner.h"; do
+           "$prefix/include/se3_interpolation/planner/planner.h" "$prefix/include/se3_interpolation/node_parameter_table.h"; do
     [ -f "$f" ] || { echo "missing file: $f"; missing=1; }
   done
   # Every launch and config file of the tree.
