@@ -7,11 +7,22 @@
 
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/math/lie_groups.h"
+#include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
 namespace test
 {
+/// The default planner limits with a work limit (max_work_seconds) that no run of these tests
+/// reaches, under the sanitizers or on a loaded machine: for tests of what a request computes,
+/// not of how long it may take (test_work_estimate and test_deadline test the limit itself).
+inline PlannerLimits unhurriedLimits()
+{
+  PlannerLimits limits;
+  limits.max_work_seconds = 60.0;
+  return limits;
+}
+
 template <int N>
 Eigen::Matrix<double, N, 1> randomUnitVector(std::mt19937& rng)
 {

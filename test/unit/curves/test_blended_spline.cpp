@@ -763,7 +763,7 @@ TEST(Blended, PlannerBuildsTheBlendedCurveWithTheRequestedContinuity)
   request.geometry = "screw";
   request.continuity = 3;
   request.sample_times = request.times;
-  const TrajectoryResult result = generate(request, PlannerLimits());
+  const TrajectoryResult result = generate(request, test::unhurriedLimits());
   ASSERT_EQ(result.samples.size(), request.times.size());
   for (std::size_t i = 0; i < request.times.size(); ++i)
     EXPECT_LT(test::poseDistance(result.samples[i].pose, request.waypoints[i]), 1e-12);

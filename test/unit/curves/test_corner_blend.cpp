@@ -102,7 +102,7 @@ void expectBlendRadiusError(const TrajectoryRequest& r)
 {
   try
   {
-    generate(r, PlannerLimits());
+    generate(r, test::unhurriedLimits());
     FAIL() << "expected InvalidInputError";
   }
   catch (const InvalidInputError& e)
@@ -464,14 +464,14 @@ TEST(CornerBlendRequest, PlannerReportsRadiiAndZeroIsThePolyline)
   TrajectoryRequest r = blendedRequest(0.3);
   r.geometry = "screw";
   r.sample_count = 200;
-  const TrajectoryResult blended = generate(r, PlannerLimits());
+  const TrajectoryResult blended = generate(r, test::unhurriedLimits());
   ASSERT_EQ(blended.blend_radii.size(), 4u);
   EXPECT_EQ(blended.blend_radii[0], 0.0);
   EXPECT_NEAR(blended.blend_radii[1], 0.3, 1e-15);
   EXPECT_NEAR(blended.blend_radii[2], 0.3, 1e-15);
   EXPECT_EQ(blended.blend_radii[3], 0.0);
   r.blend_radius = 0.0;
-  const TrajectoryResult sharp = generate(r, PlannerLimits());
+  const TrajectoryResult sharp = generate(r, test::unhurriedLimits());
   EXPECT_TRUE(sharp.blend_radii.empty());
   EXPECT_LT(blended.figures.length, sharp.figures.length);  // corners cut
   EXPECT_NEAR(blended.duration, sharp.duration, 1e-12);
@@ -547,9 +547,9 @@ TEST(CornerBlendRequest, TimeOptimalThroughBlendsIsFasterThanStoppingAtEveryCorn
     r.max_linear_acceleration = 1.5;
     r.max_angular_acceleration = 1.5;
     r.sample_count = 400;
-    const TrajectoryResult blended = generate(r, PlannerLimits());
+    const TrajectoryResult blended = generate(r, test::unhurriedLimits());
     r.blend_radius = 0.0;
-    const TrajectoryResult sharp = generate(r, PlannerLimits());
+    const TrajectoryResult sharp = generate(r, test::unhurriedLimits());
     EXPECT_LT(blended.duration, 0.9 * sharp.duration) << geometry;
     EXPECT_LE(blended.figures.max_linear_speed, 1.0 + 1e-9);
     EXPECT_LE(blended.figures.max_linear_acceleration, 1.5 + 1e-9);
@@ -558,10 +558,10 @@ TEST(CornerBlendRequest, TimeOptimalThroughBlendsIsFasterThanStoppingAtEveryCorn
       EXPECT_GT(blended.samples[i].velocity.linear.norm() + blended.samples[i].velocity.angular.norm(), 0.0) << i;
     // At the corners' timed waypoint times the sharp motion is at rest, the blended one is not.
     r.sample_times = sharp.waypoint_times;
-    const TrajectoryResult sharp_at_corners = generate(r, PlannerLimits());
+    const TrajectoryResult sharp_at_corners = generate(r, test::unhurriedLimits());
     r.blend_radius = 0.25;
     r.sample_times = blended.waypoint_times;
-    const TrajectoryResult blended_at_corners = generate(r, PlannerLimits());
+    const TrajectoryResult blended_at_corners = generate(r, test::unhurriedLimits());
     for (std::size_t w = 1; w + 1 < r.waypoints.size(); ++w)
     {
       EXPECT_LT(sharp_at_corners.samples[w].velocity.linear.norm(), 1e-9) << geometry << " " << w;
@@ -594,11 +594,7 @@ TEST(CornerBlendRequest, UnevenTimesAroundABlendKeepEveryBound)
     r.max_linear_acceleration = 2.0;
     r.max_angular_acceleration = 2.0;
     r.sample_count = 100000;
-    // Bounds are the subject, not the work limit: 10⁵ samples take about 1 s under the
-    // sanitizers, near the default limit's deadline.
-    PlannerLimits limits;
-    limits.max_work_seconds = 30.0;
-    const TrajectoryResult out = generate(r, limits);
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
     double peak_v = 0.0, peak_a = 0.0, differenced_a = 0.0;
     for (std::size_t i = 0; i < out.samples.size(); ++i)
     {

@@ -98,7 +98,7 @@ TEST(StartJoin, EveryCurveStartsInTheGivenState)
     for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
     {
       SCOPED_TRACE(std::string(curve) + " / " + geometry);
-      const TrajectoryResult out = generate(requestFrom(movingState(), curve, geometry), PlannerLimits());
+      const TrajectoryResult out = generate(requestFrom(movingState(), curve, geometry), test::unhurriedLimits());
       expectStartsIn(out, movingState(), 1e-5);
       ASSERT_EQ(out.waypoint_times.size(), 3u);
       EXPECT_GT(out.waypoint_times.front(), 0.0);
@@ -113,7 +113,7 @@ TEST(StartJoin, InterpolatingStartTakesTheStateNatively)
   r.end_condition = "start";
   r.times = { 1.0, 2.0, 3.0 };
   r.start_velocity = twist({ 9.0, 9.0, 9.0 }, { 0.0, 0.0, 0.0 });  // replaced by the start state
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   expectStartsIn(out, s, 1e-5);
   // Natively: the same curve as the forward spline through the start pose and the waypoints with
   // the state as its start data (no joining segment).
@@ -123,7 +123,7 @@ TEST(StartJoin, InterpolatingStartTakesTheStateNatively)
   plain.times.insert(plain.times.begin(), 0.0);
   plain.start_velocity = s.velocity;
   plain.start_acceleration = s.acceleration;
-  const TrajectoryResult ref = generate(plain, PlannerLimits());
+  const TrajectoryResult ref = generate(plain, test::unhurriedLimits());
   ASSERT_EQ(out.samples.size(), ref.samples.size());
   for (std::size_t i = 0; i < out.samples.size(); ++i)
     EXPECT_LT(test::poseDistance(out.samples[i].pose, ref.samples[i].pose), 1e-12);
@@ -134,7 +134,7 @@ TEST(StartJoin, TimesCountFromTheSwitch)
 {
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "double_geodesic");
   r.times = { 1.0, 2.5, 3.0 };
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   ASSERT_EQ(out.waypoint_times.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i)
   {
@@ -247,8 +247,8 @@ TEST(StartJoin, NegatedStartQuaternionGivesTheSameMotion)
 {
   StartState a = movingState(), b = movingState();
   b.pose.q.coeffs() = -b.pose.q.coeffs();
-  const TrajectoryResult ra = generate(requestFrom(a, "interpolating", "screw"), PlannerLimits());
-  const TrajectoryResult rb = generate(requestFrom(b, "interpolating", "screw"), PlannerLimits());
+  const TrajectoryResult ra = generate(requestFrom(a, "interpolating", "screw"), test::unhurriedLimits());
+  const TrajectoryResult rb = generate(requestFrom(b, "interpolating", "screw"), test::unhurriedLimits());
   ASSERT_EQ(ra.samples.size(), rb.samples.size());
   for (std::size_t i = 0; i < ra.samples.size(); ++i)
   {
@@ -263,7 +263,7 @@ TEST(StartJoin, RestAtTheFirstWaypointStartsThere)
 {
   TrajectoryRequest r = requestFrom(StartState(), "interpolating", "double_geodesic");
   r.start_state->pose = r.waypoints[0];
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   expectStartsIn(out, *r.start_state, 1e-6);
   ASSERT_EQ(out.waypoint_times.size(), 3u);
   EXPECT_EQ(out.waypoint_times[0], 0.0);
@@ -275,7 +275,7 @@ TEST(StartJoin, BlendedPolylineListsTheRequestedWaypointsOnly)
 {
   TrajectoryRequest r = requestFrom(movingState(), "piecewise_geodesic", "double_geodesic");
   r.blend_radius = 0.1;
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   expectStartsIn(out, movingState(), 1e-5);
   EXPECT_EQ(out.blend_radii.size(), r.waypoints.size());
   EXPECT_EQ(out.waypoint_times.size(), r.waypoints.size());
@@ -302,7 +302,7 @@ TEST(StartJoin, LastSampleIsTheLastWaypointExactly)
     for (double s : { 0.1, 0.3, 0.7, 1.1, 1.9 })
     {
       r.start_state->pose.p = Eigen::Vector3d(0.3 * s, -0.2 * s, 0.1);
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       // (To rounding: the geodesic's lambda = (t - t_i) / h need not round to 1 at the end.)
       EXPECT_NEAR(out.samples.back().pose.p.x(), 1.0, 1e-15) << s;
       EXPECT_NEAR(out.samples.back().pose.p.y(), 0.0, 1e-15) << s;
@@ -314,7 +314,7 @@ TEST(StartJoin, OneWaypointIsEnough)
 {
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "screw");
   r.waypoints.resize(1);
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   expectStartsIn(out, movingState(), 1e-5);
   EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-9);
 }
@@ -328,14 +328,14 @@ TEST(StartJoin, StretchFromAMovingStartKeepsItOrIsRefused)
   TrajectoryRequest r = requestFrom(movingState(), "interpolating", "double_geodesic");
   r.duration = 4.0;
   r.max_linear_velocity = 100.0;
-  TrajectoryResult out = generate(r, PlannerLimits());
+  TrajectoryResult out = generate(r, test::unhurriedLimits());
   EXPECT_EQ(out.time_scale, 1.0);
   expectStartsIn(out, movingState(), 1e-5);
   r.duration = 1.0;
   r.max_linear_velocity = 1.0;
   try
   {
-    generate(r, PlannerLimits());
+    generate(r, test::unhurriedLimits());
     ADD_FAILURE() << "a stretch of a moving start was accepted";
   }
   catch (const InvalidInputError& e)
@@ -347,7 +347,7 @@ TEST(StartJoin, StretchFromAMovingStartKeepsItOrIsRefused)
   rest.velocity = Twist();
   rest.acceleration = Twist();
   r.start_state = rest;
-  out = generate(r, PlannerLimits());
+  out = generate(r, test::unhurriedLimits());
   EXPECT_GT(out.time_scale, 1.5);
   expectStartsIn(out, rest, 1e-5);
   EXPECT_NEAR(out.samples.back().time, out.duration, 1e-12);
@@ -369,7 +369,7 @@ TEST(StartJoin, TimeOptimalStartsInTheMovingStateWithinTheBounds)
     r.max_linear_acceleration = 3.0;
     r.max_angular_acceleration = 3.0;
     r.sample_count = 2000;
-    const TrajectoryResult out = generate(r, PlannerLimits());
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
     const StartState s = movingState();
     const TrajectorySample& first = out.samples.front();
     EXPECT_LT((first.pose.p - s.pose.p).norm(), kSwitchTolerance);
@@ -404,7 +404,7 @@ TEST(StartJoin, TimeOptimalAtRestStartsAtRest)
   r.max_angular_velocity = 1.0;
   r.max_linear_acceleration = 2.0;
   r.max_angular_acceleration = 2.0;
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   EXPECT_LT(test::poseDistance(out.samples.front().pose, r.start_state->pose), 1e-12);
   EXPECT_LT(out.samples.front().velocity.linear.norm() + out.samples.front().velocity.angular.norm(), 1e-12);
 }
@@ -471,7 +471,7 @@ TEST(StartJoin, BadInputNamesTheField)
   auto message = [](const TrajectoryRequest& r) -> std::string {
     try
     {
-      generate(r, PlannerLimits());
+      generate(r, test::unhurriedLimits());
     }
     catch (const InvalidInputError& e)
     {
@@ -525,7 +525,7 @@ TEST(StartJoin, OneWaypointFromAMovingStartUnderTimeOptimal)
       s.pose = pose({ 0.6, 0.0, 0.3 }, 0.0, { 0, 0, 1 });
       s.velocity = twist({ 0.0, 0.3, 0.0 }, { 0.0, 0.0, 0.0 });
       r.start_state = s;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       EXPECT_LT((out.samples.front().pose.p - s.pose.p).norm(), kSwitchTolerance);
       EXPECT_LT((out.samples.front().velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
       EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-9);
@@ -611,7 +611,7 @@ TEST(StartJoin, RecoveryFromAStartBeyondTheBoundsBrakesWithinThem)
     s.pose = pose({ 1.3354, 1.2006, 2.1024 }, 2.75, { 0.2, 0.3, 0.93 });
     s.velocity = twist({ 0.9, 0.0, 0.0 }, { 0.0, 0.0, 0.1 });
     r.start_state = s;
-    const TrajectoryResult out = generate(r, PlannerLimits());
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
     EXPECT_LT((out.samples.front().velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
     EXPECT_GE(out.recovery_time, (0.9 - 0.3) / 0.5 * (1.0 - 1e-6));
     double previous = std::numeric_limits<double>::infinity();
@@ -679,7 +679,7 @@ TEST(StartJoin, StartConditionThatCannotBrakeWithinTheBoundsIsRefused)
   std::string refusal;
   try
   {
-    generate(r, PlannerLimits());
+    generate(r, test::unhurriedLimits());
   }
   catch (const InvalidInputError& e)
   {
@@ -687,7 +687,7 @@ TEST(StartJoin, StartConditionThatCannotBrakeWithinTheBoundsIsRefused)
   }
   EXPECT_EQ(refusal.rfind("end_condition: 'start' continues the start state's motion", 0), 0u) << refusal;
   r.end_condition = "clamped";
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   for (const TrajectorySample& x : out.samples)
   {
     EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;

@@ -421,7 +421,7 @@ std::string errorOf(const SphereRequest& r)
 {
   try
   {
-    generate(r, PlannerLimits());
+    generate(r, test::unhurriedLimits());
   }
   catch (const InterpolationError& e)
   {
@@ -437,7 +437,7 @@ TEST(SpherePlanner, EveryCurveOnS3)
   {
     SphereRequest r = circleRequest(curve);
     r.waypoints[2] = Eigen::Vector4d(0.3, 0.9, 0.1, -0.3).normalized();
-    const SphereResult out = generate(r, PlannerLimits());
+    const SphereResult out = generate(r, test::unhurriedLimits());
     ASSERT_EQ(out.samples.size(), 41U) << curve;
     for (const auto& s : out.samples)
     {
@@ -464,7 +464,7 @@ TEST(SpherePlanner, ChordTimingStartConditionAndBounds)
   // rad: the waypoints lie on a great circle of S³), over `duration`.
   SphereRequest r = circleRequest("blended");
   r.duration = 5.6;
-  const SphereResult a = generate(r, PlannerLimits());
+  const SphereResult a = generate(r, test::unhurriedLimits());
   const std::vector<double> expected{ 0.0, 1.2, 2.6, 3.8, 5.2 };
   for (std::size_t i = 0; i < expected.size(); ++i)
     EXPECT_NEAR(a.waypoint_times[i], expected[i] * 5.6 / 5.2, 1e-12);
@@ -478,7 +478,7 @@ TEST(SpherePlanner, ChordTimingStartConditionAndBounds)
   r.duration = 1.0;
   r.max_angular_velocity = 1.5;
   r.max_angular_acceleration = 2.0;
-  const SphereResult b = generate(r, PlannerLimits());
+  const SphereResult b = generate(r, test::unhurriedLimits());
   EXPECT_GT(b.time_scale, 1.0);
   EXPECT_LE(b.figures.max_angular_speed, 1.5 * (1 + 1e-9));
   EXPECT_LE(b.figures.max_angular_acceleration, 2.0 * (1 + 1e-9));
@@ -492,7 +492,7 @@ TEST(SpherePlanner, ChordTimingStartConditionAndBounds)
   const VectorXd x0 = r.waypoints[0];
   r.start_velocity = Eigen::Vector4d(0.0, 0.48, 0.0, 0.36);  // tangent: x0 = (0.8, 0, 0.6, 0)
   r.start_acceleration = Eigen::Vector4d(0.0, 0.0, 0.0, 0.05);
-  const SphereResult c = generate(r, PlannerLimits());
+  const SphereResult c = generate(r, test::unhurriedLimits());
   EXPECT_LT((c.samples.front().velocity - r.start_velocity).norm(), 1e-12);
   EXPECT_LT((c.samples.front().acceleration - r.start_acceleration).norm(), 1e-9);
   for (std::size_t i = 0; i < r.waypoints.size(); ++i)
@@ -513,7 +513,7 @@ TEST(SpherePlanner, ErrorsNameTheFieldAndIndex)
   r = circleRequest("blended");
   r.waypoints[2] = -r.waypoints[1];
   EXPECT_NE(errorOf(r).find("waypoints[1] and waypoints[2]"), std::string::npos) << errorOf(r);
-  EXPECT_THROW(generate(r, PlannerLimits()), NonUniqueGeodesicError);
+  EXPECT_THROW(generate(r, test::unhurriedLimits()), NonUniqueGeodesicError);
   r = circleRequest("blended");
   r.waypoints = { Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1) };
   EXPECT_NE(errorOf(r).find("waypoints[0]: has 2 components"), std::string::npos) << errorOf(r);

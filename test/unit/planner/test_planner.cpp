@@ -39,7 +39,7 @@ TEST(Planner, InterpolatingAndHermiteRequestsPassTheirWaypoints)
       r.geometry = geometry;
       r.times = t;
       r.sample_times = t;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       for (std::size_t i = 0; i < x.size(); ++i)
         EXPECT_LT(poseDistance(out.samples[i].pose, x[i]), 1e-10) << geometry << " " << curve << " " << i;
     }
@@ -59,7 +59,7 @@ TEST(Planner, RequestTwistsReachTheCurve)
     r.end_condition = "clamped";
     r.start_velocity = randomTwist(rng, 0.5);
     r.end_velocity = randomTwist(rng, 0.5);
-    TrajectoryResult out = generate(r, PlannerLimits());
+    TrajectoryResult out = generate(r, test::unhurriedLimits());
     EXPECT_LT(twistError(out.samples.front().velocity, r.start_velocity), 1e-9) << geometry;
     EXPECT_LT(twistError(out.samples.back().velocity, r.end_velocity), 1e-9) << geometry;
 
@@ -67,7 +67,7 @@ TEST(Planner, RequestTwistsReachTheCurve)
     r.sample_times = t;
     for (std::size_t i = 0; i < x.size(); ++i)
       r.velocities.push_back(randomTwist(rng, 0.5));
-    out = generate(r, PlannerLimits());
+    out = generate(r, test::unhurriedLimits());
     for (std::size_t i = 0; i < x.size(); ++i)
       EXPECT_LT(twistError(out.samples[i].velocity, r.velocities[i]), 1e-9) << geometry << " " << i;
   }
@@ -94,7 +94,7 @@ TEST(Planner, StretchingMeetsEachBoundWithinOnePercentAndNeverExceedsIt)
       r.geometry = "screw";
       r.*bound.field = bound.value;
       r.sample_count = 20001;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       EXPECT_GT(out.time_scale, 1.0);
       double peak = 0.0;
       for (const TrajectorySample& s : out.samples)
@@ -158,7 +158,7 @@ TEST(Planner, RequestErrorsNameTheField)
   auto message = [&](TrajectoryRequest r) {
     try
     {
-      generate(r, PlannerLimits());
+      generate(r, test::unhurriedLimits());
     }
     catch (const InterpolationError& e)
     {

@@ -230,7 +230,7 @@ std::string errorOf(const TrajectoryRequest& r)
 {
   try
   {
-    generate(r, PlannerLimits());
+    generate(r, test::unhurriedLimits());
   }
   catch (const InvalidInputError& e)
   {
@@ -271,7 +271,7 @@ TEST(TimeOptimal, StraightLineIsTheTrapezoidOrTheTriangle)
       TrajectoryRequest r = timeOptimalRequest(line, b);
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       const double expected = trapezoidTime(d, b.v, b.a);
       EXPECT_NEAR(out.duration, expected, 0.005 * expected) << geometry << " v " << b.v << " a " << b.a;
       EXPECT_GE(out.duration, expected * (1.0 - 1e-9)) << "faster than the optimum";
@@ -290,7 +290,7 @@ TEST(TimeOptimal, PureRotationIsTheTrapezoidOrTheTriangle)
       TrajectoryRequest r = timeOptimalRequest(turn, b);
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       const double expected = trapezoidTime(2.5, b.w, b.alpha);
       EXPECT_NEAR(out.duration, expected, 0.005 * expected) << geometry << " w " << b.w;
       EXPECT_GE(out.duration, expected * (1.0 - 1e-9));
@@ -310,7 +310,7 @@ TEST(TimeOptimal, DoubleGeodesicPolylineIsTheSumOfItsSegmentTrapezoids)
   r.curve = "piecewise_geodesic";
   r.times = { 0.0, 1.0, 1.5, 4.0 };  // very uneven path times: the timing must not depend on them
   r.sample_count = 10000;
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   double expected = 0.0;
   std::vector<double> corner_times{ 0.0 };
   for (std::size_t i = 0; i + 1 < w.size(); ++i)
@@ -375,7 +375,7 @@ TEST(TimeOptimal, GreatCircleArcOnTheSphereIsTheTrapezoid)
   r.max_angular_velocity = 0.7;
   r.max_angular_acceleration = 1.1;
   r.sample_count = 10000;
-  const SphereResult out = generate(r, PlannerLimits());
+  const SphereResult out = generate(r, test::unhurriedLimits());
   const double expected = trapezoidTime(2.0, 0.7, 1.1);
   EXPECT_NEAR(out.duration, expected, 0.005 * expected);
   for (const SphereSample& s : out.samples)
@@ -413,7 +413,7 @@ TEST(TimeOptimal, EveryCurveFamilyAndGeometryMatchesTheBruteForceReference)
       r.curve = curve;
       r.geometry = geometry;
       r.sample_count = 10000;
-      const TrajectoryResult out = generate(r, PlannerLimits());
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
       const ValidatedRequest v = validateRequest(r, PlannerLimits());
       const std::vector<double> times = waypointTimes(v);
       double reference = 0.0;
@@ -439,7 +439,7 @@ TEST(TimeOptimal, ReportedVelocitiesAreTheFiniteDifferencesOfThePoses)
   r.curve = "interpolating";
   r.geometry = "screw";
   r.sample_count = 50;
-  const TrajectoryResult out = generate(r, PlannerLimits());
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
   // s̈ is constant per grid interval, so the acceleration jumps at grid points and a stencil that
   // spans one errs by about |Δa| h: h small enough for that (and the h⁴ terms) to stay below 1e-7,
   // large enough for rounding (1e-16 |p| / h) to stay below 1e-10.
@@ -495,7 +495,7 @@ TEST(TimeOptimal, ReportedFiguresAreThoseOfTheTimedMotion)
     TrajectoryRequest r = timeOptimalRequest(w, b);
     r.curve = "hermite";
     r.rotation_scale = 0.5;
-    const TrajectoryResult out = generate(r, PlannerLimits());
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
     const ValidatedRequest v = validateRequest(r, PlannerLimits());
     const auto path = makeCurve<DoubleGeodesicSe3>(v, waypointTimes(v));
     timing::RateBounds bounds;
@@ -523,11 +523,11 @@ TEST(TimeOptimal, FasterThanTheUniformStretch)
   std::mt19937 rng(3);
   TrajectoryRequest r = timeOptimalRequest(test::randomPolygon(rng, 6, 0.9), Bounds4{ 0.5, 0.8, 1.0, 1.5 });
   r.curve = "interpolating";
-  const double optimal = generate(r, PlannerLimits()).duration;
+  const double optimal = generate(r, test::unhurriedLimits()).duration;
   r.timing = "stretch";
-  const double stretched = generate(r, PlannerLimits()).duration;
+  const double stretched = generate(r, test::unhurriedLimits()).duration;
   r.timing = "";
-  EXPECT_EQ(generate(r, PlannerLimits()).duration, stretched) << "stretch is the default";
+  EXPECT_EQ(generate(r, test::unhurriedLimits()).duration, stretched) << "stretch is the default";
   EXPECT_LT(optimal, stretched);
 }
 
@@ -541,13 +541,13 @@ TEST(TimeOptimal, DwellAndStationaryEndsAreTimed)
                                            b);
   r.times = { 0, 1, 2, 3 };
   r.sample_count = 2000;
-  TrajectoryResult out = generate(r, PlannerLimits());
+  TrajectoryResult out = generate(r, test::unhurriedLimits());
   expectWithinBounds(out, b, "dwell");
   r.curve = "interpolating";
   r.end_condition = "clamped";
   r.waypoints.erase(r.waypoints.begin() + 2);
   r.times = { 0, 1, 3 };
-  out = generate(r, PlannerLimits());
+  out = generate(r, test::unhurriedLimits());
   expectWithinBounds(out, b, "clamped");
   EXPECT_TRUE(std::isfinite(out.duration));
 }
@@ -581,7 +581,7 @@ TEST(TimeOptimal, MissingBoundsAreErrorsNamingThem)
   s.max_angular_velocity = 1.0;
   try
   {
-    generate(s, PlannerLimits());
+    generate(s, test::unhurriedLimits());
     ADD_FAILURE() << "no error";
   }
   catch (const InvalidInputError& err)
