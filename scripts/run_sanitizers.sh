@@ -7,12 +7,12 @@
 #  - the exploration, from the fixed seed ${SE3_FUZZ_SEED:-1} (reproducible: a passing run stays
 #    passing): every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves, fuzz_c2,
 #    fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
-#    ${SE3_FUZZ_MAX_SECONDS:-60} s each (the slowest, fuzz_sphere, reaches about 25 000 in that
+#    ${SE3_FUZZ_MAX_SECONDS:-60} s each (the slowest, fuzz_sphere, reached about 40 000 in that
 #    time), and the whole-request target fuzz_generate, much slower per input, for
 #    ${SE3_FUZZ_SECONDS:-30} s. Each run's input count, time and rate are printed.
 # Each replay and each exploration is one test: a failing seed, a finding (printed with its
 # input) or a per-layer target that reaches fewer than ${SE3_FUZZ_MIN_RUNS:-10000} inputs within
-# its time (a target slowed down tenfold) fails it.
+# its time (a target slowed down about fourfold) fails it.
 # The last line is `sanitizers: N passed, N failed` (the unit test cases plus those); exits
 # non-zero on any failure.
 # SE3_SANITIZE_BUILD_ONLY=1: only the build (scripts/run_tests.sh runs it at nice 19 beside the
