@@ -133,7 +133,7 @@ TEST(Deadline, EveryLongPhaseStops)
     TrajectoryRequest request;
   };
   std::vector<Case> cases;
-  cases.push_back({ "interpolating", bigRequest("interpolating", 200000) });
+  cases.push_back({ "interpolating", bigRequest("interpolating", 100000) });
   TrajectoryRequest optimal = bigRequest("hermite", 50000);
   optimal.timing = "time_optimal";
   optimal.max_linear_velocity = optimal.max_angular_velocity = 1.0;
