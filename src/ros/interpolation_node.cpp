@@ -19,6 +19,10 @@ namespace
 /// when freed): glibc's default raises this threshold after each large free, after which large
 /// messages stay in the heap.
 constexpr int kMmapThreshold = 128 * 1024;
+/// glibc's malloc arenas, at most: by default one per thread that allocates (up to 8 per core),
+/// each keeping its own freed and fragmented pages after a large publication; the node's threads
+/// (service, intake, TF, timers) share these few, so what one frees another reuses.
+constexpr int kArenaMax = 2;
 
 Nanoseconds toNanoseconds(const ros::Time& t)
 {
@@ -31,6 +35,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
     tf_listener_(tf_buffer_)
 {
   mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
+  mallopt(M_ARENA_MAX, kArenaMax);
   const NodeParameters& p = start_params_;
   playback_.setLoop(p.loop);
   path_pub_ = private_nh_.advertise<nav_msgs::Path>("path", 1, true);

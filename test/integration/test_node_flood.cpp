@@ -258,9 +258,11 @@ TEST(NodeFlood, EveryDroppedWaypointMessageIsCounted)
   const std::uint64_t dropped_waypoints = status.dropped_waypoints_messages - before.dropped_waypoints_messages;
   EXPECT_EQ(dropped_waypoint, n_waypoint - status.waypoint_count);
   EXPECT_EQ(dropped_waypoints, n_waypoints - static_cast<std::uint32_t>(rejected.count() - rejected_before));
-  // A real flood: most were dropped (the backlogs hold 5 and 10).
+  // A real flood on ~waypoint, whose worker the tf2 wait holds: most were dropped (the backlog
+  // holds 5). The ~waypoints worker is not held and may keep up with the refusals, so its drops
+  // depend on the machine (from 0 to most of them): its accounting above holds either way.
   EXPECT_GT(dropped_waypoint, n_waypoint / 2);
-  EXPECT_GT(dropped_waypoints, n_waypoints / 2);
+  RecordProperty("dropped_waypoints_messages", static_cast<int>(dropped_waypoints));
   EXPECT_TRUE(waitFor([&] { return warned.count() >= 1; }, 10.0));
 }
 
