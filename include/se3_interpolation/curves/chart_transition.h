@@ -1,7 +1,7 @@
 // curves/chart_transition.h: what the C² solve (interpolating_solver.h) needs of a geometry, as a
 // trait instead of branches on the geometry's type: the derivatives D = dF(0), Q = d²F(0) of the
 // transition map F(δ) = log_{x1}(exp_{x0}(L + δ)) between the charts at the ends of a segment (C3
-// of the solver's file comment), their inverse, the leading coordinates Q acts in, and the steps a
+// of c2_spline_system.h's file comment), their inverse, the leading coordinates Q acts in, and the steps a
 // geometry refuses. ChartTransition<G> is the generic rule (identity frames and a fixed dimension:
 // jets of F at compile-time size; otherwise chart_cubic.h's transitionDerivatives); the
 // specialisations below say where a geometry knows more.

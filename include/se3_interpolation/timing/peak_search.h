@@ -1,5 +1,5 @@
-// timing/: the interior-maximum search shared by the timings' final checks (time_optimal.cpp,
-// jerk_limited.cpp): a rate checked at the two ends and the middle of an interval is searched
+// timing/: the interior-maximum search shared by the timings' final checks (time_optimal_check.cpp,
+// jerk_limited_check.cpp): a rate checked at the two ends and the middle of an interval is searched
 // inside it where the parabola through the three values peaks inside.
 #pragma once
 

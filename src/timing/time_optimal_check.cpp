@@ -1,0 +1,266 @@
+// The final dense check of the time-optimal timing (timing/time_optimal.h: between grid points
+// the bounds are not imposed by the scheme, the guarantee comes from checks): the needs of every
+// interval at its ends, middle and searched peaks, the local tightening of the bounds, the uniform
+// stretch of a motion from rest or the check of a fixed start, and the motion's figures. The
+// solver is declared in time_optimal_solver.h.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "se3_interpolation/deadline.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/timing/peak_search.h"
+#include "time_optimal_solver.h"
+
+namespace se3_interpolation
+{
+namespace timing
+{
+namespace time_optimal_detail
+{
+namespace
+{
+/// Intervals whose middle suggests (by a parabola through ends and middle) a rate within this
+/// fraction of the worst one seen are searched for their maximum.
+constexpr double kRefineMargin = 1e-3;
+}  // namespace
+
+Rates TimeOptimalSolver::needs(const PathJet& j, double x, double u) const
+{
+  Rates r{};
+  for (int c = 0; c < 2; ++c)
+  {
+    if (bounds_.velocity[c] > 0.0)
+      r[c] = std::sqrt(j[c].bb * x) / bounds_.velocity[c];
+    if (bounds_.acceleration[c] > 0.0)
+    {
+      const double a2 = j[c].aa * x * x + 2.0 * j[c].ab * x * u + j[c].bb * u * u;
+      r[2 + c] = std::sqrt(std::sqrt(std::max(0.0, a2)) / bounds_.acceleration[c]);
+    }
+  }
+  return r;
+}
+
+Rates TimeOptimalSolver::needsAt(std::size_t i, double lambda) const
+{
+  const double x = profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]);
+  return needs(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), x, profile_.u[i]);
+}
+
+Rates TimeOptimalSolver::needsAtMiddle(std::size_t i) const
+{
+  return needs(middle_[i], 0.5 * (profile_.x[i] + profile_.x[i + 1]), profile_.u[i]);
+}
+
+void TimeOptimalSolver::tighten(std::size_t i, int q, double r, double margin)
+{
+  const double f = (q < 2 ? 1.0 / r : 1.0 / (r * r)) * (1.0 - margin);
+  factor_[i][q] *= f;
+  factor_[i + 1][q] *= f;
+}
+
+bool TimeOptimalSolver::tightenWhereTheMiddlesExceed()
+{
+  bool tightened = false;
+  for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
+  {
+    const Rates r = needsAtMiddle(i);
+    for (int q = 0; q < 4; ++q)
+      if (r[q] > 1.0 + kLocalTolerance)
+      {
+        tighten(i, q, r[q], 0.0);
+        tightened = true;
+      }
+  }
+  return tightened;
+}
+
+TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds() const
+{
+  const std::size_t n = profile_.s.size();
+  IntervalNeeds f{ std::vector<Rates>(n - 1), std::vector<Rates>(n - 1), std::vector<Rates>(n - 1) };
+  for (std::size_t i = 0; i + 1 < n; ++i)
+  {
+    checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+    f.start[i] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
+    f.end[i] = needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]);
+    f.middle[i] = needsAtMiddle(i);
+  }
+  return f;
+}
+
+double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
+{
+  const double f0 = f.start[i][q], fm = f.middle[i][q], f1 = f.end[i][q];
+  *searched = detail::parabolaPeaksInside(f0, fm, f1, threshold);
+  return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
+}
+
+void TimeOptimalSolver::verifyAndStretch()
+{
+  const std::size_t n = profile_.s.size();
+  const IntervalNeeds f = intervalNeeds();
+  double worst = 0.0;
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    for (int q = 0; q < 4; ++q)
+      worst = std::max({ worst, f.start[i][q], f.middle[i][q], f.end[i][q] });
+  const double threshold = worst * (1.0 - kRefineMargin);
+  double refined = worst;
+  Rates searched{};
+  for (std::size_t i = 0; i + 1 < n; ++i)
+  {
+    checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    for (int q = 0; q < 4; ++q)
+    {
+      bool was_searched = false;
+      const double p = peak(f, i, q, threshold, &was_searched);
+      if (was_searched)
+        searched[q] = std::max(searched[q], p);
+      refined = std::max(refined, p);
+    }
+  }
+  const double k = std::max(1.0, refined);
+  profile_.stretch = k;
+  if (k > 1.0)
+  {
+    const double t0 = profile_.t.front();
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      profile_.t[i] = t0 + (profile_.t[i] - t0) * k;
+      profile_.x[i] /= k * k;
+    }
+    for (double& ui : profile_.u)
+      ui /= k * k;
+    profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
+  }
+  figures(searched, k);
+}
+
+std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)
+{
+  const IntervalNeeds f = intervalNeeds();
+  double worst = 0.0;
+  bool tightened = false;
+  for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
+  {
+    checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    for (int q = 0; q < 4; ++q)
+    {
+      bool was_searched = false;
+      const double p = peak(f, i, q, 1.0 - kRefineMargin, &was_searched);
+      if (was_searched)
+        (*searched)[q] = std::max((*searched)[q], p);
+      worst = std::max(worst, p);
+      if (tighten_margin >= 0.0 && p > 1.0 + kFixedStartTolerance)
+      {
+        tighten(i, q, p, tighten_margin);
+        tightened = true;
+      }
+    }
+  }
+  return { worst, tightened };
+}
+
+bool TimeOptimalSolver::tightenWhereTheCheckExceeds(double margin)
+{
+  Rates searched{};
+  return checkAfterRecovery(margin, &searched).second;
+}
+
+void TimeOptimalSolver::verifyFixedStart()
+{
+  Rates searched{};
+  const double worst = checkAfterRecovery(-1.0, &searched).first;
+  if (worst > 1.0 + kFixedStartTolerance)
+    throw InterpolationError("timing: the time-optimal motion from the start state exceeds a bound by " +
+                             formatNumber(worst - 1.0) + " (relative) after " + std::to_string(kFixedStartPasses) +
+                             " corrections; start more slowly or farther from the first waypoint, or raise the "
+                             "acceleration bounds");
+  profile_.stretch = 1.0;
+  figures(searched, 1.0);
+}
+
+std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, double u)
+{
+  std::array<double, 4> m{};
+  for (int c = 0; c < 2; ++c)
+  {
+    m[c] = std::sqrt(j[c].bb * x);
+    m[2 + c] = std::sqrt(std::max(0.0, j[c].aa * x * x + 2.0 * j[c].ab * x * u + j[c].bb * u * u));
+  }
+  return m;
+}
+
+void TimeOptimalSolver::figures(const Rates& searched, double k)
+{
+  TimingProfile& p = profile_;
+  p.max_speed = { 0.0, 0.0 };
+  p.max_acceleration = { 0.0, 0.0 };
+  p.acceleration_energy = { 0.0, 0.0 };
+  for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
+  {
+    checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
+    const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
+    const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
+    const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
+    // Nodes 0, τ_m (the time at the middle of the interval in s), h.
+    const double h = p.t[i + 1] - p.t[i];
+    const double tm = delta(i) / (std::sqrt(p.x[i]) + std::sqrt(x_mid));
+    // The integral of the quadratic through (0, g0), (τ_m, g_m), (h, g1): Lagrange weights.
+    const bool inside = h > 0.0 && tm > 0.0 && tm < h;
+    const double w0 = inside ? h * (3.0 * tm - h) / (6.0 * tm) : 0.0;
+    const double wm = inside ? h * h * h / (6.0 * tm * (h - tm)) : 0.0;
+    const double w1 = inside ? h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) : 0.0;
+    for (int c = 0; c < 2; ++c)
+    {
+      p.max_speed[c] = std::max({ p.max_speed[c], a[c], m[c], b[c] });
+      p.max_acceleration[c] = std::max({ p.max_acceleration[c], a[2 + c], m[2 + c], b[2 + c] });
+      p.acceleration_energy[c] += w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
+    }
+  }
+  // Where the parabola through an interval's ends and middle rises above the peak so far (within
+  // kRefineMargin), the peak is searched on the exact rates: every figure is a value the motion
+  // takes, within ~1e-7 of its true peak.
+  std::array<double, 4> peak{ p.max_speed[0], p.max_speed[1], p.max_acceleration[0], p.max_acceleration[1] };
+  for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
+  {
+    const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
+    const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
+    const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
+    const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
+    for (int q = 0; q < 4; ++q)
+    {
+      if (!detail::parabolaPeaksInside(a[q], m[q], b[q], peak[q] * (1.0 - kRefineMargin)))
+        continue;
+      peak[q] = std::max(peak[q], detail::localMaxOf(
+                                      [this, i, q](double lambda) {
+                                        const TimingProfile& pr = profile_;
+                                        const double x = pr.x[i] + lambda * (pr.x[i + 1] - pr.x[i]);
+                                        return magnitudes(path_.jet(pr.s[i] + lambda * delta(i), Side::kRight), x,
+                                                          pr.u[i])[q];
+                                      },
+                                      a[q], m[q], b[q]));
+    }
+  }
+  p.max_speed = { peak[0], peak[1] };
+  p.max_acceleration = { peak[2], peak[3] };
+  for (int c = 0; c < 2; ++c)
+  {
+    if (bounds_.velocity[c] > 0.0)
+      p.max_speed[c] = std::max(p.max_speed[c], searched[c] * bounds_.velocity[c] / k);
+    if (bounds_.acceleration[c] > 0.0)
+      p.max_acceleration[c] =
+          std::max(p.max_acceleration[c], searched[2 + c] * searched[2 + c] * bounds_.acceleration[c] / (k * k));
+  }
+}
+
+double TimeOptimalSolver::localMax(std::size_t i, int q, double f0, double fm, double f1) const
+{
+  return detail::localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
+}
+
+}  // namespace time_optimal_detail
+}  // namespace timing
+}  // namespace se3_interpolation

@@ -1,0 +1,241 @@
+// The passes of the time-optimal timing (timing/time_optimal.h: the backward and forward passes
+// of its file comment, on the constraints (2), (3)): the pointwise caps, the admissible controls,
+// the backward pass and the greedy forward pass. The solver is declared in time_optimal_solver.h.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "se3_interpolation/deadline.h"
+#include "se3_interpolation/exceptions.h"
+#include "time_optimal_solver.h"
+
+namespace se3_interpolation
+{
+namespace timing
+{
+namespace time_optimal_detail
+{
+namespace
+{
+/// Bisection of the controllable sets' upper ends: relative width (rounding level of x).
+constexpr double kBisectionTolerance = 1e-12;
+constexpr int kBisectionSteps = 200;
+/// The acceleration bounds' margin while braking out of a start the bounds cannot hold.
+constexpr double kRecoveryMargin = 1e-4;
+
+/// Intersects u with {u : |a x + w u| ≤ A}, given α = |w|², β = a·w, aa = |a|², cross = |a × w|²
+/// (= |a × b|² for w = b + 2Δa): α u² + 2 x β u + aa x² − A² ≤ 0.
+void intersectEllipse(double alpha, double beta, double aa, double cross, double a2, double x, Interval* u)
+{
+  if (alpha > 0.0)
+  {
+    const double d = alpha * a2 - cross * x * x;
+    if (d < 0.0)
+    {
+      u->empty = true;
+      return;
+    }
+    const double r = std::sqrt(d);
+    u->lo = std::max(u->lo, (-x * beta - r) / alpha);
+    u->hi = std::min(u->hi, (-x * beta + r) / alpha);
+  }
+  else if (aa * x * x > a2)
+  {
+    u->empty = true;
+  }
+}
+}  // namespace
+
+void TimeOptimalSolver::updateCaps()
+{
+  for (std::size_t i = 0; i < profile_.s.size(); ++i)
+    for (PointData* p : { &right_[i], &left_[i] })
+    {
+      p->x_max = speed_cap_.empty() ? kInf : speed_cap_[i];
+      for (int c = 0; c < 2; ++c)
+      {
+        const ChannelJet& j = p->jet[c];
+        const double v = velocityBound(i, c);
+        const double a = accelerationBound(i, c);
+        if (v > 0.0 && j.bb > 0.0)
+          p->x_max = std::min(p->x_max, v * v / j.bb);
+        if (a > 0.0)
+        {
+          if (j.cross > 0.0)
+            p->x_max = std::min(p->x_max, a * std::sqrt(j.bb / j.cross));
+          else if (j.bb == 0.0 && j.aa > 0.0)
+            p->x_max = std::min(p->x_max, a / std::sqrt(j.aa));
+        }
+      }
+    }
+}
+
+Interval TimeOptimalSolver::controls(std::size_t i, double x, double next) const
+{
+  const double d = delta(i);
+  Interval u;
+  u.lo = -x / (2.0 * d);
+  u.hi = (next - x) / (2.0 * d);
+  const PathJet& a = right_[i].jet;
+  const PathJet& b = left_[i + 1].jet;
+  for (int c = 0; c < 2; ++c)
+  {
+    if (!(bounds_.acceleration[c] > 0.0))
+      continue;
+    // At s_i: |C″ x + C′ u|.
+    const double a0 = accelerationBound(i, c);
+    intersectEllipse(a[c].bb, a[c].ab, a[c].aa, a[c].cross, a0 * a0, x, &u);
+    // At s_{i+1}: |C″ (x + 2Δu) + C′ u| = |C″ x + (C′ + 2Δ C″) u|.
+    const ChannelJet& e = b[c];
+    const double a1 = accelerationBound(i + 1, c);
+    const double alpha = std::max(0.0, 4.0 * d * d * e.aa + 4.0 * d * e.ab + e.bb);
+    intersectEllipse(alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a1 * a1, x, &u);
+    if (u.empty)
+      return u;
+  }
+  return u;
+}
+
+void TimeOptimalSolver::backward()
+{
+  const std::size_t n = profile_.s.size();
+  // Tightening only shrinks the sets: a later pass starts from the previous one's.
+  const std::vector<double> previous = k_.empty() ? std::vector<double>(n, kInf) : k_;
+  k_.assign(n, 0.0);
+  for (std::size_t i = n - 1; i-- > 0;)
+  {
+    checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+    // K_0 = {0} for a start at rest; a moving start needs the whole controllable set at s_0.
+    if (corner_[i] || (i == 0 && !(start_x_ > 0.0)))
+      continue;
+    const double next = nextLimit(i);
+    auto admissible = [&](double x) { return !controls(i, x, next).isEmpty(); };
+    double hi = std::min(right_[i].x_max, previous[i]);
+    if (std::isfinite(hi) && admissible(hi))
+    {
+      k_[i] = hi;
+      continue;
+    }
+    if (!std::isfinite(hi))
+    {
+      // No pointwise cap: grow a bracket from the next set's size.
+      const Interval at_rest = controls(i, 0.0, next);
+      hi = std::max({ next, 2.0 * delta(i) * std::abs(at_rest.hi), std::numeric_limits<double>::min() });
+      int steps = 0;
+      while (admissible(hi) && steps++ < 2100)
+        hi *= 4.0;
+      if (!std::isfinite(hi))
+        throw InvalidInputError("timing: 'time_optimal' found no bound on the speed at path time " +
+                                formatNumber(profile_.s[i]) + " s (set max_linear_velocity or max_angular_velocity)");
+    }
+    double lo = 0.0;
+    for (int step = 0; step < kBisectionSteps && hi - lo > kBisectionTolerance * hi; ++step)
+    {
+      const double mid = 0.5 * (lo + hi);
+      (admissible(mid) ? lo : hi) = mid;
+    }
+    k_[i] = lo;
+  }
+}
+
+void TimeOptimalSolver::forward()
+{
+  const std::size_t n = profile_.s.size();
+  std::vector<double>& x = profile_.x;
+  std::vector<double>& u = profile_.u;
+  std::vector<double>& t = profile_.t;
+  x.assign(n, 0.0);
+  u.assign(n - 1, 0.0);
+  t.assign(n, profile_.s.front());
+  x[0] = start_x_;
+  recovery_end_ = 0;
+  profile_.recovery_excess = 0.0;
+  for (std::size_t i = 0; i + 1 < n; ++i)
+  {
+    checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+    const double d = delta(i);
+    const double next = nextLimit(i);
+    double chosen = 0.0;
+    bool recovering = false;
+    if (i == 0 && hold_start_)
+    {
+      recovering = x[0] > next * (1.0 + kRoundingExcess);
+    }
+    else
+    {
+      const Interval c = controls(i, x[i], next);
+      if (!c.isEmpty())
+      {
+        chosen = c.hi;
+      }
+      else if (x[i] <= std::min(k_[i], right_[i].x_max) * (1.0 + kRoundingExcess))
+      {
+        // Rounding left x_i a hair outside K_i: hold the speed, or slow down to the next set;
+        // the final check corrects what that costs.
+        chosen = std::min(0.0, (next - x[i]) / (2.0 * d));
+      }
+      else
+      {
+        recovering = true;
+        // Braking at the acceleration bounds, which hold at the interval's ends: a margin for
+        // its interior, which no later pass checks.
+        for (std::size_t j : { i, i + 1 })
+          for (int c = 2; c < 4; ++c)
+            factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
+        const Interval free = controls(i, x[i], kInf);
+        if (free.isEmpty())
+        {
+          // No braking keeps within the acceleration bounds here: the path bends too sharply
+          // for this speed. The least acceleration is taken and its excess reported.
+          chosen = leastAccelerationControl(i, x[i], d);
+          const Rates r = needs(right_[i].raw, x[i], chosen);
+          for (int c = 2; c < 4; ++c)
+            profile_.recovery_excess = std::max(profile_.recovery_excess, r[c] * r[c]);
+        }
+        else
+        {
+          chosen = std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
+        }
+      }
+    }
+    double following = std::max(x[i] + 2.0 * d * chosen, 0.0);
+    if (recovering)
+    {
+      recovery_end_ = i + 1;
+      if (following > 0.0 && (corner_[i + 1] || i + 2 == n))
+        throw InvalidInputError(
+            "start_state: the motion starts too fast to come to rest within the bounds before path time " +
+            formatNumber(profile_.s[i + 1]) + " s (" + (i + 2 == n ? "the end of the path" : "a corner") +
+            "); start slower, place the first waypoint farther away, or raise the acceleration bounds");
+    }
+    else
+    {
+      following = std::min(following, next);
+    }
+    x[i + 1] = following;
+    u[i] = (x[i + 1] - x[i]) / (2.0 * d);
+    const double rate = std::sqrt(x[i]) + std::sqrt(x[i + 1]);
+    if (!(rate > 0.0))
+      throw InterpolationError("timing: the time-optimal profile stalls at path time " +
+                               formatNumber(profile_.s[i]) + " s (the bounds are too tight for the path)");
+    t[i + 1] = t[i] + 2.0 * d / rate;
+  }
+  profile_.recovery_end = t[checkedFrom()];
+}
+
+double TimeOptimalSolver::leastAccelerationControl(std::size_t i, double x, double d) const
+{
+  double u = 0.0;
+  for (int c = 0; c < 2; ++c)
+  {
+    const ChannelJet& j = right_[i].jet[c];
+    if (bounds_.acceleration[c] > 0.0 && j.bb > 0.0)
+      u = std::min(u, -x * j.ab / j.bb);
+  }
+  return std::max(u, -x / (2.0 * d));
+}
+
+}  // namespace time_optimal_detail
+}  // namespace timing
+}  // namespace se3_interpolation

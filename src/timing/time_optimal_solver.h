@@ -1,0 +1,217 @@
+// src/timing/time_optimal_solver.h: the internal declarations of the time-optimal timing
+// (include/se3_interpolation/timing/time_optimal.h, whose file comment describes the method):
+// the solver class, its grid data and the constants its units share. Not installed. The solver's
+// members are defined in three units:
+//   - time_optimal.cpp: the grid (uniform, then refined), its jets and the solve's loop of passes,
+//     and the public functions (timeOptimalProfile, TimingProfile::timeAt);
+//   - time_optimal_passes.cpp: the backward pass (the controllable sets, by bisection on the exact
+//     constraints) and the greedy forward pass with the recovery from a start outside them;
+//   - time_optimal_check.cpp: the final dense check (the peaks of every interval), the local
+//     tightening, the uniform stretch or the fixed start's check, and the figures.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "se3_interpolation/timing/time_optimal.h"
+
+namespace se3_interpolation
+{
+namespace timing
+{
+namespace time_optimal_detail
+{
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Local passes: where an interval's middle exceeds a bound by more than kLocalTolerance, the
+/// bound is tightened at its ends by the excess and the passes are rerun (at most kLocalPasses
+/// times), so that the final uniform stretch only absorbs what is left (typically < 1e-3).
+constexpr int kLocalPasses = 4;
+constexpr double kLocalTolerance = 1e-4;
+/// A motion that starts moving cannot be stretched uniformly (that would change its start
+/// velocity): its local passes continue, at most kFixedStartPasses in all, until every checked rate
+/// is within kFixedStartTolerance of its bound; from the fifth pass on each tightening carries a
+/// margin of kFixedStartMargin, so that the passes converge from above.
+constexpr int kFixedStartPasses = 16;
+constexpr double kFixedStartTolerance = 1e-8;
+constexpr double kFixedStartMargin = 1e-3;
+/// x_i above the controllable set by this relative amount is rounding, not a start to recover from.
+constexpr double kRoundingExcess = 1e-9;
+/// Grid points handled between two checks of the request's deadline (deadline.h).
+constexpr std::size_t kPointsPerDeadlineCheck = 256;
+/// Intervals between two deadline checks in the peak searches, checks and figures, which search
+/// inside each interval (each costs about 16 grid points' work).
+constexpr std::size_t kIntervalsPerSearchDeadlineCheck = kPointsPerDeadlineCheck / 16;
+constexpr const char* kPhase = "timing: 'time_optimal'";
+
+struct Interval
+{
+  double lo = -kInf;
+  double hi = kInf;
+  bool empty = false;
+  bool isEmpty() const { return empty || !(lo <= hi); }
+};
+
+/// One side of one grid point, as the constraints see it.
+struct PointData
+{
+  PathJet jet;          ///< for the constraints (floored at stationary points)
+  PathJet raw;          ///< the path's own, for the checks
+  double x_max = kInf;  ///< from (2) and the extents of the ellipses (3), with the local factors
+};
+
+/// The four rates: linear / angular velocity (0, 1), linear / angular acceleration (2, 3).
+using Rates = std::array<double, 4>;
+
+/// The time-optimal timing of one path under one set of bounds (time_optimal.h's file comment).
+class TimeOptimalSolver
+{
+public:
+  TimeOptimalSolver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options);
+
+  /// The passes, the final check and the stretch or the fixed start's corrections (time_optimal.cpp).
+  TimingProfile solve();
+
+private:
+  // The grid (time_optimal.cpp).
+  bool bounded(int c) const { return bounds_.velocity[c] > 0.0 || bounds_.acceleration[c] > 0.0; }
+
+  /// The largest |C′| of each channel over some jets.
+  static void growLargest(const PathJet& j, std::array<double, 2>* largest);
+
+  /// Whether the constraints at the ends of [s_a, s_b] (length d) cannot stand for its interior.
+  bool needsSplit(const PathJet& a, const PathJet& m, const PathJet& b, double d) const;
+
+  /// Adds the grid points strictly inside (s_a, s_b) and the jets at the middles of the intervals
+  /// they make, halving where needsSplit says so.
+  void refine(double sa, const PathJet& ja, double sb, const PathJet& jb, int depth);
+
+  void addPoint(double s, const PathJet& right, const PathJet& left, bool corner);
+
+  /// The grid: max(intervals_per_piece, the piece's share of min_intervals) uniform intervals on
+  /// every analytic piece, refined where the path's rates vary (refine), with the jets the passes
+  /// and checks read: right- and left-sided at each point, and at the middle of each interval.
+  void buildGrid(const TimeOptimalOptions& options);
+
+  void evaluateGrid(const TimeOptimalOptions& options);
+
+  /// Checks that the motion at this point is bounded and floors stationary points.
+  void prepare(PointData* p, double s) const;
+
+  // The passes (time_optimal_passes.cpp).
+  double velocityBound(std::size_t i, int c) const { return bounds_.velocity[c] * factor_[i][c]; }
+  double accelerationBound(std::size_t i, int c) const { return bounds_.acceleration[c] * factor_[i][2 + c]; }
+
+  /// x_max of both sides of every point with the current local factors.
+  void updateCaps();
+
+  double delta(std::size_t i) const { return profile_.s[i + 1] - profile_.s[i]; }
+
+  /// Upper end of x_{i+1}: the controllable set and the velocity bound seen from the left.
+  double nextLimit(std::size_t i) const { return std::min(k_[i + 1], left_[i + 1].x_max); }
+
+  /// The admissible controls u_i for x_i = x with x_{i+1} ∈ [0, next].
+  Interval controls(std::size_t i, double x, double next) const;
+
+  void backward();
+
+  /// The greedy forward pass (Pham & Pham, eq. 12) from x_0 = start_x_ (held for the first interval
+  /// with hold_start_). A start outside the controllable sets (faster than the bounds allow, or too
+  /// fast to brake for what lies ahead) is brought into them by the hardest braking the acceleration
+  /// bounds allow: the recovery, which ends at the grid point recovery_end_. A start that cannot be
+  /// brought to rest before a velocity corner or the end of the path is an error.
+  void forward();
+
+  /// The first interval the checks hold to the bounds: after the recovery from a start that
+  /// exceeds a bound; else all of them (a start within the bounds that must brake for what lies
+  /// ahead brakes within them).
+  std::size_t checkedFrom() const { return start_exceeds_ ? recovery_end_ : 0; }
+
+  /// Where no control keeps the acceleration within a bound at x (the path bends too sharply for
+  /// that speed): the control of least acceleration that does not speed up, and at most stops.
+  double leastAccelerationControl(std::size_t i, double x, double d) const;
+
+  // The final dense check, the tightening and the figures (time_optimal_check.cpp).
+  /// The stretch each bounded rate would need at a point: |v|/v_max, √(|a|/a_max).
+  Rates needs(const PathJet& j, double x, double u) const;
+
+  /// The needs at s_i + λ Δ_i (x is linear in s on the interval, u constant).
+  Rates needsAt(std::size_t i, double lambda) const;
+
+  Rates needsAtMiddle(std::size_t i) const;
+
+  /// Tightens quantity q at both ends of interval i so that its need r (> 1) would come down to
+  /// 1 − margin: velocities scale with the bound, accelerations' needs with its square root.
+  void tighten(std::size_t i, int q, double r, double margin);
+
+  /// Where the middle of an interval exceeds a bound (the ends satisfy them by construction),
+  /// tightens that bound at both ends by the excess. Returns whether anything was tightened. The
+  /// recovery from a start the bounds cannot hold is left as it is.
+  bool tightenWhereTheMiddlesExceed();
+
+  /// The needs at both ends and the middle of every interval.
+  struct IntervalNeeds
+  {
+    std::vector<Rates> start, middle, end;
+  };
+
+  IntervalNeeds intervalNeeds() const;
+
+  /// The peak of need q on interval i: the largest of its ends and middle, or, where the parabola
+  /// through the three peaks inside at or above `threshold`, the maximum found by localMax on the
+  /// exact rates.
+  double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const;
+
+  /// The final check of a motion from rest: the peaks of every interval, then the uniform
+  /// stretch k ≥ 1 that brings the worst within its bound.
+  void verifyAndStretch();
+
+  /// The peaks of the intervals after the recovery, searched where they come within
+  /// kRefineMargin of a bound; with `tighten_margin` ≥ 0 the bounds are tightened where a peak
+  /// exceeds its bound by more than kFixedStartTolerance. Returns the worst need and whether
+  /// anything was tightened.
+  std::pair<double, bool> checkAfterRecovery(double tighten_margin, Rates* searched);
+
+  bool tightenWhereTheCheckExceeds(double margin);
+
+  /// The final check of a motion whose start is fixed (no stretch can correct it: the start
+  /// velocity would change): every interval after the recovery within its bounds.
+  void verifyFixedStart();
+
+  /// |v| and |a| of both channels at a point with (x, u).
+  static std::array<double, 4> magnitudes(const PathJet& j, double x, double u);
+
+  /// The timed motion's figures (TimingProfile::max_speed, …) from the cached jets; `searched`:
+  /// the largest needs found inside intervals, before the stretch k.
+  void figures(const Rates& searched, double k);
+
+  /// The largest need q inside interval i: successive parabolic interpolation from the three
+  /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
+  double localMax(std::size_t i, int q, double f0, double fm, double f1) const;
+
+  const PathModel& path_;
+  RateBounds bounds_;
+  double start_x_;   ///< the requested ṡ² at s_0 (0: from rest)
+  bool hold_start_;  ///< s̈ = 0 on the first interval
+  std::array<bool, 2> moves_{};
+  std::array<double, 2> floor_{};
+  std::array<double, 2> refine_floor_{};  ///< |C′|² below which a channel counts as still (refinement)
+  std::size_t grid_limit_ = 0;            ///< most grid points refinement may make
+  std::size_t recovery_end_ = 0;          ///< the grid point at which the recovery (forward) ends
+  bool start_exceeds_ = false;            ///< the start itself exceeds a bound
+  TimingProfile profile_;
+  std::vector<PointData> right_;
+  std::vector<PointData> left_;
+  std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
+  std::vector<bool> corner_;
+  std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
+  std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
+  std::vector<double> k_;        ///< upper ends of the controllable sets
+};
+
+}  // namespace time_optimal_detail
+}  // namespace timing
+}  // namespace se3_interpolation
