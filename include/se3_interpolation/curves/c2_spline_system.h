@@ -85,11 +85,13 @@ public:
     curved_ = kCurved == Eigen::Dynamic ? dof_ : kCurved;
     start_ = toFrame(0, start_velocity);
     end_ = toFrame(n_ - 1, end_velocity);
-    segments_.resize(n_ - 1);
+    // Reserved, then built one by one under the deadline: the segments of 10⁵ waypoints are over
+    // 100 MB, whose zero-filling at once took most of a second before the first check.
+    segments_.reserve(n_ - 1);
     for (std::size_t i = 0; i + 1 < n_; ++i)
     {
       checkDeadlineEvery(i, kSegmentsPerDeadlineCheck, kSolvePhase);
-      Segment& s = segments_[i];
+      Segment& s = segments_.emplace_back();
       s.h = t_[i + 1] - t_[i];
       const std::string refused = ChartTransition<G>::refusedStep(logs_[i], i);
       if (!refused.empty())
