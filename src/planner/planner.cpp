@@ -209,6 +209,8 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
     validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<Space>());
     for (double& t : out.waypoint_times)
       t = timed->profile().timeAt(t);
+    if (!out.waypoint_times.empty())
+      out.waypoint_times.back() = timed->endTime();  // (timeAt is exact to rounding; the end is the end)
     curve = timed;
     setJerkLimitedFigures(r, *timed, &fig);
     return;

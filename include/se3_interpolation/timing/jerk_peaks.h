@@ -5,8 +5,8 @@
 // curve the covariant D³x/dt³ (sphereKinematics3FromJet), both exact from the curve's third-order
 // jets. Within an analytic piece the jerk is smooth: each piece is cut into subintervals
 // (subintervalsPerPiece, as the figures are), every subinterval evaluated at its two ends (one-sided)
-// and its middle, and searched for its interior maximum where the parabola through the three
-// values peaks inside (peak_search.h). At an interior breakpoint where the acceleration itself
+// and its middle, and searched for its maximum (peak_search.h) where a value or the parabola through
+// the three values comes near the largest. At an interior breakpoint where the acceleration itself
 // jumps (a curve that is only C¹ there: hermite, blended continuity 1, a B-spline of degree ≤ 2),
 // or the velocity does (the corners of a piecewise_geodesic), the jerk is an impulse: no stretch
 // bounds it, and the breakpoint is reported.
@@ -51,8 +51,8 @@ inline std::array<double, 2> jerkRates(const Curve<Sphere>& curve, double t, Sid
   return { 0.0, k[2].norm() };
 }
 
-/// Subintervals whose parabola comes within this fraction of the largest value so far are searched
-/// for their interior maximum (the others cannot hold the peak).
+/// Subintervals with a value, or a parabola through their three values, within this fraction of the
+/// largest value so far are searched for their maximum (the others cannot hold the peak).
 constexpr double kJerkRefineMargin = 0.1;
 
 /// The peak jerk of `curve` over its domain (file comment).
@@ -92,7 +92,8 @@ JerkPeaks jerkPeaks(const Curve<G>& curve)
   }
   for (const Span& span : spans)
     for (int c = 0; c < 2; ++c)
-      if (detail::parabolaPeaksInside(span.f0[c], span.fm[c], span.f1[c], out.peak[c] * (1.0 - kJerkRefineMargin)))
+      if (std::max({ span.f0[c], span.fm[c], span.f1[c] }) >= out.peak[c] * (1.0 - kJerkRefineMargin) ||
+          detail::parabolaPeaksInside(span.f0[c], span.fm[c], span.f1[c], out.peak[c] * (1.0 - kJerkRefineMargin)))
         out.peak[c] = std::max(out.peak[c], detail::localMaxOf(
                                                 [&](double lambda) {
                                                   const double t = span.lo + lambda * (span.hi - span.lo);
