@@ -104,7 +104,8 @@ void printSphereFigures(const se3_interpolation::SphereResult& r)
 {
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.rotation_length
             << "\nmax_speed: " << r.figures.max_angular_speed
-            << "\nmax_acceleration: " << r.figures.max_angular_acceleration << "\nenergy: " << r.figures.energy << "\n";
+            << "\nmax_acceleration: " << r.figures.max_angular_acceleration
+            << "\npeak_jerk: " << r.figures.max_angular_jerk << "\nenergy: " << r.figures.energy << "\n";
   printWaypointTimes(r.waypoint_times);
 }
 
@@ -112,7 +113,11 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
 {
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.length
             << "\nrotation_length: " << r.figures.rotation_length << "\nmax_linear_speed: " << r.figures.max_linear_speed
-            << "\nmax_angular_speed: " << r.figures.max_angular_speed << "\nenergy: " << r.figures.energy << "\n";
+            << "\nmax_angular_speed: " << r.figures.max_angular_speed
+            << "\npeak_linear_acceleration: " << r.figures.max_linear_acceleration
+            << "\npeak_angular_acceleration: " << r.figures.max_angular_acceleration
+            << "\npeak_linear_jerk: " << r.figures.max_linear_jerk
+            << "\npeak_angular_jerk: " << r.figures.max_angular_jerk << "\nenergy: " << r.figures.energy << "\n";
   if (r.recovery_time > 0.0)
     std::cerr << "recovery_time: " << r.recovery_time << "\n";
   printWaypointTimes(r.waypoint_times);

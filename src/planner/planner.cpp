@@ -12,6 +12,8 @@
 #include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
+#include "se3_interpolation/timing/jerk_limited.h"
+#include "se3_interpolation/timing/jerk_peaks.h"
 #include "se3_interpolation/timing/time_optimal.h"
 
 namespace se3_interpolation
@@ -43,7 +45,48 @@ double stretchFactor(const BasicValidatedRequest<Space>& r, const CurveFigures& 
   speed(f.max_angular_speed, r.max_angular_velocity, "max_angular_velocity");
   accel(f.max_linear_acceleration, r.max_linear_acceleration, "max_linear_acceleration");
   accel(f.max_angular_acceleration, r.max_angular_acceleration, "max_angular_acceleration");
+  auto jerk = [&bind](double peak, double bound, const char* field) {
+    if (bound > 0.0)
+      bind(std::cbrt(peak / bound), field);
+  };
+  jerk(f.max_linear_jerk, r.max_linear_jerk, "max_linear_jerk");
+  jerk(f.max_angular_jerk, r.max_angular_jerk, "max_angular_jerk");
   return k;
+}
+
+template <class Space>
+bool hasJerkBound(const BasicValidatedRequest<Space>& r)
+{
+  return r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
+}
+
+/// The six bounds of the request (timing/time_optimal.h, RateBounds; 0 = unbounded).
+template <class Space>
+timing::RateBounds rateBounds(const BasicValidatedRequest<Space>& r)
+{
+  timing::RateBounds bounds;
+  bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
+  bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+  bounds.jerk = { r.max_linear_jerk, r.max_angular_jerk };
+  return bounds;
+}
+
+/// With a jerk bound under `stretch`: the peak jerks of `curve` (on its own clock) into `fig`,
+/// which the stretch then divides by k³. A curve whose acceleration jumps has an impulse of jerk
+/// there, which no stretch bounds: refused naming the jerk bound, suggesting time_optimal.
+template <class Space, class G>
+void measureJerk(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, CurveFigures* fig)
+{
+  if (!hasJerkBound(r))
+    return;
+  const timing::JerkPeaks j = timing::jerkPeaks(curve);
+  if (!std::isnan(j.acceleration_jump))
+    throw InvalidInputError(std::string(r.max_linear_jerk > 0.0 ? "max_linear_jerk" : "max_angular_jerk") +
+                            ": the curve's acceleration jumps at t = " + formatNumber(j.acceleration_jump) +
+                            " s (it is only C1 there, or a corner), so no uniform stretch bounds its jerk; use timing "
+                            "'time_optimal', whose jerk-limited motion stops there");
+  fig->max_linear_jerk = j.peak[timing::kLinear];
+  fig->max_angular_jerk = j.peak[timing::kAngular];
 }
 
 /// The chord distance between consecutive waypoints (docs/timing.md).
@@ -115,6 +158,42 @@ void setTimedFigures(const BasicValidatedRequest<Space>& r, const timing::Timing
                 (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
 }
 
+/// ∫ |p̈|² + ρ²|ω̇|² dt of a timed motion by Simpson's rule on each of its pieces (the pieces of a
+/// jerk-limited timing are short: its grid's intervals and windows).
+template <class G>
+double piecewiseEnergy(const Curve<G>& curve, double rotation_scale)
+{
+  std::vector<double> b = curve.breakpoints();
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  double energy = 0.0;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+  {
+    checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "the trajectory's figures");
+    const double lo = b[i], hi = b[i + 1];
+    energy += (hi - lo) / 6.0 *
+              (energyDensity(kinematicsAt(curve, lo, Side::kRight), rotation_scale) +
+               4.0 * energyDensity(kinematicsAt(curve, 0.5 * (lo + hi), Side::kRight), rotation_scale) +
+               energyDensity(kinematicsAt(curve, hi, Side::kLeft), rotation_scale));
+  }
+  return energy;
+}
+
+/// The figures of a jerk-limited motion: length and rotation length are the path's; the peaks
+/// are the timing's verified ones (JerkLimitedProfile), the energy the motion's.
+template <class Space, class G>
+void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::JerkLimitedCurve<G>& timed,
+                           CurveFigures* fig)
+{
+  const timing::JerkLimitedProfile& p = timed.profile();
+  fig->max_linear_speed = p.max_speed[timing::kLinear];
+  fig->max_angular_speed = p.max_speed[timing::kAngular];
+  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
+  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
+  fig->max_linear_jerk = p.max_jerk[timing::kLinear];
+  fig->max_angular_jerk = p.max_jerk[timing::kAngular];
+  fig->energy = piecewiseEnergy(timed, r.rotation_scale);
+}
+
 /// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].
 template <class Space, class G>
 void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io,
@@ -123,11 +202,22 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   std::shared_ptr<const Curve<G>>& curve = *curve_io;
   CurveFigures& fig = *fig_io;
   BasicResult<Space>& out = *out_io;
+  if (r.timing == Timing::kTimeOptimal && hasJerkBound(r))
+  {
+    auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r));
+    out.time_scale = timed->profile().stretch;
+    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<Space>());
+    for (double& t : out.waypoint_times)
+      t = timed->profile().timeAt(t);
+    if (!out.waypoint_times.empty())
+      out.waypoint_times.back() = timed->endTime();  // (timeAt is exact to rounding; the end is the end)
+    curve = timed;
+    setJerkLimitedFigures(r, *timed, &fig);
+    return;
+  }
   if (r.timing == Timing::kTimeOptimal)
   {
-    timing::RateBounds bounds;
-    bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
-    bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+    const timing::RateBounds bounds = rateBounds(r);
     auto timed = timing::makeTimeOptimalCurve<G>(curve, bounds);
     out.time_scale = timed->profile().stretch;
     // Tiny bounds give a long motion: every time must still fit ros::Duration.
@@ -138,6 +228,7 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
     setTimedFigures(r, timed->profile(), &fig);
     return;
   }
+  measureJerk(r, *curve, &fig);
   std::string cause = r.times.empty() ? "duration" : "times";
   out.time_scale = stretchFactor(r, fig, &cause);
   // Tiny bounds stretch time without limit: every time must still fit ros::Duration.
@@ -153,6 +244,8 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
     fig.max_angular_speed /= k;
     fig.max_linear_acceleration /= k * k;
     fig.max_angular_acceleration /= k * k;
+    fig.max_linear_jerk /= k * k * k;
+    fig.max_angular_jerk /= k * k * k;
     fig.energy /= k * k * k;
   }
 }
@@ -240,9 +333,7 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
   }
   else if (r.timing == Timing::kTimeOptimal)
   {
-    timing::RateBounds bounds;
-    bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
-    bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+    const timing::RateBounds bounds = rateBounds(r);
     double h = t1;
     double scale = 1.0;  // of the curve's clock after the joint (time-optimal timing retimes it)
     std::shared_ptr<const Curve<G>> path = through;
@@ -302,37 +393,57 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
         }
       }
     }
-    timing::TimeOptimalOptions options;
-    options.start_speed = 1.0;
-    options.hold_start = true;
-    auto timed = timing::makeTimeOptimalCurve<G>(path, bounds, options);
-    const double excess = timed->profile().recovery_excess;
-    if (excess > 1.0 + kBoundTolerance)
+    // The path's own clock has the start state at its start: path speed 1, no path acceleration.
+    const auto mapTime = [&](double t) { return native ? t : h + scale * (t - t1); };
+    if (hasJerkBound(r))
     {
-      if (native)
-        throw InvalidInputError("end_condition: 'start' continues the start state's motion on a spline that bends "
-                                "too sharply to brake from it within the acceleration bounds (braking would take " +
-                                formatNumber(excess) + " times a bound); use end_condition 'natural' or 'clamped', "
-                                "whose joining segment is chosen for the bounds");
-      throw InvalidInputError("start_state: the motion starts too fast for the curve it joins: braking along it "
-                              "would take " + formatNumber(excess) + " times an acceleration bound; start more "
-                              "slowly or farther from the first waypoint, or raise the acceleration bounds");
+      timing::JerkLimitedOptions options;
+      options.start_speed = 1.0;
+      auto timed = timing::makeJerkLimitedCurve<G>(path, bounds, options);
+      out.time_scale = timed->profile().stretch;
+      validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
+      for (std::size_t i = 1; i < times.size(); ++i)
+        out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
+      out.waypoint_times.back() = timed->endTime();
+      *fig_io = measureCurve(*path, rho);
+      setJerkLimitedFigures(r, *timed, fig_io);
+      curve = timed;
     }
-    out.time_scale = timed->profile().stretch;
-    out.recovery_time = timed->profile().recovery_end - timed->startTime();
-    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
-    for (std::size_t i = 1; i < times.size(); ++i)
-      out.waypoint_times[i] = timed->profile().timeAt(native ? times[i] : h + scale * (times[i] - t1));
-    out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
-    curve = timed;
-    *fig_io = measureCurve(*path, rho);
-    setTimedFigures(r, timed->profile(), fig_io);
+    else
+    {
+      timing::TimeOptimalOptions options;
+      options.start_speed = 1.0;
+      options.hold_start = true;
+      auto timed = timing::makeTimeOptimalCurve<G>(path, bounds, options);
+      const double excess = timed->profile().recovery_excess;
+      if (excess > 1.0 + kBoundTolerance)
+      {
+        if (native)
+          throw InvalidInputError("end_condition: 'start' continues the start state's motion on a spline that bends "
+                                  "too sharply to brake from it within the acceleration bounds (braking would take " +
+                                  formatNumber(excess) + " times a bound); use end_condition 'natural' or 'clamped', "
+                                  "whose joining segment is chosen for the bounds");
+        throw InvalidInputError("start_state: the motion starts too fast for the curve it joins: braking along it "
+                                "would take " + formatNumber(excess) + " times an acceleration bound; start more "
+                                "slowly or farther from the first waypoint, or raise the acceleration bounds");
+      }
+      out.time_scale = timed->profile().stretch;
+      out.recovery_time = timed->profile().recovery_end - timed->startTime();
+      validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
+      for (std::size_t i = 1; i < times.size(); ++i)
+        out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
+      out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
+      curve = timed;
+      *fig_io = measureCurve(*path, rho);
+      setTimedFigures(r, timed->profile(), fig_io);
+    }
   }
   else
   {
     if (!native)
       curve = join(through, t1, t1);
     *fig_io = measureCurve(*curve, rho);
+    measureJerk(r, *curve, fig_io);
     std::string cause = r.times.empty() ? "duration" : "times";
     const double k = stretchFactor(r, *fig_io, &cause);
     validateTimeSpan(0.0, curve->endTime() * k, cause);
@@ -344,7 +455,10 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     if (k > 1.0)
     {
       curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
+      const CurveFigures unscaled = *fig_io;
       *fig_io = measureCurve(*curve, rho);
+      fig_io->max_linear_jerk = unscaled.max_linear_jerk / (k * k * k);
+      fig_io->max_angular_jerk = unscaled.max_angular_jerk / (k * k * k);
       for (double& t : out.waypoint_times)
         t *= k;
     }

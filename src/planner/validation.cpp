@@ -206,6 +206,7 @@ void validateSpaceFields(const SphereRequest& r, ValidatedSphereRequest* v)
   requireUnused(r.max_linear_velocity, "max_linear_velocity", "; bound the speed with max_angular_velocity (rad/s)");
   requireUnused(r.max_linear_acceleration, "max_linear_acceleration",
                 "; bound the acceleration with max_angular_acceleration (rad/s^2)");
+  requireUnused(r.max_linear_jerk, "max_linear_jerk", "; bound the jerk with max_angular_jerk (rad/s^3)");
   requireUnused(r.blend_radius, "blend_radius", " (corner blends are for poses)");
   v->rotation_scale = 1.0;
 }
@@ -368,6 +369,10 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
   v.max_angular_velocity = r.max_angular_velocity;
   v.max_linear_acceleration = r.max_linear_acceleration;
   v.max_angular_acceleration = r.max_angular_acceleration;
+  requireFiniteNonNegative(r.max_linear_jerk, "max_linear_jerk");
+  requireFiniteNonNegative(r.max_angular_jerk, "max_angular_jerk");
+  v.max_linear_jerk = r.max_linear_jerk;
+  v.max_angular_jerk = r.max_angular_jerk;
   v.timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);

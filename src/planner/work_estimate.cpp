@@ -35,6 +35,14 @@ constexpr double kTimeOptimalSearchEvaluations = 4096.0;
 /// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
 constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
+/// The jerk-limited timing (timing/jerk_limited.h): up to three runs of the acceleration-only
+/// timing and a check of about twice its intervals with third-order jets (measured about 2.2 times
+/// its cost: bench_time_optimal); counted as three times its work.
+constexpr double kJerkLimitedTimingFactor = 3.0;
+/// The peak jerk under `stretch` (timing/jerk_peaks.h): ends and middle of each figure
+/// subinterval plus the searches, in third-order jets of about twice an evaluation's cost.
+constexpr double kJerkPeakEvaluationsPerSubinterval = 2.0 * (3.0 + 2.0);
+
 double analyticPieces(const WorkShape& r)
 {
   return visitFamily(r.curve, [&r](auto family) { return decltype(family)::pieces(r); });
@@ -85,13 +93,20 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
     w.timing_evaluations = kTimeOptimalEvaluationsPerInterval * w.timing_intervals + kTimeOptimalSearchEvaluations;
     if (r.start_state)
       w.figure_evaluations += figureEvaluations(w.timing_intervals);
+    if (r.jerk)
+      w.timing_evaluations *= kJerkLimitedTimingFactor;
   }
-  else if (r.start_state)
+  else
   {
     // measured again on the joined curve, and once more if the bounds stretch it
-    w.figure_evaluations *= 3.0;
+    if (r.start_state)
+      w.figure_evaluations *= 3.0;
+    if (r.jerk)
+      w.figure_evaluations += kJerkPeakEvaluationsPerSubinterval * w.pieces *
+                              static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(w.pieces)));
   }
-  w.timing_units = w.timing_evaluations * w.evaluation_cost + kTimeOptimalUnitsPerInterval * w.timing_intervals;
+  w.timing_units = w.timing_evaluations * w.evaluation_cost + kTimeOptimalUnitsPerInterval * w.timing_intervals *
+                                                                 (r.jerk ? kJerkLimitedTimingFactor : 1.0);
   w.samples = samples;
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units +
             kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);

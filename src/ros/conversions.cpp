@@ -87,6 +87,8 @@ TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vec
   r.max_angular_velocity = msg.max_angular_velocity;
   r.max_linear_acceleration = msg.max_linear_acceleration;
   r.max_angular_acceleration = msg.max_angular_acceleration;
+  r.max_linear_jerk = msg.max_linear_jerk;
+  r.max_angular_jerk = msg.max_angular_jerk;
   r.timing = msg.timing;
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
@@ -134,6 +136,10 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.rotation_length = result.figures.rotation_length;
   out.max_linear_speed = result.figures.max_linear_speed;
   out.max_angular_speed = result.figures.max_angular_speed;
+  out.peak_linear_acceleration = result.figures.max_linear_acceleration;
+  out.peak_angular_acceleration = result.figures.max_angular_acceleration;
+  out.peak_linear_jerk = result.figures.max_linear_jerk;
+  out.peak_angular_jerk = result.figures.max_angular_jerk;
   out.energy = result.figures.energy;
   return out;
 }
@@ -145,6 +151,10 @@ GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, Generatio
   out.rotation_length = res.rotation_length;
   out.max_linear_speed = res.max_linear_speed;
   out.max_angular_speed = res.max_angular_speed;
+  out.peak_linear_acceleration = res.peak_linear_acceleration;
+  out.peak_angular_acceleration = res.peak_angular_acceleration;
+  out.peak_linear_jerk = res.peak_linear_jerk;
+  out.peak_angular_jerk = res.peak_angular_jerk;
   out.energy = res.energy;
   return out;
 }

@@ -72,6 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   r.max_angular_acceleration = in.optionalNumber();
   r.sample_period = in.optionalNumber();
   r.sample_count = in.byte() % (kMaxSamples + 8);
+  r.max_angular_jerk = in.optionalNumber();  // last: the seed corpus keeps its bytes
   PlannerLimits limits;
   limits.max_samples = kMaxSamples;
   limits.max_waypoints = kMaxWaypoints;

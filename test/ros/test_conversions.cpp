@@ -462,6 +462,10 @@ std::vector<CopiedField> copiedFields()
                 [](const T& r) { return r.max_linear_acceleration == 3.5; } });
   f.push_back({ "max_angular_acceleration", [](R& m) { m.max_angular_acceleration = 4.5; },
                 [](const T& r) { return r.max_angular_acceleration == 4.5; } });
+  f.push_back({ "max_linear_jerk", [](R& m) { m.max_linear_jerk = 5.5; },
+                [](const T& r) { return r.max_linear_jerk == 5.5; } });
+  f.push_back({ "max_angular_jerk", [](R& m) { m.max_angular_jerk = 6.5; },
+                [](const T& r) { return r.max_angular_jerk == 6.5; } });
   f.push_back({ "timing", [](R& m) { m.timing = "timing-name"; }, [](const T& r) { return r.timing == "timing-name"; } });
   f.push_back({ "sample_times", [](R& m) { m.sample_times = { 0.125, 0.375 }; },
                 [](const T& r) { return r.sample_times == std::vector<double>{ 0.125, 0.375 }; } });
@@ -744,6 +748,15 @@ std::vector<Figure> figures()
       [](const Res& m) { return m.max_linear_speed; }, [](const S& s) { return s.max_linear_speed; } },
     { "max_angular_speed", [](T& r, double v) { r.figures.max_angular_speed = v; },
       [](const Res& m) { return m.max_angular_speed; }, [](const S& s) { return s.max_angular_speed; } },
+    { "peak_linear_acceleration", [](T& r, double v) { r.figures.max_linear_acceleration = v; },
+      [](const Res& m) { return m.peak_linear_acceleration; }, [](const S& s) { return s.peak_linear_acceleration; } },
+    { "peak_angular_acceleration", [](T& r, double v) { r.figures.max_angular_acceleration = v; },
+      [](const Res& m) { return m.peak_angular_acceleration; },
+      [](const S& s) { return s.peak_angular_acceleration; } },
+    { "peak_linear_jerk", [](T& r, double v) { r.figures.max_linear_jerk = v; },
+      [](const Res& m) { return m.peak_linear_jerk; }, [](const S& s) { return s.peak_linear_jerk; } },
+    { "peak_angular_jerk", [](T& r, double v) { r.figures.max_angular_jerk = v; },
+      [](const Res& m) { return m.peak_angular_jerk; }, [](const S& s) { return s.peak_angular_jerk; } },
     { "energy", [](T& r, double v) { r.figures.energy = v; }, [](const Res& m) { return m.energy; },
       [](const S& s) { return s.energy; } },
   };
@@ -766,7 +779,7 @@ TEST(Conversions, FiguresReachTheResponseAndTheStatus)
   EXPECT_EQ(namesOf(status_fields, "float64"), checked);
 
   TrajectoryResult result;
-  result.figures.max_linear_acceleration = 1e9;  // not a figure of the response
+  result.waypoint_times = { 1e9 };  // not a figure of the response
   for (std::size_t i = 0; i < list.size(); ++i)
     list[i].set(result, 1.5 + 10.0 * static_cast<double>(i));
   GenerateTrajectory::Response res;

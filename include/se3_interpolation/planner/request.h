@@ -197,6 +197,10 @@ struct BasicRequest
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
+  /// m/s³, bound on |d³p/dt³| (0 = unbounded; timing/jerk_limited.h)
+  double max_linear_jerk = 0.0;
+  /// rad/s³, bound on |ω̈| (0 = unbounded)
+  double max_angular_jerk = 0.0;
   std::string timing;
   std::vector<double> sample_times;
   double sample_period = 0.0;
@@ -235,6 +239,8 @@ struct BasicValidatedRequest
   double max_angular_velocity = 0.0;
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
+  double max_linear_jerk = 0.0;   ///< m/s³ (0 = unbounded)
+  double max_angular_jerk = 0.0;  ///< rad/s³ (0 = unbounded)
   Timing timing = RequestDefaults::kTiming;
   Sampling sampling;
   double blend_radius = 0.0;

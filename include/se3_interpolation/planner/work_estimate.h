@@ -70,6 +70,7 @@ struct WorkShape
   Timing timing = RequestDefaults::kTiming;
   bool start_state = false;  ///< replanning from a given state (the figures are measured again)
   bool screw = false;        ///< the screw geometry (its steps cost more than the double geodesic's)
+  bool jerk = false;         ///< a jerk bound (max_linear_jerk or max_angular_jerk > 0)
 };
 
 /// The shape of a validated request of any space.
@@ -86,6 +87,7 @@ WorkShape workShape(const BasicValidatedRequest<Space>& r)
   w.corner_blends = r.blend_radius > 0.0;
   w.timing = r.timing;
   w.start_state = r.start_state.has_value();
+  w.jerk = r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
   if constexpr (std::is_same_v<Space, PoseSpace>)
     w.screw = r.geometry == GeometryType::kScrew;
   else

@@ -50,7 +50,8 @@ inline const std::vector<std::string>& requestFieldNames()
     "degree",            "knots",           "continuity",     "end_condition",
     "start_velocity",    "end_velocity",    "start_acceleration", "velocities",
     "parameterization",  "rotation_scale",  "duration",       "max_linear_velocity",
-    "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "timing",
+    "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk",
+    "max_angular_jerk",  "timing",
     "sample_times",      "sample_period",   "sample_count",   "blend_radius",
     "start_state",       "from_current",    "outputs",
   };
@@ -481,6 +482,48 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
         fail(std::string("bound ") + kBoundFields[j], f / b,
              std::string("figures.") + kFigureFields[j] + " " + num(f) + " above its bound " + num(b) +
                  " (the dense samples reach " + num(measured) + ")");
+    }
+  }
+
+  // --- Jerk: the differences of the acceleration on an even grid --------------------------
+  // With a jerk bound the acceleration is continuous and its mean rate of change over each step
+  // (a lower bound of the peak jerk there) is within the bound; the figure is never below it.
+  if (request.max_linear_jerk > 0.0 || request.max_angular_jerk > 0.0)
+  {
+    const double bound[2] = { request.max_linear_jerk, request.max_angular_jerk };
+    const double figure[2] = { result.figures.max_linear_jerk, result.figures.max_angular_jerk };
+    const char* field[2] = { "max_linear_jerk", "max_angular_jerk" };
+    double mean[2] = { 0.0, 0.0 };
+    double mean_t[2] = { 0.0, 0.0 };
+    TrajectorySample previous = result.state_at(t0);
+    for (std::size_t i = 1; i < m; ++i)
+    {
+      const double t = t0 + T * static_cast<double>(i) / static_cast<double>(m - 1);
+      const TrajectorySample s = result.state_at(std::min(t, t1));
+      const double dt = s.time - previous.time > 0.0 ? s.time - previous.time : T / static_cast<double>(m - 1);
+      const double d[2] = { (s.acceleration.linear - previous.acceleration.linear).norm() / dt,
+                            (s.acceleration.angular - previous.acceleration.angular).norm() / dt };
+      for (int c = 0; c < 2; ++c)
+        if (d[c] > mean[c])
+        {
+          mean[c] = d[c];
+          mean_t[c] = t;
+        }
+      previous = s;
+    }
+    for (int c = 0; c < 2; ++c)
+    {
+      // Rounding: of the accelerations (1e-12 of the largest) over a step, and a floor of 1e-6 of
+      // the bounds (a channel that hardly moves, on a motion of 10⁵ s, shows rounding of 1e-7).
+      const double rounding = std::max(1e-12 * std::max(1.0, peaks.value[2 + c]) * static_cast<double>(m) / T,
+                                       1e-6 * std::max(bound[0], bound[1]));
+      if (bound[c] > 0.0 && mean[c] > bound[c] * (1.0 + 1e-6) + rounding)
+        fail(std::string("bound ") + field[c], mean[c] / bound[c],
+             std::string(field[c]) + " " + num(bound[c]) + ": the acceleration changes at " + num(mean[c]) +
+                 " on average over the step ending at t = " + num(mean_t[c]));
+      if (figure[c] < mean[c] * (1.0 - 1e-6) - rounding)
+        fail(std::string("figure peak jerk ") + field[c], mean[c] / figure[c],
+             std::string("figures jerk ") + num(figure[c]) + " below the measured " + num(mean[c]));
     }
   }
 
