@@ -49,6 +49,20 @@ TrajectoryRequest line(double length, const Eigen::Vector3d& axis, double angle)
   return r;
 }
 
+/// time_optimal under all six bounds (0.5 m/s, 1 rad/s, 1 m/s², 2 rad/s², 5 m/s³, 10 rad/s³),
+/// sampled at 1 kHz.
+void withAllBounds(TrajectoryRequest* r)
+{
+  r->timing = "time_optimal";
+  r->max_linear_velocity = 0.5;
+  r->max_angular_velocity = 1.0;
+  r->max_linear_acceleration = 1.0;
+  r->max_angular_acceleration = 2.0;
+  r->max_linear_jerk = 5.0;
+  r->max_angular_jerk = 10.0;
+  r->sample_period = 1e-3;
+}
+
 struct Measured
 {
   double v[2]{}, a[2]{}, j[2]{};
@@ -163,14 +177,7 @@ TEST(JerkRequest, CurvedPathsKeepEveryBoundWithContinuousAcceleration)
       r.waypoints = randomPolygon(rng, 5);
       r.curve = curve;
       r.geometry = geometry;
-      r.timing = "time_optimal";
-      r.max_linear_velocity = 0.5;
-      r.max_angular_velocity = 1.0;
-      r.max_linear_acceleration = 1.0;
-      r.max_angular_acceleration = 2.0;
-      r.max_linear_jerk = 5.0;
-      r.max_angular_jerk = 10.0;
-      r.sample_period = 1e-3;
+      withAllBounds(&r);
       const TrajectoryResult out = generate(r, unhurriedLimits());
       const std::string what = std::string(geometry) + " " + curve;
       expectWithinBounds(r, out, what);
@@ -194,16 +201,14 @@ TEST(JerkRequest, ALooseJerkBoundCostsLittleOverTheAccelerationOnlyOptimum)
   std::mt19937 rng(2802);
   TrajectoryRequest r;
   r.waypoints = randomPolygon(rng, 6);
-  r.timing = "time_optimal";
-  r.max_linear_velocity = 0.5;
-  r.max_angular_velocity = 1.0;
-  r.max_linear_acceleration = 1.0;
-  r.max_angular_acceleration = 1.0;
+  withAllBounds(&r);
+  r.max_linear_jerk = r.max_angular_jerk = 0.0;  // first the acceleration-only optimum
+  r.sample_period = 0.0;
   r.sample_count = 2;
   const double optimum = generate(r, unhurriedLimits()).duration;
-  // a/j = 1 ms for both channels.
+  // a/j ≤ 1 ms for both channels.
   r.max_linear_jerk = 1000.0;
-  r.max_angular_jerk = 1000.0;
+  r.max_angular_jerk = 2000.0;
   const double jerk_limited = generate(r, unhurriedLimits()).duration;
   EXPECT_GE(jerk_limited, optimum * (1.0 - 1e-9));
   EXPECT_LE(jerk_limited, optimum * 1.03);
@@ -220,14 +225,7 @@ TEST(JerkRequest, AMovingStartIsKept)
   r.waypoints = randomPolygon(rng, 3);
   r.start_state = s;
   r.curve = "interpolating";
-  r.timing = "time_optimal";
-  r.max_linear_velocity = 0.5;
-  r.max_angular_velocity = 1.0;
-  r.max_linear_acceleration = 1.0;
-  r.max_angular_acceleration = 2.0;
-  r.max_linear_jerk = 5.0;
-  r.max_angular_jerk = 10.0;
-  r.sample_period = 1e-3;
+  withAllBounds(&r);
   const TrajectoryResult out = generate(r, unhurriedLimits());
   const TrajectorySample& first = out.samples.front();
   EXPECT_LT(poseDistance(first.pose, s.pose), 1e-9);
