@@ -716,6 +716,42 @@ int countEntries(const std::string& folder, const std::string& prefix)
 }
 }  // namespace
 
+// Jerk bounds from a request file: a straight move under v = 0.5 m/s, a = 1 m/s², j = 5 m/s³ is the
+// double S of L = 2 m: T_j = a/j = 0.2 s, T_a = T_j + v/a = 0.7 s, T = T_a + L/v = 4.7 s (Biagiotti
+// & Melchiorri §3.4); the figures carry the peaks; bad jerk values exit 2 naming the field.
+TEST(Cli, JerkBoundsGiveTheDoubleSAndItsPeaks)
+{
+  const std::string base = "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
+                           "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
+                           "timing: time_optimal\nmax_linear_velocity: 0.5\nmax_linear_acceleration: 1.0\n"
+                           "sample_period: 0.001\n";
+  const CliRun r = run(writeFile("cli_jerk.yaml", base + "max_linear_jerk: 5.0\n"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto figure = [&r](const std::string& name) {
+    const std::size_t at = r.err.find("\n" + name + ": ");
+    return at == std::string::npos ? -1.0 : std::stod(r.err.substr(at + name.size() + 3));
+  };
+  EXPECT_NEAR(figure("duration"), 4.7, 0.01 * 4.7) << r.err;
+  EXPECT_NEAR(figure("peak_linear_acceleration"), 1.0, 1e-4) << r.err;
+  EXPECT_NEAR(figure("peak_linear_jerk"), 5.0, 5e-4) << r.err;
+  EXPECT_NEAR(figure("max_linear_speed"), 0.5, 5e-5) << r.err;
+  // The jerk from the CSV's accelerations (column ax) stays within the bound.
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_GT(rows.size(), 4000U);
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    EXPECT_LE(std::abs(rows[i][14] - rows[i - 1][14]) / (rows[i][0] - rows[i - 1][0]), 5.0 * (1 + 1e-6)) << rows[i][0];
+  const std::string out = testing::TempDir() + "must_not_exist_jerk.csv";
+  for (const char* bad : { "max_linear_jerk: -1\n", "max_angular_jerk: .nan\n", "max_linear_jerk: .inf\n" })
+  {
+    std::remove(out.c_str());
+    const CliRun e = run(writeFile("cli_jerk_bad.yaml", base + bad) + " -o " + out);
+    EXPECT_EQ(e.status, 2) << bad;
+    EXPECT_NE(e.err.find(std::string(bad).substr(0, std::string(bad).find(':') + 1)), std::string::npos) << e.err;
+    EXPECT_FALSE(exists(out)) << bad;
+  }
+}
+
 // The output goes through a temporary file created exclusively, never through
 // a planted file or symbolic link, and nothing is left beside the target.
 TEST(CliHostile, OutputNeverWritesThroughAPlantedLink)
