@@ -13,81 +13,19 @@
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
 #include "se3_interpolation/timing/jerk_limited.h"
-#include "se3_interpolation/timing/jerk_peaks.h"
 #include "se3_interpolation/timing/time_optimal.h"
+#include "timing_figures.h"
 
 namespace se3_interpolation
 {
 namespace
 {
-/// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
-/// speeds scale by 1/k and accelerations by 1/k². `cause` receives the binding bound's field.
-template <class Space>
-double stretchFactor(const BasicValidatedRequest<Space>& r, const CurveFigures& f, std::string* cause)
-{
-  double k = 1.0;
-  auto bind = [&k, cause](double candidate, const char* field) {
-    if (candidate > k)
-    {
-      k = candidate;
-      *cause = field;
-    }
-  };
-  auto speed = [&bind](double peak, double bound, const char* field) {
-    if (bound > 0.0)
-      bind(peak / bound, field);
-  };
-  auto accel = [&bind](double peak, double bound, const char* field) {
-    if (bound > 0.0)
-      bind(std::sqrt(peak / bound), field);
-  };
-  speed(f.max_linear_speed, r.max_linear_velocity, "max_linear_velocity");
-  speed(f.max_angular_speed, r.max_angular_velocity, "max_angular_velocity");
-  accel(f.max_linear_acceleration, r.max_linear_acceleration, "max_linear_acceleration");
-  accel(f.max_angular_acceleration, r.max_angular_acceleration, "max_angular_acceleration");
-  auto jerk = [&bind](double peak, double bound, const char* field) {
-    if (bound > 0.0)
-      bind(std::cbrt(peak / bound), field);
-  };
-  jerk(f.max_linear_jerk, r.max_linear_jerk, "max_linear_jerk");
-  jerk(f.max_angular_jerk, r.max_angular_jerk, "max_angular_jerk");
-  return k;
-}
-
-template <class Space>
-bool hasJerkBound(const BasicValidatedRequest<Space>& r)
-{
-  return r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
-}
-
-/// The six bounds of the request (timing/time_optimal.h, RateBounds; 0 = unbounded).
-template <class Space>
-timing::RateBounds rateBounds(const BasicValidatedRequest<Space>& r)
-{
-  timing::RateBounds bounds;
-  bounds.velocity = { r.max_linear_velocity, r.max_angular_velocity };
-  bounds.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
-  bounds.jerk = { r.max_linear_jerk, r.max_angular_jerk };
-  return bounds;
-}
-
-/// With a jerk bound under `stretch`: the peak jerks of `curve` (on its own clock) into `fig`,
-/// which the stretch then divides by k³. A curve whose acceleration jumps has an impulse of jerk
-/// there, which no stretch bounds: refused naming the jerk bound, suggesting time_optimal.
-template <class Space, class G>
-void measureJerk(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, CurveFigures* fig)
-{
-  if (!hasJerkBound(r))
-    return;
-  const timing::JerkPeaks j = timing::jerkPeaks(curve);
-  if (!std::isnan(j.acceleration_jump))
-    throw InvalidInputError(std::string(r.max_linear_jerk > 0.0 ? "max_linear_jerk" : "max_angular_jerk") +
-                            ": the curve's acceleration jumps at t = " + formatNumber(j.acceleration_jump) +
-                            " s (it is only C1 there, or a corner), so no uniform stretch bounds its jerk; use timing "
-                            "'time_optimal', whose jerk-limited motion stops there");
-  fig->max_linear_jerk = j.peak[timing::kLinear];
-  fig->max_angular_jerk = j.peak[timing::kAngular];
-}
+using planner_detail::hasJerkBound;
+using planner_detail::measureJerk;
+using planner_detail::rateBounds;
+using planner_detail::setJerkLimitedFigures;
+using planner_detail::setTimedFigures;
+using planner_detail::stretchFactor;
 
 /// The chord distance between consecutive waypoints (docs/timing.md).
 double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
@@ -141,57 +79,6 @@ const char* boundFields()
 {
   return std::is_same_v<Space, SphereSpace> ? "max_angular_velocity or max_angular_acceleration"
                                             : "max_linear_velocity, max_angular_velocity or their accelerations";
-}
-
-/// The figures of a time-optimal motion: length and rotation length are the path's (timing does not
-/// change them); the rates and the energy are the timed motion's (TimingProfile).
-template <class Space>
-void setTimedFigures(const BasicValidatedRequest<Space>& r, const timing::TimingProfile& p, CurveFigures* fig)
-{
-  fig->max_linear_speed = p.max_speed[timing::kLinear];
-  fig->max_angular_speed = p.max_speed[timing::kAngular];
-  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
-  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
-  const double angular = p.acceleration_energy[timing::kAngular];
-  // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
-  fig->energy = p.acceleration_energy[timing::kLinear] +
-                (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
-}
-
-/// ∫ |p̈|² + ρ²|ω̇|² dt of a timed motion by Simpson's rule on each of its pieces (the pieces of a
-/// jerk-limited timing are short: its grid's intervals and windows).
-template <class G>
-double piecewiseEnergy(const Curve<G>& curve, double rotation_scale)
-{
-  std::vector<double> b = curve.breakpoints();
-  b.erase(std::unique(b.begin(), b.end()), b.end());
-  double energy = 0.0;
-  for (std::size_t i = 0; i + 1 < b.size(); ++i)
-  {
-    checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "the trajectory's figures");
-    const double lo = b[i], hi = b[i + 1];
-    energy += (hi - lo) / 6.0 *
-              (energyDensity(kinematicsAt(curve, lo, Side::kRight), rotation_scale) +
-               4.0 * energyDensity(kinematicsAt(curve, 0.5 * (lo + hi), Side::kRight), rotation_scale) +
-               energyDensity(kinematicsAt(curve, hi, Side::kLeft), rotation_scale));
-  }
-  return energy;
-}
-
-/// The figures of a jerk-limited motion: length and rotation length are the path's; the peaks
-/// are the timing's verified ones (JerkLimitedProfile), the energy the motion's.
-template <class Space, class G>
-void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::JerkLimitedCurve<G>& timed,
-                           CurveFigures* fig)
-{
-  const timing::JerkLimitedProfile& p = timed.profile();
-  fig->max_linear_speed = p.max_speed[timing::kLinear];
-  fig->max_angular_speed = p.max_speed[timing::kAngular];
-  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
-  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
-  fig->max_linear_jerk = p.max_jerk[timing::kLinear];
-  fig->max_angular_jerk = p.max_jerk[timing::kAngular];
-  fig->energy = piecewiseEnergy(timed, r.rotation_scale);
 }
 
 /// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].

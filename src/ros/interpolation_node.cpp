@@ -19,9 +19,8 @@ namespace
 /// when freed): glibc's default raises this threshold after each large free, after which large
 /// messages stay in the heap.
 constexpr int kMmapThreshold = 128 * 1024;
-/// glibc's malloc arenas, at most: by default one per thread that allocates (up to 8 per core),
-/// each keeping its own freed and fragmented pages after a large publication; the node's threads
-/// (service, intake, TF, timers) share these few, so what one frees another reuses.
+/// glibc's malloc arenas, at most (by default one per allocating thread, each keeping its own
+/// freed pages after a large publication): the node's threads share these, reusing what one frees.
 constexpr int kArenaMax = 2;
 
 Nanoseconds toNanoseconds(const ros::Time& t)
