@@ -727,9 +727,10 @@ TEST(Cli, JerkBoundsGiveTheDoubleSAndItsPeaks)
                            "sample_period: 0.001\n";
   const CliRun r = run(writeFile("cli_jerk.yaml", base + "max_linear_jerk: 5.0\n"));
   ASSERT_EQ(r.status, 0) << r.err;
-  const auto figure = [&r](const std::string& name) {
-    const std::size_t at = r.err.find("\n" + name + ": ");
-    return at == std::string::npos ? -1.0 : std::stod(r.err.substr(at + name.size() + 3));
+  const std::string figures = "\n" + r.err;  // one `name: value` per line
+  const auto figure = [&figures](const std::string& name) {
+    const std::size_t at = figures.find("\n" + name + ": ");
+    return at == std::string::npos ? -1.0 : std::stod(figures.substr(at + name.size() + 3));
   };
   EXPECT_NEAR(figure("duration"), 4.7, 0.01 * 4.7) << r.err;
   EXPECT_NEAR(figure("peak_linear_acceleration"), 1.0, 1e-4) << r.err;
