@@ -2,6 +2,7 @@
 """Plot a trajectory CSV written by se3_interpolate (pose space) into a PNG.
 
 usage: plot_trajectory.py [CSV|-] [OUT.png] [--figures FIGURES.txt] [--max-linear-velocity V] ...
+                          [--max-linear-jerk J] [--max-angular-jerk J]
 
 CSV is the CLI's output file, or `-` / nothing for standard input, so
 `rosrun se3_interpolation se3_interpolate REQUEST.yaml | scripts/plot_trajectory.py - OUT.png` works.
@@ -9,13 +10,18 @@ OUT.png defaults to trajectory.png (CSV from stdin) or the CSV's name with .png.
 
 Two columns, linear quantities left and angular right, each panel with its own unit, against
 time t [s]: position x, y, z [m] | rotation vector [rad]; speed |v| [m/s] | |w| [rad/s];
-acceleration |a| [m/s^2] | |dw/dt| [rad/s^2]. The rotation vector is that of R(t) R(0)^T
+acceleration |a| [m/s^2] | |dw/dt| [rad/s^2]; jerk |d3p/dt3| [m/s^3] | |d2w/dt2| [rad/s^3].
+The jerks are finite differences of the CSV's accelerations (columns ax.. and alx..) between
+consecutive samples, drawn at the middle of each interval: where the acceleration jumps (a
+time-optimal profile) the jerk shows as a spike of height jump / sample interval, so its height
+depends on the sampling. The rotation vector is that of R(t) R(0)^T
 (world frame, relative to the first sample), unwrapped: past an angle of pi it continues along
 the same axis (angles beyond pi) instead of jumping to the opposite vector.
 
 --figures takes the CLI's standard error (`2>FIGURES.txt`): its `waypoint_times` are drawn as
 vertical dotted lines with the waypoint index, and the figures go into the title. The
---max-* options (the request's field names) draw bounds as dashed horizontal lines.
+--max-* options (the request's field names, --max-linear-jerk and --max-angular-jerk included)
+draw bounds as dashed horizontal lines.
 
 Runs with Debian's /usr/bin/python3 (the shebang): run it as scripts/plot_trajectory.py; a
 `python3` from pyenv or a virtualenv may lack matplotlib.
@@ -124,6 +130,19 @@ def norm(xs, ys, zs):
     return [math.sqrt(a * a + b * b + c * c) for a, b, c in zip(xs, ys, zs)]
 
 
+def jerk(t, xs, ys, zs):
+    """(interval midpoints, |difference quotient|) of a sampled vector: the magnitude of its time
+    derivative between consecutive samples, e.g. the jerk from the accelerations."""
+    mid, mags = [], []
+    for k in range(1, len(t)):
+        h = t[k] - t[k - 1]
+        if h <= 0:
+            continue
+        mid.append(0.5 * (t[k] + t[k - 1]))
+        mags.append(math.sqrt((xs[k] - xs[k - 1]) ** 2 + (ys[k] - ys[k - 1]) ** 2 + (zs[k] - zs[k - 1]) ** 2) / h)
+    return mid, mags
+
+
 def positive(text):
     v = float(text)
     if not (v > 0 and math.isfinite(v)):
@@ -142,6 +161,8 @@ def main(argv):
     parser.add_argument("--max-angular-velocity", type=positive, metavar="RAD_PER_S")
     parser.add_argument("--max-linear-acceleration", type=positive, metavar="M_PER_S2")
     parser.add_argument("--max-angular-acceleration", type=positive, metavar="RAD_PER_S2")
+    parser.add_argument("--max-linear-jerk", type=positive, metavar="M_PER_S3")
+    parser.add_argument("--max-angular-jerk", type=positive, metavar="RAD_PER_S3")
     args = parser.parse_args(argv)
     if args.png is None:
         args.png = "trajectory.png" if args.csv == "-" else os.path.splitext(args.csv)[0] + ".png"
@@ -160,7 +181,7 @@ def main(argv):
     q0_inv = (-q0[0], -q0[1], -q0[2], q0[3])
     rv = unwrap([rotation_vector(quat_mul(q, q0_inv)) for q in zip(d["qx"], d["qy"], d["qz"], d["qw"])])
 
-    fig, ax = plt.subplots(3, 2, figsize=(12, 9), sharex=True)
+    fig, ax = plt.subplots(4, 2, figsize=(12, 12), sharex=True)
     for c in "xyz":
         ax[0][0].plot(t, d[c], label=c)
     ax[0][0].set_ylabel("position [m]")
@@ -175,14 +196,20 @@ def main(argv):
     ax[2][0].set_ylabel("linear acceleration |a| [m/s$^2$]")
     ax[2][1].plot(t, norm(d["alx"], d["aly"], d["alz"]), label="|dw/dt|", color="C1")
     ax[2][1].set_ylabel("angular acceleration |dw/dt| [rad/s$^2$]")
+    ax[3][0].plot(*jerk(t, d["ax"], d["ay"], d["az"]), label="|da/dt|", color="C0")
+    ax[3][0].set_ylabel("linear jerk |d$^3$p/dt$^3$| [m/s$^3$]\n(differences of a)")
+    ax[3][1].plot(*jerk(t, d["alx"], d["aly"], d["alz"]), label="|d2w/dt2|", color="C1")
+    ax[3][1].set_ylabel("angular jerk |d$^2$w/dt$^2$| [rad/s$^3$]\n(differences of dw/dt)")
     # Magnitudes start at 0; rounding noise (1e-15 on a geodesic) is not blown up to full height.
-    for a in (ax[1][0], ax[1][1], ax[2][0], ax[2][1]):
-        top = max(max(line.get_ydata()) for line in a.get_lines())
+    for a in (ax[1][0], ax[1][1], ax[2][0], ax[2][1], ax[3][0], ax[3][1]):
+        top = max((max(line.get_ydata()) for line in a.get_lines() if len(line.get_ydata())), default=0.0)
         a.set_ylim(0, 1.08 * top if top > 1e-9 else 1)
     bounds = [(ax[1][0], args.max_linear_velocity, "max_linear_velocity"),
               (ax[1][1], args.max_angular_velocity, "max_angular_velocity"),
               (ax[2][0], args.max_linear_acceleration, "max_linear_acceleration"),
-              (ax[2][1], args.max_angular_acceleration, "max_angular_acceleration")]
+              (ax[2][1], args.max_angular_acceleration, "max_angular_acceleration"),
+              (ax[3][0], args.max_linear_jerk, "max_linear_jerk"),
+              (ax[3][1], args.max_angular_jerk, "max_angular_jerk")]
     for a, bound, name in bounds:
         if bound is not None:
             a.axhline(bound, color="red", linestyle="--", linewidth=1, label="%s %g" % (name, bound))
@@ -198,7 +225,7 @@ def main(argv):
         for a in row:
             a.grid(True, alpha=0.3)
             a.legend(loc="best", fontsize=8)
-    for a in ax[2]:
+    for a in ax[-1]:
         a.set_xlabel("t [s]")
     title = args.title
     if figures:

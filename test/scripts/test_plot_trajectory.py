@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/plot_trajectory.py: the unwrapped rotation vector against closed forms (rotations about
-one axis, through and beyond pi, with quaternion sign flips), the CLI figures it reads, and a PNG
-from standard input. Run by rostest (test/scripts/plot_trajectory.test)."""
+one axis, through and beyond pi, with quaternion sign flips), the jerk from differences of the
+accelerations, the CLI figures it reads, and a PNG from standard input. Run by rostest
+(test/scripts/plot_trajectory.test)."""
 import importlib.util
 import io
 import math
@@ -56,6 +57,18 @@ class PlotTrajectory(unittest.TestCase):
         self.assertEqual(figures["duration"], 2.0)
         self.assertEqual(figures["energy"], 1e-30)
 
+    def test_jerk_from_accelerations(self):
+        # a(t) = (t^2, -2 t, 0.5) has jerk (2 t, -2, 0): the difference quotient over [t0, t1] is the
+        # jerk at the midpoint exactly (a is quadratic); uneven intervals, one repeated time skipped.
+        t = [0.0, 0.1, 0.3, 0.3, 0.6, 1.0]
+        mid, mags = plot.jerk(t, [x * x for x in t], [-2 * x for x in t], [0.5] * len(t))
+        expected_mid = [0.05, 0.2, 0.45, 0.8]
+        self.assertEqual(len(mid), len(expected_mid))
+        for m, e, j in zip(mid, expected_mid, mags):
+            self.assertAlmostEqual(m, e, delta=1e-15)
+            self.assertAlmostEqual(j, math.hypot(2 * e, 2.0), delta=1e-12)
+        self.assertEqual(plot.jerk([0.0], [1.0], [2.0], [3.0]), ([], []))
+
     def test_png_from_standard_input_and_errors(self):
         header = ",".join(plot.COLUMNS)
         rows = ["%g,%g,0,0,0,0,%r,%r" % (t, t, math.sin(t), math.cos(t)) + ",1,0,0,0,0,2" + ",0" * 6
@@ -64,7 +77,13 @@ class PlotTrajectory(unittest.TestCase):
         stdin = sys.stdin
         try:
             sys.stdin = io.StringIO(header + "\n" + "\n".join(rows) + "\n")
-            self.assertEqual(plot.main(["-", out, "--max-linear-velocity", "1.5"]), 0)
+            self.assertEqual(plot.main(["-", out, "--max-linear-velocity", "1.5", "--max-linear-jerk", "5",
+                                        "--max-angular-jerk", "10"]), 0)
+            sys.stdin = io.StringIO(header + "\n" + rows[0] + "\n")  # one sample: no jerk to draw
+            self.assertEqual(plot.main(["-", out + ".one.png"]), 0)
+            with self.assertRaises(SystemExit) as bad:
+                plot.main(["-", out + ".bad.png", "--max-angular-jerk", "-1"])
+            self.assertEqual(bad.exception.code, 2)
             sys.stdin = io.StringIO("t,x\n0,1\n")
             self.assertEqual(plot.main(["-", out + ".bad.png"]), 2)
         finally:
