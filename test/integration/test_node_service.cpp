@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "se3_interpolation/GenerateTrajectory.h"
+#include "se3_interpolation/GenerationStatus.h"
 
 #include "node_test_utils.h"
 
@@ -112,6 +113,65 @@ TEST(NodeService, TimeOptimalTimingWithinTheBounds)
   ASSERT_TRUE(call(bad));
   EXPECT_FALSE(bad.response.success);
   EXPECT_EQ(bad.response.message.find("max_angular_velocity"), 0U) << bad.response.message;
+}
+
+// Jerk bounds through the service: the response's peaks are the motion's (differences of the
+// trajectory's accelerations stay within the bound and reach near it), ~status carries them, and a
+// negative jerk bound is an error naming the field while the node keeps serving.
+TEST(NodeService, JerkBoundsAndTheirPeaks)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.curve = "interpolating";
+  srv.request.timing = "time_optimal";
+  srv.request.max_linear_velocity = 0.5;
+  srv.request.max_angular_velocity = 0.8;
+  srv.request.max_linear_acceleration = 1.0;
+  srv.request.max_angular_acceleration = 2.0;
+  srv.request.max_linear_jerk = 4.0;
+  srv.request.max_angular_jerk = 8.0;
+  srv.request.sample_count = 0;
+  srv.request.sample_period = 0.002;
+  srv.request.publish = true;
+  ros::NodeHandle nh;
+  se3_interpolation::GenerationStatus::ConstPtr status;
+  ros::Subscriber sub = nh.subscribe<se3_interpolation::GenerationStatus>(
+      "/se3_interpolation_node/status", 10, [&status](const se3_interpolation::GenerationStatus::ConstPtr& m) {
+        if (m->peak_linear_jerk > 0.0)
+          status = m;
+      });
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  const auto& points = srv.response.trajectory.points;
+  ASSERT_GT(points.size(), 1000U);
+  double jerk = 0.0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+  {
+    const auto& a = points[i].accelerations.at(0).linear;
+    const auto& b = points[i - 1].accelerations.at(0).linear;
+    const double dt = (points[i].time_from_start - points[i - 1].time_from_start).toSec();
+    jerk = std::max(jerk, std::hypot(a.x - b.x, a.y - b.y, a.z - b.z) / dt);
+  }
+  EXPECT_LE(jerk, 4.0 * (1 + 1e-6));
+  EXPECT_LE(srv.response.peak_linear_jerk, 4.0 * (1 + 1e-6));
+  EXPECT_GE(srv.response.peak_linear_jerk, jerk * (1 - 1e-6));
+  EXPECT_LE(srv.response.peak_angular_jerk, 8.0 * (1 + 1e-6));
+  EXPECT_LE(srv.response.peak_linear_acceleration, 1.0 * (1 + 1e-6));
+  EXPECT_GT(srv.response.peak_linear_acceleration, 0.0);
+  EXPECT_TRUE(spinUntil([&status] { return status != nullptr; }, 10.0));
+  if (status)
+  {
+    EXPECT_EQ(status->peak_linear_jerk, srv.response.peak_linear_jerk);
+    EXPECT_EQ(status->peak_angular_acceleration, srv.response.peak_angular_acceleration);
+  }
+  auto bad = goodRequest();
+  bad.request.max_angular_jerk = -1.0;
+  ASSERT_TRUE(call(bad));
+  EXPECT_FALSE(bad.response.success);
+  EXPECT_EQ(bad.response.message.rfind("max_angular_jerk: ", 0), 0U) << bad.response.message;
+  auto good = goodRequest();
+  ASSERT_TRUE(call(good));
+  EXPECT_TRUE(good.response.success) << good.response.message;
 }
 
 TEST(NodeServiceDefaults, TimingAndBoundsFromTheNodeParameters)
