@@ -270,4 +270,5 @@ class CheckControllerLimits(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    unittest.main()
+    import rostest
+    rostest.rosrun("se3_interpolation", "check_controller_limits", CheckControllerLimits)
