@@ -32,6 +32,20 @@ se3_interpolation::GenerateTrajectory goodRequest()
   return srv;
 }
 
+/// goodRequest() as an interpolating spline timed time_optimal under 0.5 m/s, 0.8 rad/s, 1 m/s²,
+/// 2 rad/s².
+se3_interpolation::GenerateTrajectory timeOptimalRequest()
+{
+  auto srv = goodRequest();
+  srv.request.curve = "interpolating";
+  srv.request.timing = "time_optimal";
+  srv.request.max_linear_velocity = 0.5;
+  srv.request.max_angular_velocity = 0.8;
+  srv.request.max_linear_acceleration = 1.0;
+  srv.request.max_angular_acceleration = 2.0;
+  return srv;
+}
+
 bool call(se3_interpolation::GenerateTrajectory& srv)
 {
   return ros::service::call(kService, srv);
@@ -72,13 +86,7 @@ TEST(NodeService, EveryCurveAndGeometry)
 TEST(NodeService, TimeOptimalTimingWithinTheBounds)
 {
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
-  auto srv = goodRequest();
-  srv.request.curve = "interpolating";
-  srv.request.timing = "time_optimal";
-  srv.request.max_linear_velocity = 0.5;
-  srv.request.max_angular_velocity = 0.8;
-  srv.request.max_linear_acceleration = 1.0;
-  srv.request.max_angular_acceleration = 2.0;
+  auto srv = timeOptimalRequest();
   srv.request.sample_count = 500;
   ASSERT_TRUE(call(srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
@@ -121,13 +129,7 @@ TEST(NodeService, TimeOptimalTimingWithinTheBounds)
 TEST(NodeService, JerkBoundsAndTheirPeaks)
 {
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
-  auto srv = goodRequest();
-  srv.request.curve = "interpolating";
-  srv.request.timing = "time_optimal";
-  srv.request.max_linear_velocity = 0.5;
-  srv.request.max_angular_velocity = 0.8;
-  srv.request.max_linear_acceleration = 1.0;
-  srv.request.max_angular_acceleration = 2.0;
+  auto srv = timeOptimalRequest();
   srv.request.max_linear_jerk = 4.0;
   srv.request.max_angular_jerk = 8.0;
   srv.request.sample_count = 0;
