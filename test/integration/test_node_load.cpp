@@ -202,8 +202,11 @@ TEST(NodeLoad, ConcurrentHeavyRequestsDoNotStarveTf)
   std::cout << "[load] 50 requests in " << elapsed << " s; moving frame " << rate << " Hz, worst gap " << worst_gap
             << " s" << std::endl;
   EXPECT_GT(elapsed, 0.5) << "the load was too light to mean anything";
-  EXPECT_GT(rate, 40.0);       // nominal 50 Hz
-  EXPECT_LT(worst_gap, 0.25);  // never starved for more than a few periods
+  // Nominal 50 Hz. A frame starved by the requests would stop for the whole load (4 s and more); on
+  // this 2-core machine under CI's parallel sanitizer build the worst gap measured 0.09-0.56 s and
+  // the rate 43-50 Hz (8 runs): the bounds keep a margin of about 3x over them.
+  EXPECT_GT(rate, 15.0);
+  EXPECT_LT(worst_gap, 1.5);
 }
 
 // A request sized to about 3x ~max_work_seconds, accepted by the estimate, ends within 2x the
