@@ -282,19 +282,25 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     }
     // The path's own clock has the start state at its start: path speed 1, no path acceleration.
     const auto mapTime = [&](double t) { return native ? t : h + scale * (t - t1); };
+    // The timed motion (time-optimal or jerk-limited) replaces the curve: its stretch, its span,
+    // the waypoints' times through its s⁻¹, and the path's figures, whose rates the caller then
+    // replaces with the timing's.
+    const auto adopt = [&](const auto& timed) {
+      out.time_scale = timed->profile().stretch;
+      validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
+      for (std::size_t i = 1; i < times.size(); ++i)
+        out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
+      out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
+      *fig_io = measureCurve(*path, rho);
+      curve = timed;
+    };
     if (hasJerkBound(r))
     {
       timing::JerkLimitedOptions options;
       options.start_speed = 1.0;
       auto timed = timing::makeJerkLimitedCurve<G>(path, bounds, options);
-      out.time_scale = timed->profile().stretch;
-      validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
-      for (std::size_t i = 1; i < times.size(); ++i)
-        out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
-      out.waypoint_times.back() = timed->endTime();
-      *fig_io = measureCurve(*path, rho);
+      adopt(timed);
       setJerkLimitedFigures(r, *timed, fig_io);
-      curve = timed;
     }
     else
     {
@@ -314,14 +320,8 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
                                 "would take " + formatNumber(excess) + " times an acceleration bound; start more "
                                 "slowly or farther from the first waypoint, or raise the acceleration bounds");
       }
-      out.time_scale = timed->profile().stretch;
       out.recovery_time = timed->profile().recovery_end - timed->startTime();
-      validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
-      for (std::size_t i = 1; i < times.size(); ++i)
-        out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
-      out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
-      curve = timed;
-      *fig_io = measureCurve(*path, rho);
+      adopt(timed);
       setTimedFigures(r, timed->profile(), fig_io);
     }
   }
