@@ -12,6 +12,7 @@
 #include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
+#include "se3_interpolation/timing/constant_speed.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "timing_figures.h"
@@ -23,6 +24,7 @@ namespace
 using planner_detail::hasJerkBound;
 using planner_detail::measureJerk;
 using planner_detail::rateBounds;
+using planner_detail::setConstantSpeedFigures;
 using planner_detail::setJerkLimitedFigures;
 using planner_detail::setTimedFigures;
 using planner_detail::stretchFactor;
@@ -89,6 +91,24 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   std::shared_ptr<const Curve<G>>& curve = *curve_io;
   CurveFigures& fig = *fig_io;
   BasicResult<Space>& out = *out_io;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (r.timing == Timing::kConstantSpeed)
+    {
+      timing::ConstantSpeedOptions options;
+      options.speed = r.speed;
+      options.metric = { 1.0, r.rotation_scale * r.rotation_scale };
+      auto timed = timing::makeConstantSpeedCurve<G>(curve, rateBounds(r), options);
+      validateTimeSpan(timed->startTime(), timed->endTime(), "speed");
+      for (double& t : out.waypoint_times)
+        t = timed->profile().timeAt(t);
+      if (!out.waypoint_times.empty())
+        out.waypoint_times.back() = timed->endTime();
+      out.constant_speed_start = timed->profile().windowStart();
+      out.constant_speed_end = timed->profile().windowEnd();
+      curve = timed;
+      setConstantSpeedFigures(r, *timed, &fig);
+      return;
+    }
   if (r.timing == Timing::kTimeOptimal && hasJerkBound(r))
   {
     auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r));
@@ -213,9 +233,13 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
                                                  std::move(rest), from);
   };
-  if (r.timing == Timing::kTimeOptimal && at_rest)
+  if (r.timing == Timing::kConstantSpeed && !at_rest)
+    throw InvalidInputError("start_state: timing 'constant_speed' starts at rest (its start ramp rises from zero "
+                            "speed), and the start state moves; use timing 'time_optimal' to continue a moving state, "
+                            "or replan once the motion has stopped");
+  if (r.timing != Timing::kStretch && at_rest)
   {
-    // At rest: the time-optimal motion along the curve from the start pose, like any other.
+    // At rest: the time-optimal or constant-speed motion along the curve from the start pose, like any other.
     applyTiming<PoseSpace, G>(r, curve_io, fig_io, out_io);
   }
   else if (r.timing == Timing::kTimeOptimal)

@@ -13,6 +13,7 @@
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/request.h"
 #include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/timing/constant_speed.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/jerk_peaks.h"
 #include "se3_interpolation/timing/time_optimal.h"
@@ -135,6 +136,23 @@ void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::
                            CurveFigures* fig)
 {
   const timing::JerkLimitedProfile& p = timed.profile();
+  fig->max_linear_speed = p.max_speed[timing::kLinear];
+  fig->max_angular_speed = p.max_speed[timing::kAngular];
+  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
+  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
+  fig->max_linear_jerk = p.max_jerk[timing::kLinear];
+  fig->max_angular_jerk = p.max_jerk[timing::kAngular];
+  fig->energy = piecewiseEnergy(timed, r.rotation_scale);
+}
+
+/// The figures of a constant-speed motion: length and rotation length are the path's; the peaks are
+/// the timing's verified ones (ConstantSpeedProfile; the jerk's with a jerk bound, else 0 as for the
+/// other timings without one), the energy the motion's.
+template <class Space, class G>
+void setConstantSpeedFigures(const BasicValidatedRequest<Space>& r, const timing::ConstantSpeedCurve<G>& timed,
+                             CurveFigures* fig)
+{
+  const timing::ConstantSpeedProfile& p = timed.profile();
   fig->max_linear_speed = p.max_speed[timing::kLinear];
   fig->max_angular_speed = p.max_speed[timing::kAngular];
   fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];

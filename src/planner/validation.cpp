@@ -210,6 +210,21 @@ void validateSpaceFields(const SphereRequest& r, ValidatedSphereRequest* v)
   requireUnused(r.blend_radius, "blend_radius", " (corner blends are for poses)");
   v->rotation_scale = 1.0;
 }
+/// timing constant_speed: a speed above 0, the ramps' acceleration bound, a pose request.
+template <class Space>
+void requireConstantSpeedFields(const BasicValidatedRequest<Space>& v)
+{
+  if constexpr (std::is_same_v<Space, SphereSpace>)
+    throw InvalidInputError("timing: 'constant_speed' is for poses (its chord speed is that of the position and "
+                            "the rotation); use 'stretch' or 'time_optimal' on the sphere");
+  if (!(v.speed > 0.0))
+    throw InvalidInputError("speed: " + formatNumber(v.speed) + " (timing 'constant_speed' needs the chord speed to "
+                            "hold, m/s, above 0)");
+  if (!(v.max_linear_acceleration > 0.0))
+    throw InvalidInputError("max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
+                            "ramps (m/s^2, above 0)");
+}
+
 /// Distance (m, rad) below which waypoints[0] counts as the start pose itself: far above the
 /// rounding of a pose evaluated on the old trajectory, far below any motion worth planning.
 constexpr double kStartCoincidence = 1e-9;
@@ -374,6 +389,10 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
   v.max_linear_jerk = r.max_linear_jerk;
   v.max_angular_jerk = r.max_angular_jerk;
   v.timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
+  requireFiniteNonNegative(r.speed, "speed");
+  v.speed = r.speed;
+  if (v.timing == Timing::kConstantSpeed)
+    requireConstantSpeedFields(v);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   if (r.start_state)

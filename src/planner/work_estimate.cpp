@@ -6,6 +6,7 @@
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/curve_families.h"
+#include "se3_interpolation/planner/names.h"
 
 namespace se3_interpolation
 {
@@ -39,6 +40,11 @@ constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 /// timing and a check of about twice its intervals with third-order jets (measured about 2.2 times
 /// its cost: bench_time_optimal); counted as three times its work.
 constexpr double kJerkLimitedTimingFactor = 3.0;
+/// The constant-speed timing (timing/constant_speed.h) on time_optimal's grid: per interval two
+/// jets at its ends, 8 Gauss-Legendre nodes and a middle for the table of S(σ), three points of the
+/// final check and the ramps' checks, each a jet or a third-order one (about twice as dear), and
+/// the searches where a rate comes near its bound.
+constexpr double kConstantSpeedEvaluationsPerInterval = 20.0;
 /// The peak jerk under `stretch` (timing/jerk_peaks.h): ends and middle of each figure
 /// subinterval plus the searches, in third-order jets of about twice an evaluation's cost.
 constexpr double kJerkPeakEvaluationsPerSubinterval = 2.0 * (3.0 + 2.0);
@@ -96,6 +102,12 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
     if (r.jerk)
       w.timing_evaluations *= kJerkLimitedTimingFactor;
   }
+  else if (r.timing == Timing::kConstantSpeed)
+  {
+    w.timing_intervals = kTimeOptimalIntervalsPerPiece * w.pieces + kTimeOptimalMinIntervals;
+    w.timing_evaluations =
+        kConstantSpeedEvaluationsPerInterval * w.timing_intervals * (r.jerk ? 2.0 : 1.0) + kTimeOptimalSearchEvaluations;
+  }
   else
   {
     // measured again on the joined curve, and once more if the bounds stretch it
@@ -105,8 +117,9 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
       w.figure_evaluations += kJerkPeakEvaluationsPerSubinterval * w.pieces *
                               static_cast<double>(subintervalsPerPiece(static_cast<std::size_t>(w.pieces)));
   }
-  w.timing_units = w.timing_evaluations * w.evaluation_cost + kTimeOptimalUnitsPerInterval * w.timing_intervals *
-                                                                 (r.jerk ? kJerkLimitedTimingFactor : 1.0);
+  w.timing_units = w.timing_evaluations * w.evaluation_cost;
+  if (r.timing == Timing::kTimeOptimal)
+    w.timing_units += kTimeOptimalUnitsPerInterval * w.timing_intervals * (r.jerk ? kJerkLimitedTimingFactor : 1.0);
   w.samples = samples;
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units +
             kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);
@@ -117,7 +130,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
 double secondsPerUnit(const WorkShape& r)
 {
   const SecondsPerUnit row = visitFamily(r.curve, [&r](auto family) { return decltype(family)::secondsPerUnit(r); });
-  return row[(r.screw ? 2 : 0) + (r.timing == Timing::kTimeOptimal ? 1 : 0)];
+  // (constant_speed's work is that of a timing too: path jets over a grid)
+  return row[(r.screw ? 2 : 0) + (r.timing == Timing::kStretch ? 0 : 1)];
 }
 
 void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerLimits& limits)
@@ -129,7 +143,7 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
   if (w.samples > w.figure_evaluations && w.samples * w.evaluation_cost > w.timing_units)
     what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
   else if (w.timing_units > w.figure_evaluations * w.evaluation_cost)
-    what = "timing: 'time_optimal' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +
+    what = std::string("timing: '") + toString(r.timing) + "' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +
            " waypoints of curve '" + toString(r.curve) + "'";
   else
     what = visitFamily(r.curve, [&r](auto family) { return decltype(family)::costlyField(r, decltype(family)::kName); });

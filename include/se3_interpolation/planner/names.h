@@ -38,9 +38,10 @@ struct NameTable<Parameterization>
 template <>
 struct NameTable<Timing>
 {
-  static constexpr std::array<std::pair<const char*, Timing>, 2> kNames = { {
+  static constexpr std::array<std::pair<const char*, Timing>, 3> kNames = { {
       { "stretch", Timing::kStretch },
       { "time_optimal", Timing::kTimeOptimal },
+      { "constant_speed", Timing::kConstantSpeed },
   } };
 };
 

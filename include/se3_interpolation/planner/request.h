@@ -53,8 +53,10 @@ enum class Parameterization
 /// How the max_* bounds shape the timing (field `timing`).
 enum class Timing
 {
-  kStretch,     ///< "stretch": the curve's time axis stretched uniformly until every peak fits
-  kTimeOptimal  ///< "time_optimal": the fastest rest-to-rest traversal of the path (timing/time_optimal.h)
+  kStretch,      ///< "stretch": the curve's time axis stretched uniformly until every peak fits
+  kTimeOptimal,  ///< "time_optimal": the fastest rest-to-rest traversal of the path (timing/time_optimal.h)
+  /// "constant_speed": the chord speed `speed` between a start and a stop ramp (timing/constant_speed.h)
+  kConstantSpeed
 };
 
 /// The sample arrays a response of the ~generate service can carry (its request's `outputs`;
@@ -202,6 +204,8 @@ struct BasicRequest
   /// rad/s³, bound on |ω̈| (0 = unbounded)
   double max_angular_jerk = 0.0;
   std::string timing;
+  /// m/s, the chord speed √(|ṗ|² + ρ²|ω|²) of timing constant_speed (read by no other timing)
+  double speed = 0.0;
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 0;
@@ -242,6 +246,7 @@ struct BasicValidatedRequest
   double max_linear_jerk = 0.0;   ///< m/s³ (0 = unbounded)
   double max_angular_jerk = 0.0;  ///< rad/s³ (0 = unbounded)
   Timing timing = RequestDefaults::kTiming;
+  double speed = 0.0;  ///< m/s (timing constant_speed; > 0 there, else unread)
   Sampling sampling;
   double blend_radius = 0.0;
   /// The validated start state. When set, `waypoints`, `times` and `velocities` begin with it: the
@@ -272,6 +277,10 @@ struct BasicResult
   /// for what lies ahead; timing time_optimal): the time after the start at which its recovery
   /// ends, from which every bound holds (s). 0 otherwise.
   double recovery_time = 0.0;
+  /// With timing constant_speed: the window in which the chord speed is `speed` (s, on the same
+  /// clock as start_time), where a process tool is switched on. Both 0 otherwise.
+  double constant_speed_start = 0.0;
+  double constant_speed_end = 0.0;
   /// Length, rotation length, peak rates and energy of the final (timed) motion.
   CurveFigures figures;
   /// The final curve's point at any time in [start_time, start_time + duration] (for TF).

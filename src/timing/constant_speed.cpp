@@ -1,0 +1,532 @@
+// The constant-speed timing (timing/constant_speed.h): the table of S(σ), the ramps and the check.
+#include "se3_interpolation/timing/constant_speed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "se3_interpolation/deadline.h"
+#include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/math/quadrature.h"
+#include "se3_interpolation/timing/peak_search.h"
+
+namespace se3_interpolation
+{
+namespace timing
+{
+namespace
+{
+/// Peaks of P′ (the quintic smoothstep's slope 15/8) and P‴ (10/√3) on [0, 1]: a ramp of length T
+/// on a straight line peaks at 15/8 V/T in acceleration and 10/√3 V/T² in jerk (file comment).
+constexpr double kRampAccelerationPeak = 15.0 / 8.0;
+const double kRampJerkPeak = 10.0 / std::sqrt(3.0);
+/// A rate checked at a piece's ends and middle is searched inside the piece when it, or the
+/// parabola through the three values, comes within this fraction of its bound.
+constexpr double kNearBound = 0.1;
+/// A bound is broken when a rate exceeds it by more than this (relative): rounding of the jets.
+constexpr double kBreakTolerance = 1e-9;
+/// The chord speed the window is guaranteed to hold, relative (docs/timing.md: 1e-6 promised).
+constexpr double kChordSpeedGuarantee = 1e-7;
+/// Bisection steps of the inverse maps (to rounding).
+constexpr int kBisectionSteps = 100;
+/// Pieces of the check between two checks of the request's deadline.
+constexpr std::size_t kPiecesPerDeadlineCheck = 256;
+
+const char* const kVelocityName[2] = { "max_linear_velocity", "max_angular_velocity" };
+const char* const kAccelerationName[2] = { "max_linear_acceleration", "max_angular_acceleration" };
+const char* const kJerkName[2] = { "max_linear_jerk", "max_angular_jerk" };
+
+/// The chord speed g of eq. 1 and its s-derivative g′ from one-sided path jets.
+struct ChordSpeed
+{
+  double g = 0.0;
+  double dg = 0.0;
+};
+
+ChordSpeed chordSpeed(const PathJet& j, const std::array<double, 2>& w)
+{
+  ChordSpeed c;
+  const double g2 = w[0] * j[0].bb + w[1] * j[1].bb;
+  c.g = std::sqrt(g2);
+  if (c.g > 0.0)
+    c.dg = (w[0] * j[0].ab + w[1] * j[1].ab) / c.g;
+  return c;
+}
+
+/// The quintic Hermite interpolant on [0, h] of values y, slopes d and second derivatives a at both ends.
+std::array<double, 6> quinticHermite(double h, double y0, double d0, double a0, double y1, double d1, double a1)
+{
+  const double delta = y1 - y0 - d0 * h - 0.5 * a0 * h * h;
+  const double dd = (d1 - d0 - a0 * h) * h;
+  const double da = (a1 - a0) * h * h;
+  const double h3 = h * h * h;
+  return { y0,
+           d0,
+           0.5 * a0,
+           (10.0 * delta - 4.0 * dd + 0.5 * da) / h3,
+           (-15.0 * delta + 7.0 * dd - da) / (h3 * h),
+           (6.0 * delta - 3.0 * dd + 0.5 * da) / (h3 * h * h) };
+}
+
+/// S′ of a quintic at u.
+double slope(const std::array<double, 6>& c, double u)
+{
+  return c[1] + u * (2.0 * c[2] + u * (3.0 * c[3] + u * (4.0 * c[4] + u * 5.0 * c[5])));
+}
+
+double quinticValue(const std::array<double, 6>& c, double u)
+{
+  return c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * c[5]))));
+}
+
+/// The rates of the motion at one time: per channel speed, acceleration, jerk, and the chord speed.
+struct Rates
+{
+  std::array<double, 2> v{}, a{}, j{};
+  double chord = 0.0;
+  double s = 0.0;  ///< the path parameter there
+};
+
+class Solver
+{
+public:
+  Solver(const JerkPathModel& path, const RateBounds& bounds, const ConstantSpeedOptions& options)
+    : path_(path), bounds_(bounds), options_(options)
+  {
+    jerk_ = bounds.jerk[0] > 0.0 || bounds.jerk[1] > 0.0;
+  }
+
+  ConstantSpeedProfile solve()
+  {
+    p_.speed = options_.speed;
+    p_.t0 = path_.start();
+    requireArguments();
+    buildTable();
+    p_.length = p_.sigma.back();
+    // The straight line's shortest ramp under the ramps' bounds (file comment).
+    const double v = p_.speed;
+    double ramp = 0.0;
+    const double a = rampBound(bounds_.acceleration);
+    const double j = rampBound(bounds_.jerk);
+    if (a > 0.0)
+      ramp = kRampAccelerationPeak * v / a;
+    if (j > 0.0)
+      ramp = std::max(ramp, std::sqrt(kRampJerkPeak * v / j));
+    requireSpeedHeldEverywhere();
+    p_.ramp_up = p_.ramp_down = ramp;
+    requireRoomForRamps();
+    for (const bool up : { true, false })
+      fitRamp(up);
+    checkCruise();
+    return std::move(p_);
+  }
+
+private:
+  /// min(a_lin, ρ a_ang) over the bounds given (ρ = √w_ang), 0 when none is.
+  double rampBound(const std::array<double, 2>& b) const
+  {
+    double r = std::numeric_limits<double>::infinity();
+    if (b[0] > 0.0)
+      r = b[0];
+    if (b[1] > 0.0 && options_.metric[1] > 0.0)
+      r = std::min(r, std::sqrt(options_.metric[1]) * b[1]);
+    return std::isfinite(r) ? r : 0.0;
+  }
+
+  void requireArguments() const
+  {
+    if (!(std::isfinite(options_.speed) && options_.speed > 0.0))
+      throw InvalidInputError("speed: " + formatNumber(options_.speed) +
+                              " (timing 'constant_speed' needs the chord speed to hold: a finite number above 0, m/s)");
+    if (!(bounds_.acceleration[0] > 0.0 || bounds_.acceleration[1] > 0.0))
+      throw InvalidInputError("max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
+                              "ramps (m/s^2, above 0)");
+  }
+
+  /// The grid of S (file comment) and its quintics.
+  void buildTable()
+  {
+    const std::vector<double> b = path_.breakpoints();
+    const double total = b.back() - b.front();
+    std::vector<double> grid;
+    for (std::size_t i = 0; i + 1 < b.size(); ++i)
+    {
+      const double len = b[i + 1] - b[i];
+      if (!(len > 0.0))
+        continue;
+      const double share = total > 0.0 ? static_cast<double>(options_.min_intervals) * len / total : 0.0;
+      const std::size_t n = std::max<std::size_t>(options_.intervals_per_piece, static_cast<std::size_t>(std::ceil(share)));
+      for (std::size_t k = 0; k < n; ++k)
+        grid.push_back(k == 0 ? b[i] : b[i] + len * static_cast<double>(k) / static_cast<double>(n));
+    }
+    grid.push_back(b.back());
+    requireSmoothMotion(b);
+    // The stand-stills: g at every grid point, from both sides at the breakpoints.
+    std::vector<ChordSpeed> right(grid.size()), left(grid.size());
+    double g_max = 0.0;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+    {
+      checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing");
+      right[i] = chordSpeed(path_.jet(grid[i], Side::kRight), options_.metric);
+      left[i] = chordSpeed(path_.jet(grid[i], Side::kLeft), options_.metric);
+      g_max = std::max({ g_max, right[i].g, left[i].g });
+    }
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      if (!(std::min(i + 1 < grid.size() ? right[i].g : left[i].g, i > 0 ? left[i].g : right[i].g) >
+            kStandStillFraction * g_max))
+        throw InvalidInputError("speed: the path stands still at path time " + formatNumber(grid[i]) +
+                                " s (its velocity is zero there: a clamped end at rest, a dwell or a cusp), where no "
+                                "path speed gives a constant chord speed; use end_condition 'natural', or clamped "
+                                "end velocities that move");
+    p_.s.push_back(grid.front());
+    p_.sigma.push_back(0.0);
+    for (std::size_t i = 0; i + 1 < grid.size(); ++i)
+    {
+      checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing");
+      addInterval(grid[i], right[i], grid[i + 1], left[i + 1], 0);
+    }
+  }
+
+  /// Appends [s0, s1] (or its halves, where the chord speed of its quintic is off) to the table.
+  void addInterval(double s0, const ChordSpeed& c0, double s1, const ChordSpeed& c1, int depth)
+  {
+    double arc = 0.0;
+    const double half = 0.5 * (s1 - s0), mid = 0.5 * (s0 + s1);
+    for (std::size_t q = 0; q < kGaussNodes.size(); ++q)
+      arc += kGaussWeights[q] * chordSpeed(path_.jet(mid + half * kGaussNodes[q], Side::kRight), options_.metric).g;
+    arc *= half;
+    const auto S2 = [](const ChordSpeed& c) { return -c.dg / (c.g * c.g * c.g); };
+    const std::array<double, 6> q = quinticHermite(arc, s0, 1.0 / c0.g, S2(c0), s1, 1.0 / c1.g, S2(c1));
+    if (depth < kMaxChordSplits)
+    {
+      const double u = 0.5 * arc;
+      const double g = chordSpeed(path_.jet(quinticValue(q, u), Side::kRight), options_.metric).g;
+      if (!(std::abs(g * slope(q, u) - 1.0) <= kChordSpeedTolerance))
+      {
+        const ChordSpeed cm = chordSpeed(path_.jet(mid, Side::kRight), options_.metric);
+        addInterval(s0, c0, mid, cm, depth + 1);
+        addInterval(mid, cm, s1, c1, depth + 1);
+        return;
+      }
+    }
+    p_.quintic.push_back(q);
+    p_.s.push_back(s1);
+    p_.sigma.push_back(p_.sigma.back() + arc);
+  }
+
+  /// Refuses velocity corners (an infinite acceleration at any speed) and, with a jerk bound,
+  /// jumps of C″ (an infinite jerk while moving).
+  void requireSmoothMotion(const std::vector<double>& b) const
+  {
+    for (std::size_t i = 1; i + 1 < b.size(); ++i)
+    {
+      const double s = b[i];
+      if (path_.isCorner(s))
+      {
+        // Named by the channel that turns there: the linear one where the position moves.
+        const PathJet l = path_.jet(s, Side::kLeft);
+        const int c = l[0].bb > 0.0 && bounds_.acceleration[0] > 0.0 ? 0 : 1;
+        throw InvalidInputError(std::string(kAccelerationName[c]) + ": the path has a corner at path time " +
+                                formatNumber(s) + " s (its velocity jumps), which a constant speed would pass with an "
+                                "unbounded acceleration; use a blend_radius or a smooth curve");
+      }
+      if (jerk_ && path_.accelerationJumps(s, std::min(s - b[i - 1], b[i + 1] - s)))
+        throw InvalidInputError(std::string(bounds_.jerk[0] > 0.0 ? kJerkName[0] : kJerkName[1]) +
+                                ": the path's acceleration jumps at path time " + formatNumber(s) +
+                                " s (the curve is only C1 there), which a constant speed would pass with an "
+                                "unbounded jerk; use a C2 curve (interpolating, blended continuity 2, a cubic "
+                                "B-spline) or no jerk bound");
+    }
+  }
+
+  void requireRoomForRamps() const
+  {
+    const double needed = 0.5 * p_.speed * (p_.ramp_up + p_.ramp_down);
+    if (needed > p_.length)
+      throw InvalidInputError("speed: the path is " + formatNumber(p_.length) + " long (chord length), shorter than "
+                              "its start and stop ramps to " + formatNumber(p_.speed) + " m/s (" +
+                              formatNumber(needed) + "); lower the speed or raise the acceleration and jerk bounds");
+  }
+
+  /// The rates at time t (one-sided).
+  Rates ratesAt(double t, Side side) const
+  {
+    const Jet<3> s = p_.pathParameter(Jet<3>::variable(t), side);
+    const double sd = s.coefficient(1), sdd = 2.0 * s.coefficient(2), sddd = 6.0 * s.coefficient(3);
+    const double sv = std::min(std::max(s.value(), p_.s.front()), p_.s.back());
+    const Side path_side = sv <= p_.s.front() ? Side::kRight : sv >= p_.s.back() ? Side::kLeft : side;
+    Rates r;
+    r.s = sv;
+    if (jerk_)
+    {
+      const PathJet3 j = path_.jet3(sv, path_side);
+      for (int c = 0; c < 2; ++c)
+      {
+        r.v[c] = j[c].speed(sd);
+        r.a[c] = j[c].acceleration(sd, sdd);
+        r.j[c] = j[c].jerk(sd, sdd, sddd);
+      }
+      r.chord = std::sqrt(options_.metric[0] * j[0].bb + options_.metric[1] * j[1].bb) * sd;
+      return r;
+    }
+    const PathJet j = path_.jet(sv, path_side);
+    for (int c = 0; c < 2; ++c)
+    {
+      r.v[c] = std::sqrt(j[c].bb) * sd;
+      const double x = sd * sd;
+      r.a[c] = std::sqrt(std::max(0.0, j[c].aa * x * x + 2.0 * j[c].ab * x * sdd + j[c].bb * sdd * sdd));
+    }
+    r.chord = std::sqrt(options_.metric[0] * j[0].bb + options_.metric[1] * j[1].bb) * sd;
+    return r;
+  }
+
+  /// The worst ratio of each rate to its bound over a span of time, and where.
+  struct Excess
+  {
+    std::array<double, 3> ratio{};  ///< velocity, acceleration, jerk (the worse channel's)
+    std::array<int, 3> channel{};
+    std::array<double, 3> where{};  ///< path time
+  };
+
+  /// Checks the pieces of the grid intervals between the chord arc lengths lo and hi (file comment),
+  /// updating the figures.
+  Excess check(double arc_lo, double arc_hi, bool window)
+  {
+    Excess e;
+    std::vector<double> pieces;
+    pieces.push_back(p_.timeAtArcLength(arc_lo));
+    for (auto it = std::upper_bound(p_.sigma.begin(), p_.sigma.end(), arc_lo);
+         it != p_.sigma.end() && *it < arc_hi; ++it)
+      pieces.push_back(p_.timeAtArcLength(*it));
+    pieces.push_back(p_.timeAtArcLength(arc_hi));
+    const std::array<const std::array<double, 2>*, 3> bound = { &bounds_.velocity, &bounds_.acceleration,
+                                                                 &bounds_.jerk };
+    const auto pick = [](const Rates& r, int k, int c) { return k == 0 ? r.v[c] : k == 1 ? r.a[c] : r.j[c]; };
+    const auto exceed = [&e](int k, int c, double ratio, double where) {
+      if (ratio > e.ratio[k])
+      {
+        e.ratio[k] = ratio;
+        e.channel[k] = c;
+        e.where[k] = where;
+      }
+    };
+    const auto consider = [&](const Rates& r) {
+      for (int c = 0; c < 2; ++c)
+      {
+        p_.max_speed[c] = std::max(p_.max_speed[c], r.v[c]);
+        p_.max_acceleration[c] = std::max(p_.max_acceleration[c], r.a[c]);
+        p_.max_jerk[c] = std::max(p_.max_jerk[c], r.j[c]);
+        for (int k = 0; k < 3; ++k)
+          if ((*bound[k])[c] > 0.0)
+            exceed(k, c, pick(r, k, c) / (*bound[k])[c], r.s);
+      }
+      if (window)
+        p_.chord_speed_deviation = std::max(p_.chord_speed_deviation, std::abs(r.chord / p_.speed - 1.0));
+    };
+    struct Span
+    {
+      double lo, hi;
+      Rates r0, rm, r1;
+    };
+    std::vector<Span> spans;
+    spans.reserve(pieces.size());
+    // The largest value of each rate at the pieces' ends and middles: [k][c].
+    std::array<std::array<double, 2>, 3> seen{};
+    for (std::size_t i = 0; i + 1 < pieces.size(); ++i)
+    {
+      checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
+      const double lo = pieces[i], hi = pieces[i + 1];
+      if (!(hi > lo))
+        continue;
+      spans.push_back({ lo, hi, ratesAt(lo, Side::kRight), ratesAt(0.5 * (lo + hi), Side::kRight),
+                        ratesAt(hi, Side::kLeft) });
+      for (const Rates* r : { &spans.back().r0, &spans.back().rm, &spans.back().r1 })
+      {
+        consider(*r);
+        for (int k = 0; k < 3; ++k)
+          for (int c = 0; c < 2; ++c)
+            seen[k][c] = std::max(seen[k][c], pick(*r, k, c));
+      }
+    }
+    // The interior maxima: of a bounded rate where it comes near its bound, of every rate where it
+    // comes near the largest value seen (the figures).
+    for (int k = 0; k < (jerk_ ? 3 : 2); ++k)
+      for (int c = 0; c < 2; ++c)
+      {
+        const double b = (*bound[k])[c];
+        double near = (1.0 - kNearBound) * seen[k][c];
+        if (b > 0.0)
+          near = std::min(near, (1.0 - kNearBound) * b);
+        if (!(near > 0.0))
+          continue;
+        for (std::size_t i = 0; i < spans.size(); ++i)
+        {
+          checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
+          const Span& sp = spans[i];
+          const double f0 = pick(sp.r0, k, c), fm = pick(sp.rm, k, c), f1 = pick(sp.r1, k, c);
+          if (std::max({ f0, fm, f1 }) < near && !detail::parabolaPeaksInside(f0, fm, f1, near))
+            continue;
+          double best = std::max({ f0, fm, f1 }), where = sp.rm.s;
+          const double peak = detail::localMaxOf(
+              [&](double lambda) {
+                const Rates r = ratesAt(sp.lo + lambda * (sp.hi - sp.lo), Side::kRight);
+                const double f = pick(r, k, c);
+                if (f > best)
+                {
+                  best = f;
+                  where = r.s;
+                }
+                return f;
+              },
+              f0, fm, f1);
+          if (b > 0.0)
+            exceed(k, c, peak / b, where);
+          double& figure = k == 0 ? p_.max_speed[c] : k == 1 ? p_.max_acceleration[c] : p_.max_jerk[c];
+          figure = std::max(figure, peak);
+        }
+      }
+    return e;
+  }
+
+  double arcA() const { return 0.5 * p_.speed * p_.ramp_up; }
+  double arcB() const { return p_.length - 0.5 * p_.speed * p_.ramp_down; }
+
+  /// Refuses a speed that breaks a bound somewhere along the path when held there (file comment):
+  /// the whole path checked at the chord speed V, without ramps.
+  void requireSpeedHeldEverywhere()
+  {
+    p_.ramp_up = p_.ramp_down = 0.0;
+    const Excess e = check(0.0, p_.length, false);
+    for (int k = 0; k < 3; ++k)
+      if (e.ratio[k] > 1.0 + kBreakTolerance)
+        refuse(k, e);
+  }
+
+  /// Lengthens one ramp until every bound holds on it (file comment).
+  void fitRamp(bool up)
+  {
+    for (int pass = 0; pass < kMaxRampPasses; ++pass)
+    {
+      requireRoomForRamps();
+      const Excess e = up ? check(0.0, arcA(), false) : check(arcB(), p_.length, false);
+      if (e.ratio[0] > 1.0 + kBreakTolerance)
+        refuse(0, e);
+      const double f = std::max({ 1.0, std::sqrt(e.ratio[1]), std::cbrt(e.ratio[2]) });
+      if (f <= 1.0 + kBreakTolerance)
+        return;
+      (up ? p_.ramp_up : p_.ramp_down) *= f * (1.0 + 1e-3);
+    }
+    throw InvalidInputError(std::string("speed: its ") + (up ? "start" : "stop") + " ramp to " +
+                            formatNumber(p_.speed) + " m/s keeps exceeding the acceleration or jerk bounds (the "
+                            "path bends too sharply there); lower the speed");
+  }
+
+  /// The final check: the cruise (a bound it breaks is refused), then the figures of the whole
+  /// motion from the ramps as fitted.
+  void checkCruise()
+  {
+    p_.max_speed = p_.max_acceleration = p_.max_jerk = {};
+    const Excess e = check(arcA(), arcB(), true);
+    for (int k = 0; k < 3; ++k)
+      if (e.ratio[k] > 1.0 + kBreakTolerance)
+        refuse(k, e);
+    if (!(p_.chord_speed_deviation <= kChordSpeedGuarantee))
+      throw InterpolationError("speed: the chord speed of the window is off " + formatNumber(p_.speed) + " m/s by " +
+                               formatNumber(p_.chord_speed_deviation) + " (relative) where its table could not be "
+                               "refined further (the path's parameter speed varies too fast); give more even times");
+    check(0.0, arcA(), false);
+    check(arcB(), p_.length, false);
+  }
+
+  [[noreturn]] void refuse(int k, const Excess& e) const
+  {
+    const char* const* names = k == 0 ? kVelocityName : k == 1 ? kAccelerationName : kJerkName;
+    const char* what = k == 0 ? "speed" : k == 1 ? "acceleration (the bend's centripetal share)" : "jerk";
+    throw InvalidInputError(std::string(names[e.channel[k]]) + ": holding the chord speed " +
+                            formatNumber(p_.speed) + " m/s takes " + formatNumber(e.ratio[k]) + " times this bound's " +
+                            what + " at path time " + formatNumber(e.where[k]) +
+                            " s; lower the speed or raise the bound");
+  }
+
+  const JerkPathModel& path_;
+  const RateBounds& bounds_;
+  const ConstantSpeedOptions& options_;
+  bool jerk_ = false;
+  ConstantSpeedProfile p_;
+};
+}  // namespace
+
+std::size_t ConstantSpeedProfile::intervalAt(double arc, Side side) const
+{
+  const std::size_t n = quintic.size();
+  const auto it = side == Side::kRight ? std::upper_bound(sigma.begin(), sigma.end(), arc)
+                                       : std::lower_bound(sigma.begin(), sigma.end(), arc);
+  const std::ptrdiff_t k = (it - sigma.begin()) - 1;
+  return static_cast<std::size_t>(std::min<std::ptrdiff_t>(std::max<std::ptrdiff_t>(k, 0), static_cast<std::ptrdiff_t>(n) - 1));
+}
+
+double ConstantSpeedProfile::timeAtArcLength(double arc) const
+{
+  const double a = 0.5 * speed * ramp_up, b = length - 0.5 * speed * ramp_down;
+  if (arc <= 0.0)
+    return t0;
+  if (arc >= length)
+    return endTime();
+  if (arc >= a && arc <= b)
+    return windowStart() + (arc - a) / speed;
+  // P is increasing on [0, 1]: bisection for the ramp's fraction.
+  const bool up = arc < a;
+  const double target = up ? arc / (speed * ramp_up) : (length - arc) / (speed * ramp_down);
+  double lo = 0.0, hi = 1.0;
+  for (int i = 0; i < kBisectionSteps && hi - lo > 0.0; ++i)
+  {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi)
+      break;
+    (rampShape(mid) < target ? lo : hi) = mid;
+  }
+  const double tau = 0.5 * (lo + hi);
+  return up ? t0 + tau * ramp_up : endTime() - tau * ramp_down;
+}
+
+double ConstantSpeedProfile::timeAt(double path_parameter) const
+{
+  if (path_parameter <= s.front())
+    return t0;
+  if (path_parameter >= s.back())
+    return endTime();
+  const auto it = std::upper_bound(s.begin(), s.end(), path_parameter);
+  const std::size_t k = std::min(static_cast<std::size_t>(it - s.begin()) - 1, quintic.size() - 1);
+  double lo = 0.0, hi = sigma[k + 1] - sigma[k];
+  for (int i = 0; i < kBisectionSteps; ++i)
+  {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi)
+      break;
+    (quinticValue(quintic[k], mid) < path_parameter ? lo : hi) = mid;
+  }
+  return timeAtArcLength(sigma[k] + 0.5 * (lo + hi));
+}
+
+std::vector<double> ConstantSpeedProfile::breakpoints() const
+{
+  std::vector<double> b;
+  b.reserve(sigma.size() + 2);
+  for (double arc : sigma)
+    b.push_back(timeAtArcLength(arc));
+  b.push_back(windowStart());
+  b.push_back(windowEnd());
+  std::sort(b.begin(), b.end());
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  return b;
+}
+
+ConstantSpeedProfile constantSpeedProfile(const JerkPathModel& path, const RateBounds& bounds,
+                                          const ConstantSpeedOptions& options)
+{
+  return Solver(path, bounds, options).solve();
+}
+
+}  // namespace timing
+}  // namespace se3_interpolation
