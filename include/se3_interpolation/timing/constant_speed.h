@@ -38,9 +38,11 @@
 // cusp), where no finite path speed gives the chord speed V, names `speed`; a velocity corner
 // (C′ jumps) needs an infinite acceleration at any speed and names the acceleration bound of the
 // channel that turns; with a jerk bound, a jump of C″ inside the window (a path that is only C¹
-// there: hermite, blended continuity 1, a B-spline of degree ≤ 2) is an infinite jerk and names the
-// jerk bound; and a bound the cruise breaks (a speed above max_*_velocity, the centripetal
-// acceleration V²κ of a bend, the jerk of a tightening bend) names that bound.
+// there: hermite, blended continuity 1, a B-spline whose acceleration jumps at a knot) is an
+// infinite jerk and names the jerk bound; and a bound that holding V breaks anywhere along the path
+// (checked on the whole path at V before the ramps are fitted, the same check as below: a speed above
+// max_*_velocity, the centripetal acceleration V²κ of a bend, the jerk of a tightening bend) names
+// that bound. The speed is thus one the whole path can be passed at, ramps aside.
 //
 // Verification: every grid interval, mapped to the times it is passed, is evaluated at its two
 // ends (one-sided) and its middle with exact path jets (third-order ones when a jerk bound is set:
