@@ -190,7 +190,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "sample_times", "sample_period",
+                "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "speed", "sample_times", "sample_period",
                 "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
   // The service's from_current starts from the motion the node plays; the CLI plays none.
   if (root["from_current"] && toBool(root["from_current"], "from_current"))
@@ -232,6 +232,8 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->max_angular_jerk = toDouble(root["max_angular_jerk"], "max_angular_jerk");
   if (root["timing"])
     r->timing = toString(root["timing"], "timing");
+  if (root["speed"])
+    r->speed = toDouble(root["speed"], "speed");
   if (root["sample_times"])
     r->sample_times = toDoubles(root["sample_times"], "sample_times");
   if (root["sample_period"])

@@ -90,6 +90,7 @@ TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vec
   r.max_linear_jerk = msg.max_linear_jerk;
   r.max_angular_jerk = msg.max_angular_jerk;
   r.timing = msg.timing;
+  r.speed = msg.speed;
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;
@@ -140,6 +141,8 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.peak_angular_acceleration = result.figures.max_angular_acceleration;
   out.peak_linear_jerk = result.figures.max_linear_jerk;
   out.peak_angular_jerk = result.figures.max_angular_jerk;
+  out.constant_speed_start = result.constant_speed_start;
+  out.constant_speed_end = result.constant_speed_end;
   out.energy = result.figures.energy;
   return out;
 }
@@ -155,6 +158,8 @@ GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, Generatio
   out.peak_angular_acceleration = res.peak_angular_acceleration;
   out.peak_linear_jerk = res.peak_linear_jerk;
   out.peak_angular_jerk = res.peak_angular_jerk;
+  out.constant_speed_start = res.constant_speed_start;
+  out.constant_speed_end = res.constant_speed_end;
   out.energy = res.energy;
   return out;
 }

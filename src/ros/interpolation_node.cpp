@@ -235,6 +235,7 @@ std::vector<std::string> InterpolationNode::applyRequestDefaults(const NodeParam
        "max_angular_acceleration");
   fill(&r.max_linear_jerk, params.max_linear_jerk, r.max_linear_jerk == 0.0, "max_linear_jerk");
   fill(&r.max_angular_jerk, params.max_angular_jerk, r.max_angular_jerk == 0.0, "max_angular_jerk");
+  fill(&r.speed, params.speed, r.speed == 0.0, "speed");
   fill(&r.duration, params.duration, r.duration == 0.0, "duration");
   fill(&r.sample_count, static_cast<std::uint32_t>(params.sample_count),
        r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0, "sample_count");

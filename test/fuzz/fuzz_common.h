@@ -18,12 +18,12 @@
 // times, curve, geometry, degree, knots, continuity, end_condition, start_velocity, end_velocity,
 // start_acceleration, velocities, parameterization, rotation_scale, duration,
 // max_linear_velocity, max_angular_velocity, max_linear_acceleration, max_angular_acceleration,
-// max_linear_jerk, max_angular_jerk, timing, sample_times, sample_period, sample_count,
+// max_linear_jerk, max_angular_jerk, timing (constant_speed too), speed, sample_times, sample_period, sample_count,
 // blend_radius, start_state (the service's
 // from_current: on waypoints[0], near it or anywhere, at rest or moving, valid or not), and the
 // response's `outputs` (parsed with names.h's table by runRequestTarget). The service's
 // waypoint_frames, child_frame_id and publish belong to the node, not to the core request. The
-// fields read last (blend_radius, timing, start_state, outputs, the jerk bounds) were added last, so that the
+// fields read last (blend_radius, timing, start_state, outputs, the jerk bounds, constant_speed and speed) were added last, so that the
 // earlier fields of the seed corpus keep their bytes.
 #pragma once
 
@@ -341,6 +341,10 @@ inline TrajectoryRequest decode(ByteReader& in, std::vector<std::string>* respon
     *response_outputs = std::move(names);
   r.max_linear_jerk = in.optionalNumber();
   r.max_angular_jerk = in.optionalNumber();
+  // timing constant_speed and its speed: read after everything else, from their own bytes.
+  if (in.byte() % 5 == 4)
+    r.timing = "constant_speed";
+  r.speed = in.optionalNumber();
   return r;
 }
 
@@ -388,7 +392,7 @@ inline std::string describe(const TrajectoryRequest& r)
        list(r.sample_times) + "\nsample_period: " + list(std::vector<double>{ r.sample_period }) +
        "\nsample_count: " + std::to_string(r.sample_count) + "\nblend_radius: " +
        list(std::vector<double>{ r.blend_radius }) + "\nmax_linear_jerk, max_angular_jerk: " +
-       list(std::vector<double>{ r.max_linear_jerk, r.max_angular_jerk }) + "\ntiming: '" + r.timing + "'\n";
+       list(std::vector<double>{ r.max_linear_jerk, r.max_angular_jerk }) + "\ntiming: '" + r.timing + "'\nspeed: " + list(std::vector<double>{ r.speed }) + "\n";
   if (r.start_state)
     s += "start_state: {pose: {position: " + list(r.start_state->pose.p) + ", orientation: " +
          list(r.start_state->pose.q.coeffs()) + "}, velocity: " + twist(r.start_state->velocity) +

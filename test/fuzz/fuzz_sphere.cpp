@@ -72,7 +72,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   r.max_angular_acceleration = in.optionalNumber();
   r.sample_period = in.optionalNumber();
   r.sample_count = in.byte() % (kMaxSamples + 8);
-  r.max_angular_jerk = in.optionalNumber();  // last: the seed corpus keeps its bytes
+  r.max_angular_jerk = in.optionalNumber();
+  // Last, so that the seed corpus keeps its bytes: the timing (constant_speed is refused on the
+  // sphere, naming timing) and the speed.
+  r.timing = in.name({ "stretch", "time_optimal", "constant_speed" });
+  r.speed = in.optionalNumber();
   PlannerLimits limits;
   limits.max_samples = kMaxSamples;
   limits.max_waypoints = kMaxWaypoints;

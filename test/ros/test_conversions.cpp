@@ -467,6 +467,7 @@ std::vector<CopiedField> copiedFields()
   f.push_back({ "max_angular_jerk", [](R& m) { m.max_angular_jerk = 6.5; },
                 [](const T& r) { return r.max_angular_jerk == 6.5; } });
   f.push_back({ "timing", [](R& m) { m.timing = "timing-name"; }, [](const T& r) { return r.timing == "timing-name"; } });
+  f.push_back({ "speed", [](R& m) { m.speed = 7.5; }, [](const T& r) { return r.speed == 7.5; } });
   f.push_back({ "sample_times", [](R& m) { m.sample_times = { 0.125, 0.375 }; },
                 [](const T& r) { return r.sample_times == std::vector<double>{ 0.125, 0.375 }; } });
   f.push_back({ "sample_period", [](R& m) { m.sample_period = 0.03125; },
@@ -757,6 +758,10 @@ std::vector<Figure> figures()
       [](const Res& m) { return m.peak_linear_jerk; }, [](const S& s) { return s.peak_linear_jerk; } },
     { "peak_angular_jerk", [](T& r, double v) { r.figures.max_angular_jerk = v; },
       [](const Res& m) { return m.peak_angular_jerk; }, [](const S& s) { return s.peak_angular_jerk; } },
+    { "constant_speed_start", [](T& r, double v) { r.constant_speed_start = v; },
+      [](const Res& m) { return m.constant_speed_start; }, [](const S& s) { return s.constant_speed_start; } },
+    { "constant_speed_end", [](T& r, double v) { r.constant_speed_end = v; },
+      [](const Res& m) { return m.constant_speed_end; }, [](const S& s) { return s.constant_speed_end; } },
     { "energy", [](T& r, double v) { r.figures.energy = v; }, [](const Res& m) { return m.energy; },
       [](const S& s) { return s.energy; } },
   };
