@@ -26,6 +26,8 @@ const double kRampJerkPeak = 10.0 / std::sqrt(3.0);
 constexpr double kNearBound = 0.1;
 /// A bound is broken when a rate exceeds it by more than this (relative): rounding of the jets.
 constexpr double kBreakTolerance = 1e-9;
+/// Where the slope error of a quintic Hermite interpolant peaks on its interval: ½ − 1/(2√5).
+const double kSlopeErrorPeak = 0.5 - 0.5 / std::sqrt(5.0);
 /// The chord speed the window is guaranteed to hold, relative (docs/timing.md: 1e-6 promised).
 constexpr double kChordSpeedGuarantee = 1e-7;
 /// Bisection steps of the inverse maps (to rounding).
@@ -200,9 +202,16 @@ private:
     const std::array<double, 6> q = quinticHermite(arc, s0, 1.0 / c0.g, S2(c0), s1, 1.0 / c1.g, S2(c1));
     if (depth < kMaxChordSplits)
     {
-      const double u = 0.5 * arc;
-      const double g = chordSpeed(path_.jet(quinticValue(q, u), Side::kRight), options_.metric).g;
-      if (!(std::abs(g * slope(q, u) - 1.0) <= kChordSpeedTolerance))
+      // The error of a quintic Hermite interpolant is ∝ u³(u − h)³ near its ends' data: its slope's
+      // error vanishes at the middle and peaks at u/h = ½ ∓ 1/(2√5); checked there.
+      bool off = false;
+      for (const double at : { kSlopeErrorPeak, 1.0 - kSlopeErrorPeak })
+      {
+        const double u = at * arc;
+        const double g = chordSpeed(path_.jet(quinticValue(q, u), Side::kRight), options_.metric).g;
+        off = off || !(std::abs(g * slope(q, u) - 1.0) <= kChordSpeedTolerance);
+      }
+      if (off)
       {
         const ChordSpeed cm = chordSpeed(path_.jet(mid, Side::kRight), options_.metric);
         addInterval(s0, c0, mid, cm, depth + 1);

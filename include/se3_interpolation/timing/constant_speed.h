@@ -20,8 +20,9 @@
 // the path (its breakpoints, then intervals_per_piece uniform intervals per analytic piece and at
 // least min_intervals in all) σ at the grid points comes from 8-point Gauss–Legendre quadrature of
 // g, and on each interval the quintic Hermite interpolant matches S, S′ = 1/g and S″ = −g′/g³ at
-// both ends (one-sided where C″ jumps; g′ = Σ w C′·C″ / g). An interval whose chord speed at its
-// middle, g(S(σ)) S′(σ), is off 1 by more than kChordSpeedTolerance is halved (at most
+// both ends (one-sided where C″ jumps; g′ = Σ w C′·C″ / g). An interval whose chord speed
+// g(S(σ)) S′(σ) is off 1 by more than kChordSpeedTolerance where the slope error of such an
+// interpolant peaks (u/h = ½ ∓ 1/(2√5): the error is ∝ u³(u − h)³) is halved (at most
 // kMaxChordSplits times), so the motion is C² in time, its jets are the exact derivatives of its
 // own positions, and its chord speed in the window is V to that tolerance (measured by the check
 // and reported as chord_speed_deviation).

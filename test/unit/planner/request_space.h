@@ -527,6 +527,46 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
     }
   }
 
+  // --- Constant speed: the chord speed of the window ------------------------------------------
+  // timing constant_speed holds √(|ṗ|² + ρ²|ω|²) at `speed` (1e-6 relative) inside
+  // [constant_speed_start, constant_speed_end], a window within the motion, by the reported
+  // velocities and by central differences of the poses (h = 1e-5 s, less in a short window: the
+  // chord of an arc of curvature κ is short of it by about (κ V h)²/6, below 1e-7 here up to κ = 10³).
+  if (request.timing == "constant_speed")
+  {
+    const double a = result.constant_speed_start, b = result.constant_speed_end;
+    const double rho = request.rotation_scale > 0.0 ? request.rotation_scale : 1.0;
+    if (!(a > t0 && b > a && b < t1))
+      fail("constant speed window", b - a,
+           "window [" + num(a) + ", " + num(b) + "] not inside the motion (" + num(t0) + ", " + num(t1) + ")");
+    else
+    {
+      const double h = std::min(1e-5, 1e-5 * (b - a));
+      double worst = 0.0, worst_t = a, worst_reported = 0.0;
+      for (int i = 0; i < 64; ++i)
+      {
+        const double t = a + (b - a) * (i + 0.5) / 64.0;
+        const TrajectorySample s = result.state_at(t);
+        const double reported = std::hypot(s.velocity.linear.norm(), rho * s.velocity.angular.norm());
+        const TrajectorySample before = result.state_at(t - h), after = result.state_at(t + h);
+        const double dt = after.time - before.time;  // (the times as evaluated, rounding included)
+        const double dp = (after.pose.p - before.pose.p).norm() / dt;
+        const double dtheta = rotationAngle(Quaternion<double>(before.pose.q.conjugate() * after.pose.q)) / dt;
+        const double differenced = std::hypot(dp, rho * dtheta);
+        for (double c : { reported, differenced })
+          if (std::abs(c / request.speed - 1.0) > worst)
+          {
+            worst = std::abs(c / request.speed - 1.0);
+            worst_t = t;
+            worst_reported = reported / request.speed - 1.0;
+          }
+      }
+      if (worst > 1e-6)
+        fail("constant speed", worst,
+             "the chord speed is off " + num(request.speed) + " by " + num(worst) + " (relative) at t = " + num(worst_t) + " (by the reported velocity: " + num(worst_reported) + ")");
+    }
+  }
+
   // --- Waypoints passed -------------------------------------------------------------------
   const std::size_t n = request.waypoints.size();
   // With explicit knots a B-spline's waypoints are control points on the knots' own time axis:

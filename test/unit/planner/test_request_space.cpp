@@ -177,6 +177,9 @@ const std::vector<CurveVariant>& curveVariants()
 /// in about 1 s) need them.
 constexpr double kBounds[6] = { 0.3, 0.4, 0.5, 0.8, 1.5, 2.5 };
 
+/// The chord speed of the constant_speed cases: below the grid's velocity bounds.
+constexpr double kConstantSpeed = 0.1;
+
 struct TimingVariant
 {
   const char* timing;  ///< "" = the default (stretch)
@@ -205,6 +208,8 @@ const std::vector<TimingVariant>& timingVariants()
     // The jerk bounds (enumerated after the others, so that the earlier cases keep their index
     // and with it their data): alone under stretch, with all four others under time_optimal.
     { "stretch", 48 },   { "time_optimal", 63 },
+    // constant_speed (after those again): with the ramps' acceleration bound alone, with all six.
+    { "constant_speed", 4 }, { "constant_speed", 63 },
   };
   return kTimings;
 }
@@ -334,6 +339,8 @@ TrajectoryRequest buildRequest(const GridCase& c, std::size_t index)
   r.geometry = c.screw ? "screw" : "double_geodesic";
   r.end_condition = v.end_condition;
   r.timing = tv.timing;
+  if (std::string(tv.timing) == "constant_speed")
+    r.speed = kConstantSpeed;
   double* bound_fields[6] = { &r.max_linear_velocity,     &r.max_angular_velocity, &r.max_linear_acceleration,
                               &r.max_angular_acceleration, &r.max_linear_jerk,     &r.max_angular_jerk };
   for (int j = 0; j < 6; ++j)
@@ -453,6 +460,21 @@ bool refusalAllowed(const GridCase& c, const Expectation& e, const std::string& 
     if (f.rfind("max_", 0) == 0 && f.find("_jerk") != std::string::npos && !time_optimal &&
         message.find("acceleration jumps") != std::string::npos)
       return true;
+    // constant_speed: a moving start (it starts at rest), a speed the path cannot be passed at
+    // where held (a bound, a corner, a C1 joint under a jerk bound: naming the bound), a path that
+    // stands still somewhere or is shorter than its ramps (naming speed).
+    if (std::string(tv.timing) == "constant_speed")
+    {
+      if (f == "start_state" && moving_start && message.find("constant_speed") != std::string::npos)
+        return true;
+      if (f == "speed" && (message.find("stands still") != std::string::npos ||
+                           message.find("ramps") != std::string::npos || message.find("ramp to") != std::string::npos))
+        return true;
+      if (f.rfind("max_", 0) == 0 && (message.find("holding the chord speed") != std::string::npos ||
+                                      message.find("corner") != std::string::npos ||
+                                      message.find("acceleration jumps") != std::string::npos))
+        return true;
+    }
     // the forward spline from start data may run away: refused naming end_condition.
     if (f == "end_condition" && std::string(curveVariants()[c.variant].end_condition) == "start")
       return true;
@@ -637,7 +659,7 @@ std::string requestYaml(const TrajectoryRequest& r)
     y << "end_condition: " << r.end_condition << "\n";
   if (r.continuity)
     y << "continuity: " << r.continuity << "\n";
-  y << "timing: " << r.timing << "\nmax_linear_velocity: " << r.max_linear_velocity
+  y << "timing: " << r.timing << "\nspeed: " << r.speed << "\nmax_linear_velocity: " << r.max_linear_velocity
     << "\nmax_angular_velocity: " << r.max_angular_velocity << "\nmax_linear_acceleration: " << r.max_linear_acceleration
     << "\nmax_angular_acceleration: " << r.max_angular_acceleration << "\nmax_linear_jerk: " << r.max_linear_jerk
     << "\nmax_angular_jerk: " << r.max_angular_jerk << "\nblend_radius: " << r.blend_radius
@@ -984,6 +1006,18 @@ void randomJerkBounds(std::size_t i, TrajectoryRequest* r)
   r->max_linear_jerk = randomNonNegative(rng, 2.0);
   r->max_angular_jerk = randomNonNegative(rng, 3.0);
 }
+/// timing constant_speed for sweep request i, from its own generator as the jerk bounds: one
+/// request in eight, at a chord speed of 0.02 … 0.5, with the ramps' bound in most of them.
+void randomConstantSpeed(std::size_t i, TrajectoryRequest* r)
+{
+  std::mt19937 rng(95000 + static_cast<std::uint32_t>(i));
+  if (!std::bernoulli_distribution(0.125)(rng))
+    return;
+  r->timing = "constant_speed";
+  r->speed = std::uniform_real_distribution<double>(0.02, 0.5)(rng);
+  if (r->max_linear_acceleration == 0.0 && std::bernoulli_distribution(0.8)(rng))
+    r->max_linear_acceleration = std::uniform_real_distribution<double>(0.5, 3.0)(rng);
+}
 }  // namespace
 
 TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAField)
@@ -999,6 +1033,7 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
   {
     TrajectoryRequest request = randomRequest(rng);
     randomJerkBounds(i, &request);
+    randomConstantSpeed(i, &request);
     if (traceCases())
       std::cout << "sweep " << i << ": curve '" << request.curve << "', timing '" << request.timing << "', N "
                 << request.waypoints.size() << (request.start_state ? ", start state" : "") << ", times "
