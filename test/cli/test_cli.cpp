@@ -753,6 +753,52 @@ TEST(Cli, JerkBoundsGiveTheDoubleSAndItsPeaks)
   }
 }
 
+// timing constant_speed from a request file: a straight move of L = 2 m at V = 0.5 m/s under
+// a = 1 m/s² has ramps of T = 15/8 V/a = 0.9375 s (the smoothstep's peak slope 15/8), so it lasts
+// L/V + T = 4.9375 s with the window [T, L/V] = [0.9375, 4]; the CSV's speed is V inside it; bad
+// speeds and a missing ramp bound exit 2 naming the field.
+TEST(Cli, ConstantSpeedHoldsItsSpeedInItsWindow)
+{
+  const std::string base = "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
+                           "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
+                           "timing: constant_speed\nsample_period: 0.001\n";
+  const CliRun r = run(writeFile("cli_constant_speed.yaml", base + "speed: 0.5\nmax_linear_acceleration: 1.0\n"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string figures = "\n" + r.err;
+  const auto figure = [&figures](const std::string& name) {
+    const std::size_t at = figures.find("\n" + name + ": ");
+    return at == std::string::npos ? -1.0 : std::stod(figures.substr(at + name.size() + 3));
+  };
+  EXPECT_NEAR(figure("duration"), 4.9375, 1e-9) << r.err;
+  EXPECT_NEAR(figure("constant_speed_start"), 0.9375, 1e-9) << r.err;
+  EXPECT_NEAR(figure("constant_speed_end"), 4.0, 1e-9) << r.err;
+  EXPECT_NEAR(figure("peak_linear_acceleration"), 1.0, 1e-9) << r.err;
+  std::string header;
+  const auto rows = parseCsv(r.out, &header);
+  ASSERT_GT(rows.size(), 4900U);
+  std::size_t inside = 0;
+  for (const auto& row : rows)
+    if (row[0] > 0.9375 && row[0] < 4.0)
+    {
+      ++inside;
+      EXPECT_NEAR(std::hypot(row[8], row[9], row[10]), 0.5, 1e-9) << row[0];
+    }
+  EXPECT_GT(inside, 3000U);
+  const std::string out = testing::TempDir() + "must_not_exist_constant_speed.csv";
+  for (const std::string& bad : { std::string("speed: -1\nmax_linear_acceleration: 1\n"),
+                                  std::string("speed: .nan\nmax_linear_acceleration: 1\n"),
+                                  std::string("speed: .inf\nmax_linear_acceleration: 1\n"),
+                                  std::string("max_linear_acceleration: 1\n"), std::string("speed: 0.5\n") })
+  {
+    std::remove(out.c_str());
+    const CliRun e = run(writeFile("cli_constant_speed_bad.yaml", base + bad) + " -o " + out);
+    EXPECT_EQ(e.status, 2) << bad;
+    const std::string field = bad.rfind("speed: 0.5", 0) == 0 ? "max_linear_acceleration:" : "speed:";
+    EXPECT_NE(e.err.find(field), std::string::npos) << bad << e.err;
+    EXPECT_FALSE(exists(out)) << bad;
+  }
+}
+
 // The output goes through a temporary file created exclusively, never through
 // a planted file or symbolic link, and nothing is left beside the target.
 TEST(CliHostile, OutputNeverWritesThroughAPlantedLink)

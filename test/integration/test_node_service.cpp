@@ -176,6 +176,63 @@ TEST(NodeService, JerkBoundsAndTheirPeaks)
   EXPECT_TRUE(good.response.success) << good.response.message;
 }
 
+// timing constant_speed through the service: the trajectory's chord speed √(|v|² + |ω|²) is
+// `speed` at every point of the response's window [constant_speed_start, constant_speed_end], the
+// window is on ~status, and a request without the ramps' bound is an error naming it while the
+// node keeps serving.
+TEST(NodeService, ConstantSpeedAndItsWindow)
+{
+  ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
+  auto srv = goodRequest();
+  srv.request.curve = "interpolating";
+  srv.request.timing = "constant_speed";
+  srv.request.speed = 0.2;
+  srv.request.max_linear_acceleration = 1.0;
+  srv.request.sample_count = 0;
+  srv.request.sample_period = 0.01;
+  srv.request.publish = true;
+  ros::NodeHandle nh;
+  se3_interpolation::GenerationStatus::ConstPtr status;
+  ros::Subscriber sub = nh.subscribe<se3_interpolation::GenerationStatus>(
+      "/se3_interpolation_node/status", 10, [&status](const se3_interpolation::GenerationStatus::ConstPtr& m) {
+        if (m->constant_speed_end > 0.0)
+          status = m;
+      });
+  ASSERT_TRUE(call(srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  const double a = srv.response.constant_speed_start, b = srv.response.constant_speed_end;
+  EXPECT_GT(a, 0.0);
+  EXPECT_GT(b, a + 5.0);
+  EXPECT_LT(b, srv.response.duration);
+  std::size_t inside = 0;
+  for (const auto& p : srv.response.trajectory.points)
+  {
+    const double t = p.time_from_start.toSec();
+    if (t <= a || t >= b)
+      continue;
+    ++inside;
+    const auto& v = p.velocities.at(0);
+    EXPECT_NEAR(std::hypot(std::hypot(v.linear.x, v.linear.y, v.linear.z), std::hypot(v.angular.x, v.angular.y, v.angular.z)),
+                0.2, 1e-6) << t;
+  }
+  EXPECT_GT(inside, 500U);
+  EXPECT_TRUE(spinUntil([&status] { return status != nullptr; }, 10.0));
+  if (status)
+  {
+    EXPECT_EQ(status->constant_speed_start, a);
+    EXPECT_EQ(status->constant_speed_end, b);
+  }
+  auto bad = srv;
+  bad.request.max_linear_acceleration = 0.0;
+  bad.request.publish = false;
+  ASSERT_TRUE(call(bad));
+  EXPECT_FALSE(bad.response.success);
+  EXPECT_EQ(bad.response.message.rfind("max_linear_acceleration: ", 0), 0U) << bad.response.message;
+  auto good = goodRequest();
+  ASSERT_TRUE(call(good));
+  EXPECT_TRUE(good.response.success) << good.response.message;
+}
+
 TEST(NodeServiceDefaults, TimingAndBoundsFromTheNodeParameters)
 {
   // Run by node_service_defaults.test (node with ~timing: time_optimal, ~max_linear_velocity 0.5,

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <memory>
 #include <random>
 #include <string>
@@ -15,6 +16,7 @@
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/planner/planner.h"
 #include "se3_interpolation/planner/work_estimate.h"
+#include "se3_interpolation/timing/constant_speed.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "test_utils.h"
 
@@ -161,6 +163,43 @@ TEST(WorkEstimate, BoundsTheEvaluationsOfTimeOptimalTiming)
         EXPECT_LE(static_cast<double>(timed_figures), replan.figure_evaluations - w.figure_evaluations)
             << curve << " " << n << " " << blend_radius;
       }
+}
+
+// constant_speed's evaluations, counted through the wrapper: the table of S(σ), the checks, the
+// ramps and the energy of the timed motion (its pieces are the table's intervals), within the
+// estimate for every family and piece count (corner blends for piecewise_geodesic, whose corners
+// are refused).
+TEST(WorkEstimate, BoundsTheEvaluationsOfConstantSpeedTiming)
+{
+  timing::RateBounds bounds;
+  bounds.acceleration = { 2.0, 4.0 };
+  timing::ConstantSpeedOptions options;
+  options.speed = 0.05;
+  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+    for (std::size_t n : { 3u, 9u, 40u })
+    {
+      if (std::string(curve) == "bezier" && n > 9)
+        continue;
+      TrajectoryRequest r = polygonRequest(n, curve);
+      if (std::string(curve) == "piecewise_geodesic")
+        r.blend_radius = 0.2;
+      r.timing = "constant_speed";
+      r.speed = options.speed;
+      r.max_linear_acceleration = bounds.acceleration[0];
+      const ValidatedRequest v = validateRequest(r, PlannerLimits());
+      auto counting = std::make_shared<CountingCurve<DoubleGeodesicSe3>>(makeCurve<DoubleGeodesicSe3>(v, waypointTimes(v)));
+      const auto timed = timing::makeConstantSpeedCurve<DoubleGeodesicSe3>(counting, bounds, options);
+      const std::vector<double> b = timed->breakpoints();
+      for (std::size_t i = 0; i + 1 < b.size(); ++i)  // the energy's Simpson rule (planner)
+        for (double t : { b[i], 0.5 * (b[i] + b[i + 1]), b[i + 1] })
+          kinematicsAt(*timed, t);
+      const WorkEstimate w = estimateWork(workShape(v), 0.0);
+      std::cout << "[constant_speed] " << curve << " N=" << n << ": " << counting->count << " evaluations, "
+                << w.timing_evaluations << " estimated, " << timed->profile().quintic.size() << " table intervals, "
+                << w.timing_intervals << " estimated\n";
+      EXPECT_LE(static_cast<double>(counting->count), w.timing_evaluations) << curve << " " << n;
+      EXPECT_GE(static_cast<double>(counting->count), 0.25 * w.timing_evaluations) << curve << " " << n;
+    }
 }
 
 // Per evaluation, a Bezier's de Casteljau runs d (d + 1) / 2 geodesic steps and de Boor
