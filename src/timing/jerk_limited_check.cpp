@@ -135,12 +135,19 @@ double JerkSolver::verify()
     Jet<3> middle;  ///< s at the middle: the piece's cubic
     Rates6 f0, fm, f1;
   };
-  std::vector<Piece> all;
+  std::vector<Piece> all;  ///< the pieces the search may take
   Rates6 peak{};
   std::vector<double> times;
   std::vector<double> crossing;
   std::vector<double>& motion_breaks = profile_.breakpoints;
   motion_breaks.clear();
+  {
+    // (Reserved: the pieces are about twice the grid's intervals, and growing costs copies.)
+    std::size_t room = path_breaks.size();
+    for (const auto& g : profile_.segments)
+      room += 2 * (g.last - g.first + 1);
+    motion_breaks.reserve(room);
+  }
   std::size_t count = 0;
   for (std::size_t k = 0; k < profile_.segments.size(); ++k)
   {
@@ -170,7 +177,14 @@ double JerkSolver::verify()
       p.f1 = rates(jl, sl);
       for (int q = 0; q < 6; ++q)
         peak[q] = std::max({ peak[q], p.f0[q], p.fm[q], p.f1[q] });
-      all.push_back(p);
+      // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
+      // does not reach the threshold of the peaks so far never reaches the final one (the same
+      // pieces are searched, in the same order, without holding every piece's values).
+      bool candidate = false;
+      for (int q = 0; q < 6 && !candidate; ++q)
+        candidate = detail::parabolaPeaksInside(p.f0[q], p.fm[q], p.f1[q], peak[q] * (1.0 - kRefineMargin));
+      if (candidate)
+        all.push_back(p);
     }
   }
   // The interior maxima where the parabola through ends and middle peaks near the largest value.

@@ -11,6 +11,7 @@
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
 #include "jerk_limited_solver.h"
+#include "time_optimal_solver.h"
 
 namespace se3_interpolation
 {
@@ -108,6 +109,14 @@ void JerkSolver::run(const RateBounds& b)
   grid_.clear();
   jets_.clear();
   path_caps_.clear();
+  {
+    // (Room for the grid: about twice the uniform one at most, time_optimal.cpp.)
+    const std::size_t pieces = stopping.breakpoints().size() - 1;
+    const std::size_t uniform = std::max(o.min_intervals, pieces * o.intervals_per_piece) + pieces + 1;
+    grid_.reserve(2 * uniform);
+    jets_.reserve(2 * uniform);
+    path_caps_.reserve(2 * uniform);
+  }
   o.local_limits = [this](double s) {
     grid_.push_back(s);
     jets_.push_back(path_.jet3(s, s >= path_.end() ? Side::kLeft : Side::kRight));
@@ -116,7 +125,12 @@ void JerkSolver::run(const RateBounds& b)
     l.speed_cap = path_caps_.back();
     return l;
   };
-  TimingProfile base = timeOptimalProfile(stopping, b, o);
+  // One solver for all runs: the grid and its jets depend on the path and the grid options only,
+  // so the reruns reuse them (TimeOptimalSolver::resolve).
+  // Its figures only for the last run's result, the one kept (TimingProfile::max_speed, …).
+  time_optimal_detail::TimeOptimalSolver underlying(stopping, b, o, true);
+  underlying.deferFigures();
+  TimingProfile base = underlying.solve();
   if (grid_ != base.s)
     throw InterpolationError("timing: the jerk-limited timing's grid changed between its runs");
   factor_.assign(grid_.size(), 1.0);
@@ -140,20 +154,22 @@ void JerkSolver::run(const RateBounds& b)
     }
   }
   if (short_segments)
-    rerun(stopping, b, o, &base);
+    rerun(&underlying, o, &base);
   // Plateaus where s̈_T switches sign within a window.
   setWindows(base);
   if (addPlateaus(base))
-    rerun(stopping, b, o, &base);
+    rerun(&underlying, o, &base);
   if (seg_tau_.size() != seg_first_.size())
     setWindows(base);
+  underlying.finishFigures(&base);
   buildProfile(std::move(base));
 }
 
-void JerkSolver::rerun(const PathModel& path, const RateBounds& b, const TimeOptimalOptions& o, TimingProfile* base)
+void JerkSolver::rerun(time_optimal_detail::TimeOptimalSolver* underlying, const TimeOptimalOptions& o,
+                       TimingProfile* base)
 {
   const std::vector<double> f = seg_f_;
-  *base = timeOptimalProfile(path, b, o);
+  *base = underlying->resolve(o);
   findSegments(*base);
   if (f.size() == seg_f_.size())
     seg_f_ = f;

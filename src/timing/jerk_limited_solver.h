@@ -24,6 +24,11 @@ namespace se3_interpolation
 {
 namespace timing
 {
+namespace time_optimal_detail
+{
+class TimeOptimalSolver;
+}
+
 namespace jerk_limited_detail
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -61,7 +66,7 @@ private:
 
   /// The underlying timing again with the local limits; the segments keep their factors (they
   /// stop at the same points: the corners and the ends).
-  void rerun(const PathModel& path, const RateBounds& b, const TimeOptimalOptions& o, TimingProfile* base);
+  void rerun(time_optimal_detail::TimeOptimalSolver* underlying, const TimeOptimalOptions& o, TimingProfile* base);
 
   /// The underlying timing's local limit at a grid point (the previous run's grid: the grid
   /// depends on the path and the options only).

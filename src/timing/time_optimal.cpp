@@ -38,7 +38,7 @@ const char* const kMotionVerb[2] = { "translates", "rotates" };
 }  // namespace
 
 TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bounds,
-                                     const TimeOptimalOptions& options)
+                                     const TimeOptimalOptions& options, bool reusable)
   : path_(path)
   , bounds_(bounds)
   , start_x_(options.start_speed * options.start_speed)
@@ -48,7 +48,28 @@ TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bo
     throw InvalidInputError("start_state: its speed along the path is " + formatNumber(options.start_speed) +
                             " (it must be finite)");
   buildGrid(options);
+  if (reusable)
+    grid_ = profile_.s;
   evaluateGrid(options);
+}
+
+TimingProfile TimeOptimalSolver::resolve(const TimeOptimalOptions& options)
+{
+  if (grid_.empty() || options.hold_start != hold_start_)
+    throw InterpolationError("timing: the time-optimal timing was resolved on a grid it did not keep");
+  start_x_ = options.start_speed * options.start_speed;
+  if (!(std::isfinite(start_x_) && start_x_ >= 0.0))
+    throw InvalidInputError("start_state: its speed along the path is " + formatNumber(options.start_speed) +
+                            " (it must be finite)");
+  // Everything the passes and checks change, as the constructor leaves it.
+  profile_ = TimingProfile();
+  profile_.s = grid_;
+  recovery_end_ = 0;
+  start_exceeds_ = false;
+  speed_cap_.clear();
+  k_.clear();
+  evaluateGrid(options);
+  return solve();
 }
 
 TimingProfile TimeOptimalSolver::solve()
@@ -138,18 +159,31 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
                             formatNumber(b.empty() ? 0.0 : b.back() - b.front()) + " s)");
   const double total = b.back() - b.front();
   const std::size_t pieces = b.size() - 1;
-  // The uniform grid's points and their jets first: the scale of each channel's |C′|.
+  // The number of uniform intervals on piece j.
+  const auto intervals = [&](std::size_t j) {
+    const double length = b[j + 1] - b[j];
+    const std::size_t share = static_cast<std::size_t>(
+        std::ceil(static_cast<double>(options.min_intervals) * length / total));
+    return std::max<std::size_t>({ options.intervals_per_piece, share, 2 });
+  };
+  std::size_t uniform = 1;
+  for (std::size_t j = 0; j < pieces; ++j)
+    uniform += intervals(j);
+  // The uniform grid's points and their jets first: the scale of each channel's |C′|. (Reserved:
+  // the grid's vectors are large, and growing them costs copies and fresh pages.)
   std::vector<double> s;
   std::vector<PathJet> right, left;
   std::vector<bool> corner;
+  s.reserve(uniform);
+  right.reserve(uniform);
+  left.reserve(uniform);
+  corner.reserve(uniform);
   std::array<double, 2> largest{};
   for (std::size_t j = 0; j < pieces; ++j)
   {
     checkDeadlineEvery(j, kPointsPerDeadlineCheck / 16, kPhase);
     const double length = b[j + 1] - b[j];
-    const std::size_t share = static_cast<std::size_t>(
-        std::ceil(static_cast<double>(options.min_intervals) * length / total));
-    const std::size_t m = std::max<std::size_t>({ options.intervals_per_piece, share, 2 });
+    const std::size_t m = intervals(j);
     for (std::size_t k = 0; k < m; ++k)
     {
       s.push_back(b[j] + length * static_cast<double>(k) / static_cast<double>(m));
@@ -168,8 +202,14 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   for (int c = 0; c < 2; ++c)
     refine_floor_[c] = kMoveTolerance * kMoveTolerance * largest[c];
   grid_limit_ = kMaxRefineGrowth * s.size();
-  // Then the refined grid.
+  // Then the refined grid (room for twice the uniform one's points; refinement rarely needs more).
   const std::size_t n = s.size();
+  const std::size_t room = 2 * n + 1;
+  profile_.s.reserve(room);
+  right_.reserve(room);
+  left_.reserve(room);
+  corner_.reserve(room);
+  middle_.reserve(room);
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);

@@ -97,6 +97,43 @@ Interval TimeOptimalSolver::controls(std::size_t i, double x, double next) const
   return u;
 }
 
+TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::size_t i, double next) const
+{
+  ControlConstants k;
+  const double d = delta(i);
+  k.two_delta = 2.0 * d;
+  k.next = next;
+  const PathJet& a = right_[i].jet;
+  const PathJet& b = left_[i + 1].jet;
+  for (int c = 0; c < 2; ++c)
+  {
+    if (!(bounds_.acceleration[c] > 0.0))
+      continue;
+    const double a0 = accelerationBound(i, c);
+    k.ellipse[k.ellipses++] = { a[c].bb, a[c].ab, a[c].aa, a[c].cross, a0 * a0 };
+    const ChannelJet& e = b[c];
+    const double a1 = accelerationBound(i + 1, c);
+    const double alpha = std::max(0.0, 4.0 * d * d * e.aa + 4.0 * d * e.ab + e.bb);
+    k.ellipse[k.ellipses++] = { alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a1 * a1 };
+  }
+  return k;
+}
+
+bool TimeOptimalSolver::admissible(const ControlConstants& k, double x)
+{
+  Interval u;
+  u.lo = -x / k.two_delta;
+  u.hi = (k.next - x) / k.two_delta;
+  for (int j = 0; j < k.ellipses; ++j)
+  {
+    const std::array<double, 5>& e = k.ellipse[j];
+    intersectEllipse(e[0], e[1], e[2], e[3], e[4], x, &u);
+    if (u.empty || u.lo > u.hi)
+      return false;
+  }
+  return !u.isEmpty();
+}
+
 void TimeOptimalSolver::backward()
 {
   const std::size_t n = profile_.s.size();
@@ -110,7 +147,8 @@ void TimeOptimalSolver::backward()
     if (corner_[i] || (i == 0 && !(start_x_ > 0.0)))
       continue;
     const double next = nextLimit(i);
-    auto admissible = [&](double x) { return !controls(i, x, next).isEmpty(); };
+    const ControlConstants constants = controlConstants(i, next);
+    auto admissible = [&](double x) { return TimeOptimalSolver::admissible(constants, x); };
     double hi = std::min(right_[i].x_max, previous[i]);
     if (std::isfinite(hi) && admissible(hi))
     {

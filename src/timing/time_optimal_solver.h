@@ -70,10 +70,28 @@ using Rates = std::array<double, 4>;
 class TimeOptimalSolver
 {
 public:
-  TimeOptimalSolver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options);
+  /// @param reusable keep the grid for resolve() (a copy of its path parameters)
+  TimeOptimalSolver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options,
+                    bool reusable = false);
 
   /// The passes, the final check and the stretch or the fixed start's corrections (time_optimal.cpp).
   TimingProfile solve();
+
+  /// After solve() of a reusable solver: the timing again on the same grid and jets, with the
+  /// local limits and start speed of `options` (its grid options and hold_start must be those of
+  /// the construction: they made the grid). The result is exactly what a new solver with these
+  /// options would return, without rebuilding the grid and evaluating the path's jets again (the
+  /// jerk-limited timing's reruns).
+  TimingProfile resolve(const TimeOptimalOptions& options);
+
+  /// Leaves the figures (TimingProfile::max_speed, max_acceleration, acceleration_energy) of the
+  /// following solves to finishFigures: a caller that solves several times and keeps one result
+  /// (the jerk-limited timing's reruns) computes them once.
+  void deferFigures() { defer_figures_ = true; }
+
+  /// The figures of the last solve's result `p` (which deferFigures left out), exactly as solve()
+  /// would have set them.
+  void finishFigures(TimingProfile* p);
 
 private:
   // The grid (time_optimal.cpp).
@@ -115,6 +133,23 @@ private:
 
   /// The admissible controls u_i for x_i = x with x_{i+1} ∈ [0, next].
   Interval controls(std::size_t i, double x, double next) const;
+
+  /// What controls(i, ·, next) computes that does not depend on x, for the backward pass's
+  /// bisection, which varies x only: 1/(2Δ)'s divisor, next, and the ellipses of the bounded
+  /// channels in controls' order (α, β, |a|², cross, A²).
+  struct ControlConstants
+  {
+    double two_delta = 0.0;
+    double next = 0.0;
+    int ellipses = 0;
+    std::array<std::array<double, 5>, 4> ellipse{};
+  };
+
+  ControlConstants controlConstants(std::size_t i, double next) const;
+
+  /// Whether controls(i, x, next) is non-empty, from its constants: the same arithmetic, stopping
+  /// as soon as the interval is empty (it only shrinks).
+  static bool admissible(const ControlConstants& k, double x);
 
   void backward();
 
@@ -188,6 +223,9 @@ private:
   /// the largest needs found inside intervals, before the stretch k.
   void figures(const Rates& searched, double k);
 
+  /// figures(searched, k), or keeps its arguments for finishFigures (deferFigures).
+  void setFigures(const Rates& searched, double k);
+
   /// The largest need q inside interval i: successive parabolic interpolation from the three
   /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
   double localMax(std::size_t i, int q, double f0, double fm, double f1) const;
@@ -203,6 +241,10 @@ private:
   std::size_t recovery_end_ = 0;          ///< the grid point at which the recovery (forward) ends
   bool start_exceeds_ = false;            ///< the start itself exceeds a bound
   TimingProfile profile_;
+  std::vector<double> grid_;  ///< the grid's path parameters, kept for resolve() (reusable only)
+  bool defer_figures_ = false;
+  Rates deferred_searched_{};  ///< figures()'s arguments of the last solve when deferred
+  double deferred_k_ = 1.0;
   std::vector<PointData> right_;
   std::vector<PointData> left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)

@@ -193,21 +193,41 @@ inline std::array<Eigen::VectorXd, 3> sphereKinematics3FromJet(const VectorX<Jet
   return { y1, acceleration, jerk };
 }
 
-/// The third-order path derivatives of a pose curve: (p′, p″, p‴) and (ω_s, ω′_s, ω″_s).
+/// The third-order path derivatives from a curve's third-order jet in s: of a pose curve,
+/// (p′, p″, p‴) and (ω_s, ω′_s, ω″_s).
+template <class G>
+struct PathJet3FromJet
+{
+  static PathJet3 of(const Pose<Jet<3>>& x)
+  {
+    const Kinematics3 k = kinematics3FromJet(x);
+    return { channelJet3(k.velocity.linear, k.acceleration.linear, k.jerk.linear),
+             channelJet3(k.velocity.angular, k.acceleration.angular, k.jerk.angular) };
+  }
+};
+
+/// On S^m only the angular channel moves.
+template <>
+struct PathJet3FromJet<Sphere>
+{
+  static PathJet3 of(const VectorX<Jet<3>>& x)
+  {
+    const auto k = sphereKinematics3FromJet(x);
+    return { ChannelJet3(), channelJet3(k[0], k[1], k[2]) };
+  }
+};
+
+/// The third-order path derivatives of a curve at s (PathJet3FromJet).
 /// Throws InvalidInputError for a curve without third-order jets (jet3Of).
 template <class G>
 PathJet3 pathJet3At(const Curve<G>& curve, double s, Side side)
 {
-  const Kinematics3 k = kinematics3FromJet(jet3Of(curve, Jet<3>::variable(s), side));
-  return { channelJet3(k.velocity.linear, k.acceleration.linear, k.jerk.linear),
-           channelJet3(k.velocity.angular, k.acceleration.angular, k.jerk.angular) };
+  return PathJet3FromJet<G>::of(jet3Of(curve, Jet<3>::variable(s), side));
 }
 
-/// On S^m only the angular channel moves.
 inline PathJet3 pathJet3At(const Curve<Sphere>& curve, double s, Side side)
 {
-  const auto k = sphereKinematics3FromJet(jet3Of(curve, Jet<3>::variable(s), side));
-  return { ChannelJet3(), channelJet3(k[0], k[1], k[2]) };
+  return PathJet3FromJet<Sphere>::of(jet3Of(curve, Jet<3>::variable(s), side));
 }
 
 /// Relative jump of C″ across a breakpoint above which the motion must stop there (a jump of C″
@@ -252,17 +272,28 @@ template <class G>
 class CurveJerkPath final : public JerkPathModel
 {
 public:
-  explicit CurveJerkPath(std::shared_ptr<const Curve<G>> curve) : curve_(std::move(curve)) {}
+  explicit CurveJerkPath(std::shared_ptr<const Curve<G>> curve)
+    : curve_(std::move(curve)), jets3_(dynamic_cast<const ThirdOrderJets<G>*>(curve_.get()))
+  {
+  }
   double start() const override { return curve_->startTime(); }
   double end() const override { return curve_->endTime(); }
   std::vector<double> breakpoints() const override { return curve_->breakpoints(); }
   PathJet jet(double s, Side side) const override { return pathJetAt(*curve_, s, side); }
   bool isCorner(double s) const override { return velocityJumps(*curve_, s); }
-  PathJet3 jet3(double s, Side side) const override { return pathJet3At(*curve_, s, side); }
+  /// (The curve's third-order jets are looked up once: jet3Of's dynamic_cast on every call costs
+  /// a sixth of the jet.) A curve without them throws as jet3Of does.
+  PathJet3 jet3(double s, Side side) const override
+  {
+    if (jets3_ == nullptr)
+      return pathJet3At(*curve_, s, side);
+    return PathJet3FromJet<G>::of(jets3_->jet3(Jet<3>::variable(s), side));
+  }
   bool accelerationJumps(double s, double h) const override { return timing::accelerationJumps(*curve_, s, h); }
 
 private:
   std::shared_ptr<const Curve<G>> curve_;
+  const ThirdOrderJets<G>* jets3_;  ///< the curve's third-order jets (null: it has none)
 };
 
 /// The jerk-limited timing's options: the underlying grid and the start state.
