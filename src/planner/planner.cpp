@@ -209,14 +209,17 @@ double accelerationExcess(const ValidatedRequest& r, const Curve<G>& curve, doub
 /// unless it takes the start data itself (`interpolating` with end_condition `start`). The motion's
 /// state at t = 0 is the start state exactly, whatever the timing:
 ///  - a start at rest (zero velocity and acceleration): the joined curve stretched uniformly, or
-///    the time-optimal motion from rest along it;
+///    the time-optimal or constant-speed motion from rest along it;
 ///  - a moving (or accelerating) start under `stretch`: the start velocity fixes the time scale,
 ///    so a curve that exceeds a bound (k > 1) is refused naming `timing`;
 ///  - a moving start under `time_optimal`: the time-optimal motion along the joined curve (whose
 ///    joining segment lasts about 2 d / (speed at its start + the curve's speed at its end), the
 ///    duration whose own timing comes closest to the acceleration bounds) starting at its own path
 ///    speed with its own acceleration (TimeOptimalOptions::start_speed = 1, hold_start): a start
-///    beyond the bounds recovers by braking, and the result reports when (recovery_time).
+///    beyond the bounds recovers by braking, and the result reports when (recovery_time);
+///  - a moving start under `constant_speed`: along the same joined curve, the ramp rises from the
+///    start state's chord speed and acceleration (ConstantSpeedOptions::continue_start); a start
+///    beyond the bounds is refused naming `start_state` (no recovery).
 template <class G>
 void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& times,
                           std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io, TrajectoryResult* out_io)
@@ -233,16 +236,12 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     return std::make_shared<StartJoinedCurve<G>>(s.pose, poseJet(s.pose, s.velocity, s.acceleration), 0.0, h,
                                                  std::move(rest), from);
   };
-  if (r.timing == Timing::kConstantSpeed && !at_rest)
-    throw InvalidInputError("start_state: timing 'constant_speed' starts at rest (its start ramp rises from zero "
-                            "speed), and the start state moves; use timing 'time_optimal' to continue a moving state, "
-                            "or replan once the motion has stopped");
   if (r.timing != Timing::kStretch && at_rest)
   {
     // At rest: the time-optimal or constant-speed motion along the curve from the start pose, like any other.
     applyTiming<PoseSpace, G>(r, curve_io, fig_io, out_io);
   }
-  else if (r.timing == Timing::kTimeOptimal)
+  else if (r.timing != Timing::kStretch)
   {
     const timing::RateBounds bounds = rateBounds(r);
     double h = t1;
@@ -310,7 +309,6 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
     // the waypoints' times through its s⁻¹, and the path's figures, whose rates the caller then
     // replaces with the timing's.
     const auto adopt = [&](const auto& timed) {
-      out.time_scale = timed->profile().stretch;
       validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<PoseSpace>());
       for (std::size_t i = 1; i < times.size(); ++i)
         out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
@@ -318,11 +316,26 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
       *fig_io = measureCurve(*path, rho);
       curve = timed;
     };
-    if (hasJerkBound(r))
+    if (r.timing == Timing::kConstantSpeed)
+    {
+      // The ramp rises from the joined path's chord speed and acceleration at its start (the start
+      // state's: its clock is the start state's there) to the speed.
+      timing::ConstantSpeedOptions options;
+      options.speed = r.speed;
+      options.metric = { 1.0, rho * rho };
+      options.continue_start = true;
+      auto timed = timing::makeConstantSpeedCurve<G>(path, bounds, options);
+      adopt(timed);
+      out.constant_speed_start = timed->profile().windowStart();
+      out.constant_speed_end = timed->profile().windowEnd();
+      setConstantSpeedFigures(r, *timed, fig_io);
+    }
+    else if (hasJerkBound(r))
     {
       timing::JerkLimitedOptions options;
       options.start_speed = 1.0;
       auto timed = timing::makeJerkLimitedCurve<G>(path, bounds, options);
+      out.time_scale = timed->profile().stretch;
       adopt(timed);
       setJerkLimitedFigures(r, *timed, fig_io);
     }
@@ -345,6 +358,7 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
                                 "slowly or farther from the first waypoint, or raise the acceleration bounds");
       }
       out.recovery_time = timed->profile().recovery_end - timed->startTime();
+      out.time_scale = timed->profile().stretch;
       adopt(timed);
       setTimedFigures(r, timed->profile(), fig_io);
     }

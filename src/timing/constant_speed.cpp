@@ -30,6 +30,8 @@ constexpr double kBreakTolerance = 1e-9;
 const double kSlopeErrorPeak = 0.5 - 0.5 / std::sqrt(5.0);
 /// The chord speed the window is guaranteed to hold, relative (docs/timing.md: 1e-6 promised).
 constexpr double kChordSpeedGuarantee = 1e-7;
+/// Steps on which a moving start's ramp speed is checked to stay positive.
+constexpr int kRampVelocitySteps = 256;
 /// Bisection steps of the inverse maps (to rounding).
 constexpr int kBisectionSteps = 100;
 /// Pieces of the check between two checks of the request's deadline.
@@ -106,18 +108,20 @@ public:
     requireArguments();
     buildTable();
     p_.length = p_.sigma.back();
-    // The straight line's shortest ramp under the ramps' bounds (file comment).
-    const double v = p_.speed;
-    double ramp = 0.0;
-    const double a = rampBound(bounds_.acceleration);
-    const double j = rampBound(bounds_.jerk);
-    if (a > 0.0)
-      ramp = kRampAccelerationPeak * v / a;
-    if (j > 0.0)
-      ramp = std::max(ramp, std::sqrt(kRampJerkPeak * v / j));
-    requireSpeedHeldEverywhere();
-    p_.ramp_up = p_.ramp_down = ramp;
+    if (options_.continue_start)
+    {
+      // σ̇ = g ṡ and σ̈ = g′ṡ² + g s̈ at ṡ = 1, s̈ = 0.
+      const ChordSpeed c = chordSpeed(path_.jet(p_.s.front(), Side::kRight), options_.metric);
+      p_.start_speed = c.g;
+      p_.start_acceleration = c.dg;
+    }
+    // The straight line's shortest ramps under the ramps' bounds (file comment); from a moving start,
+    // for the change of speed it makes (at least a millionth of the cruise, so that T_u > 0).
+    p_.ramp_up = std::max(shortestRamp(std::abs(p_.speed - p_.start_speed)), 1e-6 * p_.length / p_.speed);
+    p_.ramp_down = shortestRamp(p_.speed);
     requireRoomForRamps();
+    // The speed held between the shortest ramps (lengthening them only shortens the cruise).
+    requireBoundsHeld(check(arcA(), arcB(), true));
     for (const bool up : { true, false })
       fitRamp(up);
     checkCruise();
@@ -125,6 +129,19 @@ public:
   }
 
 private:
+  /// The shortest ramp that changes the chord speed by dv on a straight line (file comment).
+  double shortestRamp(double dv) const
+  {
+    double ramp = 0.0;
+    const double a = rampBound(bounds_.acceleration);
+    const double j = rampBound(bounds_.jerk);
+    if (a > 0.0)
+      ramp = kRampAccelerationPeak * dv / a;
+    if (j > 0.0)
+      ramp = std::max(ramp, std::sqrt(kRampJerkPeak * dv / j));
+    return ramp;
+  }
+
   /// min(a_lin, ρ a_ang) over the bounds given (ρ = √w_ang), 0 when none is.
   double rampBound(const std::array<double, 2>& b) const
   {
@@ -251,7 +268,7 @@ private:
 
   void requireRoomForRamps() const
   {
-    const double needed = 0.5 * p_.speed * (p_.ramp_up + p_.ramp_down);
+    const double needed = p_.rampUpLength() + p_.rampDownLength();
     if (needed > p_.length)
       throw InvalidInputError("speed: the path is " + formatNumber(p_.length) + " long (chord length), shorter than "
                               "its start and stop ramps to " + formatNumber(p_.speed) + " m/s (" +
@@ -398,15 +415,12 @@ private:
     return e;
   }
 
-  double arcA() const { return 0.5 * p_.speed * p_.ramp_up; }
-  double arcB() const { return p_.length - 0.5 * p_.speed * p_.ramp_down; }
+  double arcA() const { return p_.rampUpLength(); }
+  double arcB() const { return p_.length - p_.rampDownLength(); }
 
-  /// Refuses a speed that breaks a bound somewhere along the path when held there (file comment):
-  /// the whole path checked at the chord speed V, without ramps.
-  void requireSpeedHeldEverywhere()
+  /// Refuses a speed whose cruise breaks a bound (file comment), naming the bound.
+  void requireBoundsHeld(const Excess& e) const
   {
-    p_.ramp_up = p_.ramp_down = 0.0;
-    const Excess e = check(0.0, p_.length, false);
     for (int k = 0; k < 3; ++k)
       if (e.ratio[k] > 1.0 + kBreakTolerance)
         refuse(k, e);
@@ -415,17 +429,25 @@ private:
   /// Lengthens one ramp until every bound holds on it (file comment).
   void fitRamp(bool up)
   {
+    const bool moving = up && options_.continue_start;
     for (int pass = 0; pass < kMaxRampPasses; ++pass)
     {
       requireRoomForRamps();
+      if (moving)
+        requireRisingRamp();
       const Excess e = up ? check(0.0, arcA(), false) : check(arcB(), p_.length, false);
+      if (moving && std::max({ e.ratio[0], e.ratio[1], e.ratio[2] }) > 1.0 + kBreakTolerance && pass + 1 == kMaxRampPasses)
+        refuseStart(e);
       if (e.ratio[0] > 1.0 + kBreakTolerance)
-        refuse(0, e);
+        moving ? refuseStart(e) : refuse(0, e);
       const double f = std::max({ 1.0, std::sqrt(e.ratio[1]), std::cbrt(e.ratio[2]) });
       if (f <= 1.0 + kBreakTolerance)
         return;
       (up ? p_.ramp_up : p_.ramp_down) *= f * (1.0 + 1e-3);
     }
+    if (moving)
+      throw InvalidInputError("start_state: the ramp from its chord speed " + formatNumber(p_.start_speed) + " to " +
+                              formatNumber(p_.speed) + " m/s keeps exceeding the acceleration or jerk bounds");
     throw InvalidInputError(std::string("speed: its ") + (up ? "start" : "stop") + " ramp to " +
                             formatNumber(p_.speed) + " m/s keeps exceeding the acceleration or jerk bounds (the "
                             "path bends too sharply there); lower the speed");
@@ -436,16 +458,48 @@ private:
   void checkCruise()
   {
     p_.max_speed = p_.max_acceleration = p_.max_jerk = {};
-    const Excess e = check(arcA(), arcB(), true);
-    for (int k = 0; k < 3; ++k)
-      if (e.ratio[k] > 1.0 + kBreakTolerance)
-        refuse(k, e);
+    p_.chord_speed_deviation = 0.0;
+    requireBoundsHeld(check(arcA(), arcB(), true));
     if (!(p_.chord_speed_deviation <= kChordSpeedGuarantee))
       throw InterpolationError("speed: the chord speed of the window is off " + formatNumber(p_.speed) + " m/s by " +
                                formatNumber(p_.chord_speed_deviation) + " (relative) where its table could not be "
                                "refined further (the path's parameter speed varies too fast); give more even times");
     check(0.0, arcA(), false);
     check(arcB(), p_.length, false);
+  }
+
+  /// From a moving start, the ramp up's chord speed v_0 + (V − v_0) P′(τ) + a_0 T_u H₁(τ) must stay
+  /// above 0 (the motion would turn back along the path): checked on 256 steps of the quintic.
+  void requireRisingRamp() const
+  {
+    const double v0 = p_.start_speed, dv = p_.speed - p_.start_speed, a0t = p_.start_acceleration * p_.ramp_up;
+    for (int i = 1; i <= kRampVelocitySteps; ++i)
+    {
+      const double tau = static_cast<double>(i) / kRampVelocitySteps;
+      const double smooth = tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
+      const double h1 = tau * (1.0 + tau * tau * (-6.0 + tau * (8.0 - 3.0 * tau)));
+      if (!(v0 + dv * smooth + a0t * h1 > 0.0))
+        throw InvalidInputError("start_state: its chord acceleration " + formatNumber(p_.start_acceleration) +
+                                " m/s^2 would turn the motion back along the path before it reaches " +
+                                formatNumber(p_.speed) + " m/s; replan when it brakes less, or use timing "
+                                "'time_optimal'");
+    }
+  }
+
+  /// A moving start whose ramp breaks a bound the ramp's length cannot bring back (the start state
+  /// itself beyond one, or braking from it): refused naming start_state.
+  [[noreturn]] void refuseStart(const Excess& e) const
+  {
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+      if (e.ratio[i] > e.ratio[k])
+        k = i;
+    const char* const* names = k == 0 ? kVelocityName : k == 1 ? kAccelerationName : kJerkName;
+    throw InvalidInputError("start_state: the ramp from its chord speed " + formatNumber(p_.start_speed) + " to " +
+                            formatNumber(p_.speed) + " m/s takes " + formatNumber(e.ratio[k]) + " times " +
+                            names[e.channel[k]] + " at path time " + formatNumber(e.where[k]) +
+                            " s (timing 'constant_speed' does not recover from a start beyond the bounds); use "
+                            "timing 'time_optimal', or replan from a slower state");
   }
 
   [[noreturn]] void refuse(int k, const Excess& e) const
@@ -477,7 +531,7 @@ std::size_t ConstantSpeedProfile::intervalAt(double arc, Side side) const
 
 double ConstantSpeedProfile::timeAtArcLength(double arc) const
 {
-  const double a = 0.5 * speed * ramp_up, b = length - 0.5 * speed * ramp_down;
+  const double a = rampUpLength(), b = length - rampDownLength();
   if (arc <= 0.0)
     return t0;
   if (arc >= length)
@@ -485,15 +539,19 @@ double ConstantSpeedProfile::timeAtArcLength(double arc) const
   if (arc >= a && arc <= b)
     return windowStart() + (arc - a) / speed;
   // P is increasing on [0, 1]: bisection for the ramp's fraction.
+  // σ is increasing over each ramp (the ramp up's speed is checked to stay positive): bisection
+  // for the ramp's fraction.
   const bool up = arc < a;
-  const double target = up ? arc / (speed * ramp_up) : (length - arc) / (speed * ramp_down);
+  const auto reached = [&](double tau) {
+    return up ? arcLength(t0 + tau * ramp_up) < arc : length - speed * ramp_down * rampShape(tau) > arc;
+  };
   double lo = 0.0, hi = 1.0;
   for (int i = 0; i < kBisectionSteps && hi - lo > 0.0; ++i)
   {
     const double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi)
       break;
-    (rampShape(mid) < target ? lo : hi) = mid;
+    (reached(mid) ? lo : hi) = mid;
   }
   const double tau = 0.5 * (lo + hi);
   return up ? t0 + tau * ramp_up : endTime() - tau * ramp_down;

@@ -9,7 +9,10 @@
 //   ramp up    σ(t) = V T_u P((t − t_0)/T_u),              t_0 ≤ t ≤ t_a = t_0 + T_u
 //   cruise     σ(t) = σ_a + V (t − t_a),                   σ_a = V T_u / 2, up to σ_b = L − V T_d / 2
 //   ramp down  σ(t) = L − V T_d P((t_e − t)/T_d),           t_e − T_d ≤ t ≤ t_e
-// with P(τ) = τ⁴ (5/2 − 3τ + τ²), whose derivative is the quintic smoothstep
+// (from a moving start, the ramp up rises from the start's chord speed v_0 and acceleration a_0:
+// σ̇ = v_0 + (V − v_0) P′(τ) + a_0 T_u H₁(τ), H₁ the quintic Hermite basis of the slope at 0, so
+// σ_a = T_u (V + v_0)/2 + a_0 T_u²/10; a ramp whose σ̇ would not stay positive is refused naming
+// `start_state`) with P(τ) = τ⁴ (5/2 − 3τ + τ²), whose derivative is the quintic smoothstep
 // P′(τ) = 10τ³ − 15τ⁴ + 6τ⁵ (rising from 0 to 1 with zero first and second derivatives at both
 // ends, ∫₀¹ P′ = ½): the chord speed rises from rest to V and falls back with continuous
 // acceleration and jerk (σ̈ = V P″/T, σ⃛ = V P‴/T², zero at both ends of a ramp; on a straight
@@ -40,10 +43,10 @@
 // (C′ jumps) needs an infinite acceleration at any speed and names the acceleration bound of the
 // channel that turns; with a jerk bound, a jump of C″ inside the window (a path that is only C¹
 // there: hermite, blended continuity 1, a B-spline whose acceleration jumps at a knot) is an
-// infinite jerk and names the jerk bound; and a bound that holding V breaks anywhere along the path
-// (checked on the whole path at V before the ramps are fitted, the same check as below: a speed above
-// max_*_velocity, the centripetal acceleration V²κ of a bend, the jerk of a tightening bend) names
-// that bound. The speed is thus one the whole path can be passed at, ramps aside.
+// infinite jerk and names the jerk bound; and a bound that holding V breaks between the shortest
+// ramps (checked before the ramps are fitted, which only lengthens them and shortens the cruise: a
+// speed above max_*_velocity, the centripetal acceleration V²κ of a bend, the jerk of a tightening
+// bend) names that bound. The speed is thus one the path can be passed at outside its shortest ramps.
 //
 // Verification: every grid interval, mapped to the times it is passed, is evaluated at its two
 // ends (one-sided) and its middle with exact path jets (third-order ones when a jerk bound is set:
@@ -82,6 +85,10 @@ struct ConstantSpeedOptions
   std::array<double, 2> metric{ 1.0, 1.0 };  ///< w_lin, w_ang of eq. 1 (poses: 1 and ρ²)
   std::size_t intervals_per_piece = 16;      ///< grid of S and of the check (as time_optimal's)
   std::size_t min_intervals = 512;
+  /// Start moving, at the path's own speed at its start (ṡ = 1, s̈ = 0: a path whose clock at its
+  /// start is the start state's, like the joined curve of a replan): the ramp rises from the chord
+  /// speed g(s_0) and chord acceleration g′(s_0) to V instead of from rest (file comment).
+  bool continue_start = false;
 };
 
 /// The ramp's shape P(τ) = τ⁴ (5/2 − 3τ + τ²) on [0, 1] (a double or a jet).
@@ -89,6 +96,14 @@ template <class S>
 S rampShape(const S& tau)
 {
   return tau * tau * tau * tau * (2.5 + tau * (-3.0 + tau));
+}
+
+/// The moving start's extra shape Q(τ) = ∫₀^τ H₁ with H₁(τ) = τ − 6τ³ + 8τ⁴ − 3τ⁵ (the quintic
+/// Hermite basis function of the slope at 0: H₁′(0) = 1, every other end value 0); Q(1) = 1/10.
+template <class S>
+S startShape(const S& tau)
+{
+  return tau * tau * (0.5 + tau * tau * (-1.5 + tau * (1.6 - 0.5 * tau)));
 }
 
 /// The timing s(t) = S(σ(t)) (file comment).
@@ -99,6 +114,8 @@ struct ConstantSpeedProfile
   double ramp_up = 0.0;    ///< T_u (s)
   double ramp_down = 0.0;  ///< T_d (s)
   double length = 0.0;     ///< L, the path's chord length
+  double start_speed = 0.0;         ///< v_0, the chord speed the ramp up starts from (0: at rest)
+  double start_acceleration = 0.0;  ///< a_0, its chord acceleration there
   std::vector<double> s;      ///< grid of the path parameter (ends and breakpoints included)
   std::vector<double> sigma;  ///< σ at each grid point (0 … L)
   /// Per grid interval k, the quintic S(σ_k + u) = Σ c_j u^j.
@@ -111,25 +128,36 @@ struct ConstantSpeedProfile
   double chord_speed_deviation = 0.0;
 
   double startTime() const { return t0; }
-  double cruiseDuration() const { return (length - 0.5 * speed * (ramp_up + ramp_down)) / speed; }
+  /// σ_a, the chord length of the ramp up: T_u (V + v_0)/2 + a_0 T_u²/10.
+  double rampUpLength() const { return ramp_up * (0.5 * (speed + start_speed) + 0.1 * start_acceleration * ramp_up); }
+  double rampDownLength() const { return 0.5 * speed * ramp_down; }
+  double cruiseDuration() const { return (length - rampUpLength() - rampDownLength()) / speed; }
   double windowStart() const { return t0 + ramp_up; }
   double windowEnd() const { return windowStart() + cruiseDuration(); }
   double endTime() const { return windowEnd() + ramp_down; }
   double duration() const { return endTime() - startTime(); }
 
-  /// σ(t) (a double or a jet of time); σ = 0 before the start and L after the end.
+  /// σ(t) (a double or a jet of time); L after the end; before the start (and at it from the left,
+  /// as the first sample) 0, or from a moving start the motion it continues, at v_0 and a_0.
   template <class S>
   S arcLength(const S& time) const
   {
     const double tv = valueOf(time);
     if (tv <= t0)
-      return S(0.0);
+    {
+      const S h = time - t0;
+      return start_speed * h + (0.5 * start_acceleration) * (h * h);
+    }
     if (tv >= endTime())
       return S(length);
     if (tv < windowStart())
-      return (speed * ramp_up) * rampShape((time - t0) / ramp_up);
+    {
+      const S tau = (time - t0) / ramp_up;
+      return ramp_up * (start_speed * tau + (speed - start_speed) * rampShape(tau) +
+                        (start_acceleration * ramp_up) * startShape(tau));
+    }
     if (tv <= windowEnd())
-      return S(0.5 * speed * ramp_up) + speed * (time - windowStart());
+      return S(rampUpLength()) + speed * (time - windowStart());
     return S(length) - (speed * ramp_down) * rampShape((S(endTime()) - time) / ramp_down);
   }
 

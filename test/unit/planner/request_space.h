@@ -51,7 +51,7 @@ inline const std::vector<std::string>& requestFieldNames()
     "start_velocity",    "end_velocity",    "start_acceleration", "velocities",
     "parameterization",  "rotation_scale",  "duration",       "max_linear_velocity",
     "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk",
-    "max_angular_jerk",  "timing",
+    "max_angular_jerk",  "timing",          "speed",
     "sample_times",      "sample_period",   "sample_count",   "blend_radius",
     "start_state",       "from_current",    "outputs",
   };

@@ -310,15 +310,16 @@ TEST(ConstantSpeed, WhatCannotBeHeldIsRefusedNamingItsField)
   clamped.speed = 0.1;
   clamped.max_linear_acceleration = 1.0;
   expectRefused(clamped, "speed", "stands still");
-  // A moving start state.
+  // A start state beyond a bound (no recovery under constant_speed).
   TrajectoryRequest moving = line(2.0, 0.0);
   moving.speed = 0.3;
+  moving.max_linear_velocity = 0.5;
   moving.max_linear_acceleration = 1.0;
   StartState start;
   start.pose = moving.waypoints[0];
-  start.velocity.linear = Eigen::Vector3d(0.1, 0.0, 0.0);
+  start.velocity.linear = Eigen::Vector3d(0.8, 0.0, 0.0);
   moving.start_state = start;
-  expectRefused(moving, "start_state", "constant_speed");
+  expectRefused(moving, "start_state", "does not recover");
   // Bad speeds: nothing is served.
   for (double bad : { 0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity() })
   {
@@ -343,6 +344,50 @@ TEST(ConstantSpeed, AStartStateAtRestStartsTheRampThere)
   EXPECT_LT((out.samples.front().pose.p - start.pose.p).norm(), 1e-12);
   expectWithinBounds(r, out, "start at rest");
   EXPECT_GT(out.constant_speed_end, out.constant_speed_start);
+}
+
+// A replan from a moving state: the first sample is the start state (pose, velocity and
+// acceleration), the ramp takes its chord speed to `speed` within the bounds, and the window holds
+// it; faster and slower starts than the speed, on both geometries.
+TEST(ConstantSpeed, AMovingStartRampsFromItsStateToTheSpeed)
+{
+  for (const char* geometry : { "double_geodesic", "screw" })
+    for (double v0 : { 0.05, 0.3 })
+    {
+      TrajectoryRequest r = polygon(8, 0.2, 0.15);
+      r.geometry = geometry;
+      StartState start;
+      start.pose = r.waypoints[0];
+      start.pose.p += Eigen::Vector3d(0.0, -0.3, 0.0);
+      start.velocity.linear = Eigen::Vector3d(0.2, 0.5, 0.0).normalized() * v0;
+      start.velocity.angular = Eigen::Vector3d(0.0, 0.0, 0.02);
+      start.acceleration.linear = Eigen::Vector3d(0.05, -0.02, 0.0);
+      r.start_state = start;
+      r.speed = 0.15;
+      r.max_linear_velocity = 0.5;
+      r.max_linear_acceleration = 1.0;
+      r.max_linear_jerk = 20.0;
+      r.sample_period = 1e-3;
+      const std::string what = std::string(geometry) + " v0 " + std::to_string(v0);
+      const TrajectoryResult out = generate(r, unhurriedLimits());
+      const TrajectorySample& first = out.samples.front();
+      EXPECT_LT((first.pose.p - start.pose.p).norm(), 1e-12) << what;
+      EXPECT_LT((first.velocity.linear - start.velocity.linear).norm(), 1e-9) << what;
+      EXPECT_LT((first.velocity.angular - start.velocity.angular).norm(), 1e-9) << what;
+      EXPECT_LT((first.acceleration.linear - start.acceleration.linear).norm(), 1e-7) << what;
+      for (const auto& s : out.samples)
+        if (s.time > out.constant_speed_start && s.time < out.constant_speed_end)
+          EXPECT_NEAR(std::hypot(s.velocity.linear.norm(), s.velocity.angular.norm()), r.speed, 1e-6 * r.speed)
+              << what << " t " << s.time;
+      // Within the bounds throughout; rest at the end only.
+      for (const auto& s : out.samples)
+      {
+        EXPECT_LE(s.velocity.linear.norm(), 0.5 * (1 + 1e-6)) << what;
+        EXPECT_LE(s.acceleration.linear.norm(), 1.0 * (1 + 1e-6)) << what;
+      }
+      EXPECT_LT(out.samples.back().velocity.linear.norm(), 1e-9) << what;
+      EXPECT_GT(out.constant_speed_end, out.constant_speed_start + 5.0) << what;
+    }
 }
 
 TEST(ConstantSpeed, OtherTimingsDoNotReadSpeedButRefuseBadValues)
