@@ -322,6 +322,12 @@ void TimeOptimalSolver::prepare(PointData* p, double s) const
       }
     }
   }
+  // The ellipses' extents for updateCaps, once per jet instead of once per pass.
+  for (int c = 0; c < 2; ++c)
+  {
+    const ChannelJet& j = p->jet[c];
+    p->extent[c] = j.cross > 0.0 ? std::sqrt(j.bb / j.cross) : (j.bb == 0.0 && j.aa > 0.0 ? std::sqrt(j.aa) : 0.0);
+  }
 }
 
 }  // namespace time_optimal_detail

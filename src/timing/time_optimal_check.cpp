@@ -100,23 +100,46 @@ double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, dou
 void TimeOptimalSolver::verifyAndStretch()
 {
   const std::size_t n = profile_.s.size();
-  const IntervalNeeds f = intervalNeeds();
+  // The needs at the ends and middle of every interval; kept only for the intervals whose parabola
+  // reaches the threshold of the worst need so far: the worst only grows, so no other interval is
+  // searched below (and an unsearched interval's peak, the largest of its three needs, is at most
+  // the worst). The same intervals are searched, in the same order, as with every interval's needs
+  // held.
+  struct Candidate
+  {
+    std::size_t i;
+    Rates f0, fm, f1;
+  };
+  std::vector<Candidate> candidates;
   double worst = 0.0;
   for (std::size_t i = 0; i + 1 < n; ++i)
+  {
+    checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+    Candidate c{ i, needs(right_[i].raw, profile_.x[i], profile_.u[i]), needsAtMiddle(i),
+                 needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]) };
     for (int q = 0; q < 4; ++q)
-      worst = std::max({ worst, f.start[i][q], f.middle[i][q], f.end[i][q] });
+      worst = std::max({ worst, c.f0[q], c.fm[q], c.f1[q] });
+    const double so_far = worst * (1.0 - kRefineMargin);
+    for (int q = 0; q < 4; ++q)
+      if (detail::parabolaPeaksInside(c.f0[q], c.fm[q], c.f1[q], so_far))
+      {
+        candidates.push_back(c);
+        break;
+      }
+  }
   const double threshold = worst * (1.0 - kRefineMargin);
   double refined = worst;
   Rates searched{};
-  for (std::size_t i = 0; i + 1 < n; ++i)
+  std::size_t count = 0;
+  for (const Candidate& c : candidates)
   {
-    checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    checkDeadlineEvery(count++, kIntervalsPerSearchDeadlineCheck, kPhase);
     for (int q = 0; q < 4; ++q)
     {
-      bool was_searched = false;
-      const double p = peak(f, i, q, threshold, &was_searched);
-      if (was_searched)
-        searched[q] = std::max(searched[q], p);
+      if (!detail::parabolaPeaksInside(c.f0[q], c.fm[q], c.f1[q], threshold))
+        continue;
+      const double p = localMax(c.i, q, c.f0[q], c.fm[q], c.f1[q]);
+      searched[q] = std::max(searched[q], p);
       refined = std::max(refined, p);
     }
   }

@@ -63,9 +63,9 @@ void TimeOptimalSolver::updateCaps()
         if (a > 0.0)
         {
           if (j.cross > 0.0)
-            p->x_max = std::min(p->x_max, a * std::sqrt(j.bb / j.cross));
+            p->x_max = std::min(p->x_max, a * p->extent[c]);
           else if (j.bb == 0.0 && j.aa > 0.0)
-            p->x_max = std::min(p->x_max, a / std::sqrt(j.aa));
+            p->x_max = std::min(p->x_max, a / p->extent[c]);
         }
       }
     }

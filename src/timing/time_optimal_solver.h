@@ -61,6 +61,9 @@ struct PointData
   PathJet jet;          ///< for the constraints (floored at stationary points)
   PathJet raw;          ///< the path's own, for the checks
   double x_max = kInf;  ///< from (2) and the extents of the ellipses (3), with the local factors
+  /// Per channel, what the extent of the ellipse (3) takes from the jet (prepare): √(|C′|²/cross)
+  /// (x ≤ a_max · it), or where C′ = 0, √|C″|² (x ≤ a_max / it); 0 where neither applies.
+  std::array<double, 2> extent{};
 };
 
 /// The four rates: linear / angular velocity (0, 1), linear / angular acceleration (2, 3).
