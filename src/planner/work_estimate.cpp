@@ -37,8 +37,11 @@ constexpr double kTimeOptimalSearchEvaluations = 4096.0;
 constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
 /// The jerk-limited timing (timing/jerk_limited.h): up to three runs of the acceleration-only
-/// timing and a check of about twice its intervals with third-order jets (measured about 2.2 times
-/// its cost: bench_time_optimal); counted as three times its work.
+/// timing on one grid and a check of about twice its intervals with third-order jets (measured 1.5
+/// times its cost at 1000 waypoints, 1.7 at 3000: bench_time_optimal, docs/performance.md);
+/// counted as three times its work, which the cache misses of long paths use up: the estimate for
+/// 10⁴ waypoints of bench_time_optimal's spline is 1.42 s, and the timing alone took 1.43 s on the
+/// 2-vCPU EPYC VM of that measurement.
 constexpr double kJerkLimitedTimingFactor = 3.0;
 /// The constant-speed timing (timing/constant_speed.h) on time_optimal's grid: per interval two
 /// jets at its ends, 8 Gauss-Legendre nodes and a middle for the table of S(σ), three points of the

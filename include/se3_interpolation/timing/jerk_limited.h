@@ -56,9 +56,12 @@
 //    k = max(1, v/v_max, √(a/a_max), ∛(j/j_max)) over the peaks (velocities scale by 1/k,
 //    accelerations by 1/k², jerks by 1/k³).
 // Cost: up to three runs of the underlying timing (with the path's speed caps, with lowered
-// accelerations on short segments, with plateaus; two on most paths) and a check of about twice
-// its grid's intervals, each with two third-order path jets: linear in the path's length
-// (bench/bench_time_optimal.cpp: about 2.2 times the acceleration-only timing's cost).
+// accelerations on short segments, with plateaus; two on most paths), which share one grid and its
+// path jets (TimeOptimalSolver::resolve: the reruns only redo the passes and the check), and a
+// check of about twice its grid's intervals, each with two third-order path jets: linear in the
+// path's length in its work (bench/bench_time_optimal.cpp: about 1.5 times the acceleration-only
+// timing's cost at 1000 waypoints, 1.7 at 3000, where its data outgrow the cache;
+// docs/performance.md).
 //
 // Start state (JerkLimitedOptions): a motion that starts moving at path speed ṡ0 ≥ 0 with path
 // acceleration s̈0 starts its window on the timing s_T extended before its start by the motion it
