@@ -106,7 +106,7 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
       out.constant_speed_start = timed->profile().windowStart();
       out.constant_speed_end = timed->profile().windowEnd();
       curve = timed;
-      setConstantSpeedFigures(r, *timed, &fig);
+      setConstantSpeedFigures(*timed, &fig);
       return;
     }
   if (r.timing == Timing::kTimeOptimal && hasJerkBound(r))
@@ -328,7 +328,7 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
       adopt(timed);
       out.constant_speed_start = timed->profile().windowStart();
       out.constant_speed_end = timed->profile().windowEnd();
-      setConstantSpeedFigures(r, *timed, fig_io);
+      setConstantSpeedFigures(*timed, fig_io);
     }
     else if (hasJerkBound(r))
     {

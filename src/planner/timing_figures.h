@@ -145,12 +145,11 @@ void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::
   fig->energy = piecewiseEnergy(timed, r.rotation_scale);
 }
 
-/// The figures of a constant-speed motion: length and rotation length are the path's; the peaks are
-/// the timing's verified ones (ConstantSpeedProfile; the jerk's with a jerk bound, else 0 as for the
-/// other timings without one), the energy the motion's.
-template <class Space, class G>
-void setConstantSpeedFigures(const BasicValidatedRequest<Space>& r, const timing::ConstantSpeedCurve<G>& timed,
-                             CurveFigures* fig)
+/// The figures of a constant-speed motion: length and rotation length are the path's; the peaks and
+/// the energy are the timing's, from its final check (ConstantSpeedProfile; the jerk's with a jerk
+/// bound, else 0 as for the other timings without one).
+template <class G>
+void setConstantSpeedFigures(const timing::ConstantSpeedCurve<G>& timed, CurveFigures* fig)
 {
   const timing::ConstantSpeedProfile& p = timed.profile();
   fig->max_linear_speed = p.max_speed[timing::kLinear];
@@ -159,7 +158,7 @@ void setConstantSpeedFigures(const BasicValidatedRequest<Space>& r, const timing
   fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
   fig->max_linear_jerk = p.max_jerk[timing::kLinear];
   fig->max_angular_jerk = p.max_jerk[timing::kAngular];
-  fig->energy = piecewiseEnergy(timed, r.rotation_scale);
+  fig->energy = p.acceleration_energy;
 }
 
 }  // namespace planner_detail

@@ -24,12 +24,14 @@ const double kRampJerkPeak = 10.0 / std::sqrt(3.0);
 /// A rate checked at a piece's ends and middle is searched inside the piece when it, or the
 /// parabola through the three values, comes within this fraction of its bound.
 constexpr double kNearBound = 0.1;
+/// A rate whose three values on a piece agree to this (relative) is flat there: not searched.
+constexpr double kFlatRelative = 1e-9;
 /// A bound is broken when a rate exceeds it by more than this (relative): rounding of the jets.
 constexpr double kBreakTolerance = 1e-9;
 /// Where the slope error of a quintic Hermite interpolant peaks on its interval: ½ − 1/(2√5).
 const double kSlopeErrorPeak = 0.5 - 0.5 / std::sqrt(5.0);
 /// The chord speed the window is guaranteed to hold, relative (docs/timing.md: 1e-6 promised).
-constexpr double kChordSpeedGuarantee = 1e-7;
+constexpr double kChordSpeedGuarantee = 5e-7;
 /// Steps on which a moving start's ramp speed is checked to stay positive.
 constexpr int kRampVelocitySteps = 256;
 /// Bisection steps of the inverse maps (to rounding).
@@ -121,10 +123,15 @@ public:
     p_.ramp_down = shortestRamp(p_.speed);
     requireRoomForRamps();
     // The speed held between the shortest ramps (lengthening them only shortens the cruise).
-    requireBoundsHeld(check(arcA(), arcB(), true));
+    const double shortest_a = arcA(), shortest_b = arcB();
+    Excess cruise = check(shortest_a, shortest_b, true, true);
+    requireBoundsHeld(cruise);
     for (const bool up : { true, false })
       fitRamp(up);
-    checkCruise();
+    // The figures of the motion as fitted: the cruise checked again only where the ramps grew.
+    if (arcA() != shortest_a || arcB() != shortest_b)
+      cruise = check(arcA(), arcB(), true, true);
+    setFigures({ check(0.0, arcA(), false, true), cruise, check(arcB(), p_.length, false, true) });
     return std::move(p_);
   }
 
@@ -163,32 +170,39 @@ private:
                               "ramps (m/s^2, above 0)");
   }
 
-  /// The grid of S (file comment) and its quintics.
+  /// The grid of S (file comment) and its quintics; the check's pieces.
   void buildTable()
   {
     const std::vector<double> b = path_.breakpoints();
     const double total = b.back() - b.front();
     std::vector<double> grid;
+    std::vector<bool> breakpoint, checked;  // per grid point: a path breakpoint; a piece end of the check
     for (std::size_t i = 0; i + 1 < b.size(); ++i)
     {
       const double len = b[i + 1] - b[i];
       if (!(len > 0.0))
         continue;
       const double share = total > 0.0 ? static_cast<double>(options_.min_intervals) * len / total : 0.0;
-      const std::size_t n = std::max<std::size_t>(options_.intervals_per_piece, static_cast<std::size_t>(std::ceil(share)));
+      const std::size_t n = 2 * std::max<std::size_t>(options_.intervals_per_piece, static_cast<std::size_t>(std::ceil(share)));
       for (std::size_t k = 0; k < n; ++k)
+      {
         grid.push_back(k == 0 ? b[i] : b[i] + len * static_cast<double>(k) / static_cast<double>(n));
+        breakpoint.push_back(k == 0);
+        checked.push_back(k % 2 == 0);
+      }
     }
     grid.push_back(b.back());
+    breakpoint.push_back(true);
+    checked.push_back(true);
     requireSmoothMotion(b);
-    // The stand-stills: g at every grid point, from both sides at the breakpoints.
+    // The stand-stills: g at every grid point (from both sides at the breakpoints).
     std::vector<ChordSpeed> right(grid.size()), left(grid.size());
     double g_max = 0.0;
     for (std::size_t i = 0; i < grid.size(); ++i)
     {
       checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing");
       right[i] = chordSpeed(path_.jet(grid[i], Side::kRight), options_.metric);
-      left[i] = chordSpeed(path_.jet(grid[i], Side::kLeft), options_.metric);
+      left[i] = breakpoint[i] ? chordSpeed(path_.jet(grid[i], Side::kLeft), options_.metric) : right[i];
       g_max = std::max({ g_max, right[i].g, left[i].g });
     }
     for (std::size_t i = 0; i < grid.size(); ++i)
@@ -203,8 +217,11 @@ private:
     for (std::size_t i = 0; i + 1 < grid.size(); ++i)
     {
       checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing");
+      if (checked[i])
+        p_.check_sigma.push_back(p_.sigma.back());
       addInterval(grid[i], right[i], grid[i + 1], left[i + 1], 0);
     }
+    p_.check_sigma.push_back(p_.sigma.back());
   }
 
   /// Appends [s0, s1] (or its halves, where the chord speed of its quintic is off) to the table.
@@ -212,8 +229,8 @@ private:
   {
     double arc = 0.0;
     const double half = 0.5 * (s1 - s0), mid = 0.5 * (s0 + s1);
-    for (std::size_t q = 0; q < kGaussNodes.size(); ++q)
-      arc += kGaussWeights[q] * chordSpeed(path_.jet(mid + half * kGaussNodes[q], Side::kRight), options_.metric).g;
+    for (std::size_t q = 0; q < kGauss4Nodes.size(); ++q)
+      arc += kGauss4Weights[q] * chordSpeed(path_.jet(mid + half * kGauss4Nodes[q], Side::kRight), options_.metric).g;
     arc *= half;
     const auto S2 = [](const ChordSpeed& c) { return -c.dg / (c.g * c.g * c.g); };
     const std::array<double, 6> q = quinticHermite(arc, s0, 1.0 / c0.g, S2(c0), s1, 1.0 / c1.g, S2(c1));
@@ -307,23 +324,27 @@ private:
     return r;
   }
 
-  /// The worst ratio of each rate to its bound over a span of time, and where.
+  /// What a check finds over a span of the motion: the worst ratio of each rate to its bound and
+  /// where, the peaks, the chord speed's deviation (in the window) and the energy.
   struct Excess
   {
     std::array<double, 3> ratio{};  ///< velocity, acceleration, jerk (the worse channel's)
     std::array<int, 3> channel{};
     std::array<double, 3> where{};  ///< path time
+    std::array<std::array<double, 2>, 3> peak{};  ///< [rate][channel]
+    double deviation = 0.0;
+    double energy = 0.0;
   };
 
-  /// Checks the pieces of the grid intervals between the chord arc lengths lo and hi (file comment),
-  /// updating the figures.
-  Excess check(double arc_lo, double arc_hi, bool window)
+  /// Checks the pieces of the check between the chord arc lengths lo and hi (file comment); with
+  /// `figures`, the interior maxima of the unbounded rates are searched too.
+  Excess check(double arc_lo, double arc_hi, bool window, bool figures) const
   {
     Excess e;
     std::vector<double> pieces;
     pieces.push_back(p_.timeAtArcLength(arc_lo));
-    for (auto it = std::upper_bound(p_.sigma.begin(), p_.sigma.end(), arc_lo);
-         it != p_.sigma.end() && *it < arc_hi; ++it)
+    for (auto it = std::upper_bound(p_.check_sigma.begin(), p_.check_sigma.end(), arc_lo);
+         it != p_.check_sigma.end() && *it < arc_hi; ++it)
       pieces.push_back(p_.timeAtArcLength(*it));
     pieces.push_back(p_.timeAtArcLength(arc_hi));
     const std::array<const std::array<double, 2>*, 3> bound = { &bounds_.velocity, &bounds_.acceleration,
@@ -339,16 +360,17 @@ private:
     };
     const auto consider = [&](const Rates& r) {
       for (int c = 0; c < 2; ++c)
-      {
-        p_.max_speed[c] = std::max(p_.max_speed[c], r.v[c]);
-        p_.max_acceleration[c] = std::max(p_.max_acceleration[c], r.a[c]);
-        p_.max_jerk[c] = std::max(p_.max_jerk[c], r.j[c]);
         for (int k = 0; k < 3; ++k)
+        {
+          e.peak[k][c] = std::max(e.peak[k][c], pick(r, k, c));
           if ((*bound[k])[c] > 0.0)
             exceed(k, c, pick(r, k, c) / (*bound[k])[c], r.s);
-      }
+        }
       if (window)
-        p_.chord_speed_deviation = std::max(p_.chord_speed_deviation, std::abs(r.chord / p_.speed - 1.0));
+        e.deviation = std::max(e.deviation, std::abs(r.chord / p_.speed - 1.0));
+    };
+    const auto density = [this](const Rates& r) {
+      return r.a[0] * r.a[0] + (r.a[1] > 0.0 ? options_.metric[1] * r.a[1] * r.a[1] : 0.0);
     };
     struct Span
     {
@@ -357,8 +379,6 @@ private:
     };
     std::vector<Span> spans;
     spans.reserve(pieces.size());
-    // The largest value of each rate at the pieces' ends and middles: [k][c].
-    std::array<std::array<double, 2>, 3> seen{};
     for (std::size_t i = 0; i + 1 < pieces.size(); ++i)
     {
       checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
@@ -367,33 +387,34 @@ private:
         continue;
       spans.push_back({ lo, hi, ratesAt(lo, Side::kRight), ratesAt(0.5 * (lo + hi), Side::kRight),
                         ratesAt(hi, Side::kLeft) });
-      for (const Rates* r : { &spans.back().r0, &spans.back().rm, &spans.back().r1 })
-      {
+      const Span& sp = spans.back();
+      for (const Rates* r : { &sp.r0, &sp.rm, &sp.r1 })
         consider(*r);
-        for (int k = 0; k < 3; ++k)
-          for (int c = 0; c < 2; ++c)
-            seen[k][c] = std::max(seen[k][c], pick(*r, k, c));
-      }
+      e.energy += (hi - lo) / 6.0 * (density(sp.r0) + 4.0 * density(sp.rm) + density(sp.r1));
     }
-    // The interior maxima: of a bounded rate where it comes near its bound, of every rate where it
-    // comes near the largest value seen (the figures).
+    // The interior maxima: of a bounded rate where it, or the parabola through its three values,
+    // comes near its bound (the guarantee); with `figures`, of every rate where they come near the
+    // largest value seen (as jerk_peaks.h and the figures search). A rate flat to rounding over a piece (the chord speed of
+    // the window, a linear speed at the velocity bound) has no interior maximum worth searching.
     for (int k = 0; k < (jerk_ ? 3 : 2); ++k)
       for (int c = 0; c < 2; ++c)
       {
         const double b = (*bound[k])[c];
-        double near = (1.0 - kNearBound) * seen[k][c];
-        if (b > 0.0)
-          near = std::min(near, (1.0 - kNearBound) * b);
-        if (!(near > 0.0))
+        const double near = b > 0.0 ? (1.0 - kNearBound) * b : std::numeric_limits<double>::infinity();
+        const double figure_near = figures ? (1.0 - kNearBound) * e.peak[k][c] : std::numeric_limits<double>::infinity();
+        if (!(std::min(near, figure_near) > 0.0) || std::isinf(std::min(near, figure_near)))
           continue;
         for (std::size_t i = 0; i < spans.size(); ++i)
         {
           checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
           const Span& sp = spans[i];
           const double f0 = pick(sp.r0, k, c), fm = pick(sp.rm, k, c), f1 = pick(sp.r1, k, c);
-          if (std::max({ f0, fm, f1 }) < near && !detail::parabolaPeaksInside(f0, fm, f1, near))
+          const double top = std::max({ f0, fm, f1 });
+          const double threshold = std::min(near, figure_near);
+          if (top - std::min({ f0, fm, f1 }) <= kFlatRelative * top ||
+              (top < threshold && !detail::parabolaPeaksInside(f0, fm, f1, threshold)))
             continue;
-          double best = std::max({ f0, fm, f1 }), where = sp.rm.s;
+          double best = top, where = sp.rm.s;
           const double peak = detail::localMaxOf(
               [&](double lambda) {
                 const Rates r = ratesAt(sp.lo + lambda * (sp.hi - sp.lo), Side::kRight);
@@ -408,8 +429,7 @@ private:
               f0, fm, f1);
           if (b > 0.0)
             exceed(k, c, peak / b, where);
-          double& figure = k == 0 ? p_.max_speed[c] : k == 1 ? p_.max_acceleration[c] : p_.max_jerk[c];
-          figure = std::max(figure, peak);
+          e.peak[k][c] = std::max(e.peak[k][c], peak);
         }
       }
     return e;
@@ -435,7 +455,7 @@ private:
       requireRoomForRamps();
       if (moving)
         requireRisingRamp();
-      const Excess e = up ? check(0.0, arcA(), false) : check(arcB(), p_.length, false);
+      const Excess e = up ? check(0.0, arcA(), false, false) : check(arcB(), p_.length, false, false);
       if (moving && std::max({ e.ratio[0], e.ratio[1], e.ratio[2] }) > 1.0 + kBreakTolerance && pass + 1 == kMaxRampPasses)
         refuseStart(e);
       if (e.ratio[0] > 1.0 + kBreakTolerance)
@@ -453,19 +473,25 @@ private:
                             "path bends too sharply there); lower the speed");
   }
 
-  /// The final check: the cruise (a bound it breaks is refused), then the figures of the whole
-  /// motion from the ramps as fitted.
-  void checkCruise()
+  /// The figures from the final checks of the ramps and the cruise; the chord speed's deviation in
+  /// the window, held to its guarantee.
+  void setFigures(const std::array<Excess, 3>& parts)
   {
-    p_.max_speed = p_.max_acceleration = p_.max_jerk = {};
-    p_.chord_speed_deviation = 0.0;
-    requireBoundsHeld(check(arcA(), arcB(), true));
+    for (const Excess& e : parts)
+    {
+      for (int c = 0; c < 2; ++c)
+      {
+        p_.max_speed[c] = std::max(p_.max_speed[c], e.peak[0][c]);
+        p_.max_acceleration[c] = std::max(p_.max_acceleration[c], e.peak[1][c]);
+        p_.max_jerk[c] = std::max(p_.max_jerk[c], e.peak[2][c]);
+      }
+      p_.chord_speed_deviation = std::max(p_.chord_speed_deviation, e.deviation);
+      p_.acceleration_energy += e.energy;
+    }
     if (!(p_.chord_speed_deviation <= kChordSpeedGuarantee))
       throw InterpolationError("speed: the chord speed of the window is off " + formatNumber(p_.speed) + " m/s by " +
                                formatNumber(p_.chord_speed_deviation) + " (relative) where its table could not be "
                                "refined further (the path's parameter speed varies too fast); give more even times");
-    check(0.0, arcA(), false);
-    check(arcB(), p_.length, false);
   }
 
   /// From a moving start, the ramp up's chord speed v_0 + (V − v_0) P′(τ) + a_0 T_u H₁(τ) must stay
@@ -579,8 +605,8 @@ double ConstantSpeedProfile::timeAt(double path_parameter) const
 std::vector<double> ConstantSpeedProfile::breakpoints() const
 {
   std::vector<double> b;
-  b.reserve(sigma.size() + 2);
-  for (double arc : sigma)
+  b.reserve(check_sigma.size() + 2);
+  for (double arc : check_sigma)
     b.push_back(timeAtArcLength(arc));
   b.push_back(windowStart());
   b.push_back(windowEnd());

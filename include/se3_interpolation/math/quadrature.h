@@ -18,6 +18,13 @@ constexpr std::array<double, 8> kGaussWeights = { 0.1012285362903763, 0.22238103
                                                   0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
                                                   0.2223810344533745, 0.1012285362903763 };
 
+/// 4-point Gauss–Legendre nodes and weights on [−1, 1] (exact for polynomials of degree 7;
+/// Abramowitz & Stegun, table 25.4): the chord length of the constant-speed timing's short intervals.
+constexpr std::array<double, 4> kGauss4Nodes = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                                 0.8611363115940526 };
+constexpr std::array<double, 4> kGauss4Weights = { 0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                                   0.3478548451374538 };
+
 /// Golden-section iterations at most: each shrinks the bracket by 0.618, so 60 reach 1e-13 of
 /// any bracket the figures start from.
 constexpr int kGoldenMaxIterations = 60;
