@@ -19,7 +19,8 @@ depends on the sampling. The rotation vector is that of R(t) R(0)^T
 the same axis (angles beyond pi) instead of jumping to the opposite vector.
 
 --figures takes the CLI's standard error (`2>FIGURES.txt`): its `waypoint_times` are drawn as
-vertical dotted lines with the waypoint index, and the figures go into the title. The
+vertical dotted lines with the waypoint index, a constant-speed window (`constant_speed_start`,
+`constant_speed_end` of timing constant_speed) is shaded green, and the figures go into the title. The
 --max-* options (the request's field names, --max-linear-jerk and --max-angular-jerk included)
 draw bounds as dashed horizontal lines.
 
@@ -75,6 +76,12 @@ def read_figures(path):
                 except ValueError:
                     pass
     return figures
+
+
+def constant_speed_window(figures):
+    """(start, end) of the constant-speed window the figures report, or None."""
+    start, end = figures.get("constant_speed_start"), figures.get("constant_speed_end")
+    return (start, end) if start is not None and end is not None and end > start else None
 
 
 def quat_mul(a, b):
@@ -221,6 +228,12 @@ def main(argv):
         for a in ax[0]:
             a.annotate(str(i), xy=(tw, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
                        textcoords="offset points", fontsize=8, color="grey", ha="center", va="bottom")
+    window = constant_speed_window(figures)
+    if window:
+        for row in ax:
+            for a in row:
+                a.axvspan(window[0], window[1], color="green", alpha=0.08,
+                          label="constant speed" if a is ax[1][0] else None)
     for row in ax:
         for a in row:
             a.grid(True, alpha=0.3)

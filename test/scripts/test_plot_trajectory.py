@@ -57,6 +57,12 @@ class PlotTrajectory(unittest.TestCase):
         self.assertEqual(figures["duration"], 2.0)
         self.assertEqual(figures["energy"], 1e-30)
 
+    def test_constant_speed_window(self):
+        self.assertEqual(plot.constant_speed_window({"constant_speed_start": 0.9375, "constant_speed_end": 4.0}),
+                         (0.9375, 4.0))
+        self.assertIsNone(plot.constant_speed_window({"duration": 2.0}))
+        self.assertIsNone(plot.constant_speed_window({"constant_speed_start": 1.0, "constant_speed_end": 1.0}))
+
     def test_jerk_from_accelerations(self):
         # a(t) = (t^2, -2 t, 0.5) has jerk (2 t, -2, 0): the difference quotient over [t0, t1] is the
         # jerk at the midpoint exactly (a is quadratic); uneven intervals, one repeated time skipped.
