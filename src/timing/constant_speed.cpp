@@ -24,6 +24,13 @@ const double kRampJerkPeak = 10.0 / std::sqrt(3.0);
 /// A rate checked at a piece's ends and middle is searched inside the piece when it, or the
 /// parabola through the three values, comes within this fraction of its bound.
 constexpr double kNearBound = 0.1;
+/// A piece of the check is halved where a bounded rate above kVariationNearBound of its bound
+/// varies by more than kRateVariation of its largest value across it, at most kMaxCheckSplits times.
+constexpr double kVariationNearBound = 0.5;
+constexpr double kRateVariation = 0.25;
+constexpr int kMaxCheckSplits = 20;
+/// ... and where the path turns by more than this across it (rad, in the chord metric).
+constexpr double kMaxCheckTurn = 0.25;
 /// A rate whose three values on a piece agree to this (relative) is flat there: not searched.
 constexpr double kFlatRelative = 1e-9;
 /// A bound is broken when a rate exceeds it by more than this (relative): rounding of the jets.
@@ -91,8 +98,25 @@ struct Rates
 {
   std::array<double, 2> v{}, a{}, j{};
   double chord = 0.0;
-  double s = 0.0;  ///< the path parameter there
+  double s = 0.0;          ///< the path parameter there
+  double curvature = 0.0;  ///< |d²C/dσ²| in the chord metric (1/m): how fast the path turns there
 };
+
+/// The curvature of the path in the chord metric from the inner products of C′ and C″ per channel
+/// (ChannelJet or ChannelJet3): with D(σ) = C(S(σ)), D″ = (C″ − (g′/g) C′)/g², so
+/// |D″|² = Σ w (aa − 2 (g′/g) ab + (g′/g)² bb) / g⁴.
+template <class J>
+double chordCurvature(const std::array<J, 2>& j, const std::array<double, 2>& w)
+{
+  const double g2 = w[0] * j[0].bb + w[1] * j[1].bb;
+  if (!(g2 > 0.0))
+    return 0.0;
+  const double r = (w[0] * j[0].ab + w[1] * j[1].ab) / g2;  // g′/g
+  double k2 = 0.0;
+  for (int c = 0; c < 2; ++c)
+    k2 += w[c] * (j[c].aa - 2.0 * r * j[c].ab + r * r * j[c].bb);
+  return std::sqrt(std::max(0.0, k2)) / g2;
+}
 
 class Solver
 {
@@ -311,6 +335,7 @@ private:
         r.j[c] = j[c].jerk(sd, sdd, sddd);
       }
       r.chord = std::sqrt(options_.metric[0] * j[0].bb + options_.metric[1] * j[1].bb) * sd;
+      r.curvature = chordCurvature(j, options_.metric);
       return r;
     }
     const PathJet j = path_.jet(sv, path_side);
@@ -321,6 +346,7 @@ private:
       r.a[c] = std::sqrt(std::max(0.0, j[c].aa * x * x + 2.0 * j[c].ab * x * sdd + j[c].bb * sdd * sdd));
     }
     r.chord = std::sqrt(options_.metric[0] * j[0].bb + options_.metric[1] * j[1].bb) * sd;
+    r.curvature = chordCurvature(j, options_.metric);
     return r;
   }
 
@@ -379,18 +405,62 @@ private:
     };
     std::vector<Span> spans;
     spans.reserve(pieces.size());
+    // A piece across which the path turns by more than kMaxCheckTurn, or whose bounded rates vary
+    // by more than kRateVariation of their largest value near their bound, is halved (at most
+    // kMaxCheckSplits times): where uneven waypoint times make the path's parameter speed change by
+    // orders of magnitude within a piece, a bend of a few millimetres may lie in a piece metres long
+    // in chord length, and its ends and middle would not stand for its interior (as time_optimal's
+    // grid is halved where the path's rates vary).
+    const auto varies = [&](double lo, double hi, const Rates& r0, const Rates& rm, const Rates& r1) {
+      // The path turns by more than kMaxCheckTurn across the piece (Simpson's rule on its curvature
+      // over its chord length): a bend narrower than the piece may hide between its points.
+      const double turn = (r0.curvature + 4.0 * rm.curvature + r1.curvature) / 6.0 *
+                          std::abs(p_.arcLength(hi) - p_.arcLength(lo));
+      if (turn > kMaxCheckTurn)
+        return true;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 2; ++c)
+        {
+          const double b = (*bound[k])[c];
+          const double f0 = pick(r0, k, c), fm = pick(rm, k, c), f1 = pick(r1, k, c);
+          const double top = std::max({ f0, fm, f1 });
+          if (b > 0.0 && top > kVariationNearBound * b && top - std::min({ f0, fm, f1 }) > kRateVariation * top)
+            return true;
+        }
+      return false;
+    };
+    struct Pending
+    {
+      double lo, hi;
+      Rates r0, r1;
+      int depth;
+    };
+    std::vector<Pending> stack;
+    std::size_t visited = 0;
     for (std::size_t i = 0; i + 1 < pieces.size(); ++i)
     {
-      checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
-      const double lo = pieces[i], hi = pieces[i + 1];
-      if (!(hi > lo))
+      if (!(pieces[i + 1] > pieces[i]))
         continue;
-      spans.push_back({ lo, hi, ratesAt(lo, Side::kRight), ratesAt(0.5 * (lo + hi), Side::kRight),
-                        ratesAt(hi, Side::kLeft) });
-      const Span& sp = spans.back();
-      for (const Rates* r : { &sp.r0, &sp.rm, &sp.r1 })
-        consider(*r);
-      e.energy += (hi - lo) / 6.0 * (density(sp.r0) + 4.0 * density(sp.rm) + density(sp.r1));
+      stack.push_back({ pieces[i], pieces[i + 1], ratesAt(pieces[i], Side::kRight), ratesAt(pieces[i + 1], Side::kLeft), 0 });
+      while (!stack.empty())
+      {
+        checkDeadlineEvery(visited++, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
+        const Pending p = stack.back();
+        stack.pop_back();
+        const double mid = 0.5 * (p.lo + p.hi);
+        const Rates rm = ratesAt(mid, Side::kRight);
+        if (p.depth < kMaxCheckSplits && varies(p.lo, p.hi, p.r0, rm, p.r1))
+        {
+          // Halves, the left one on top of the stack (the spans stay in time order).
+          stack.push_back({ mid, p.hi, rm, p.r1, p.depth + 1 });
+          stack.push_back({ p.lo, mid, p.r0, rm, p.depth + 1 });
+          continue;
+        }
+        spans.push_back({ p.lo, p.hi, p.r0, rm, p.r1 });
+        for (const Rates* r : { &p.r0, &rm, &p.r1 })
+          consider(*r);
+        e.energy += (p.hi - p.lo) / 6.0 * (density(p.r0) + 4.0 * density(rm) + density(p.r1));
+      }
     }
     // The interior maxima: of a bounded rate where it, or the parabola through its three values,
     // comes near its bound (the guarantee); with `figures`, of every rate where they come near the

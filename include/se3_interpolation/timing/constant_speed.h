@@ -50,7 +50,8 @@
 // bend) names that bound. The speed is thus one the path can be passed at outside its shortest ramps.
 //
 // Verification: every piece of the check (every second interval of the table: time_optimal's grid),
-// mapped to the times it is passed, is evaluated at its two ends (one-sided) and its middle with exact path jets (third-order ones when a jerk bound is set:
+// mapped to the times it is passed (and halved where a bounded rate near its bound varies by more than
+// a quarter across it: uneven waypoint times), is evaluated at its two ends (one-sided) and its middle with exact path jets (third-order ones when a jerk bound is set:
 // j = C‴ṡ³ + 3C″ṡs̈ + C′s⃛, jerk_limited.h eq. 1), and searched for its interior maximum where a
 // rate or the parabola through its three values comes within kNearBound of its bound (a rate flat to
 // rounding over a piece is not: the chord speed itself); the cruise is checked once between the

@@ -541,7 +541,13 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
            "window [" + num(a) + ", " + num(b) + "] not inside the motion (" + num(t0) + ", " + num(t1) + ")");
     else
     {
-      const double h = std::min(1e-5, 1e-5 * (b - a));
+      // (On a motion of 10⁵ s through positions of 10³ m the poses' rounding, 1e-13 m, over 2h must
+      // stay below 1e-8 of the speed: h grows with the times and the positions.)
+      double reach = 0.0;
+      for (const Pose<double>& w : request.waypoints)
+        reach = std::max(reach, w.p.norm());
+      const double h = std::max(std::min(1e-5, 1e-5 * (b - a)),
+                                1e-9 * std::max({ 1.0, std::abs(b), (reach + result.figures.length) / request.speed }));
       double worst = 0.0, worst_t = a, worst_reported = 0.0;
       for (int i = 0; i < 64; ++i)
       {

@@ -559,6 +559,9 @@ const OpenClass kOpenClasses[] = {
     "accelerations of 1e-8 against differences of 1e-11, a waypoint passed within 1e-6 there), a peak missed "
     "between the checked points, moving starts",
     40, 3 },
+  { "constant_speed with uneven times: a bend a few millimetres wide, where the path's parameter speed changes by "
+    "orders of magnitude, missed between the check's points (a piece of 15 cm turning by 0.2 rad at its points)",
+    12, 3 },
 };
 constexpr int kOpenClassCount = sizeof(kOpenClasses) / sizeof(kOpenClasses[0]);
 
@@ -575,6 +578,9 @@ int openClassOf(const std::string& key, double magnitude)
        key.rfind("acceleration vs", 0) == 0 || ((key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0) &&
                                                 magnitude <= 1.3)))
     return 2;
+  if (key.find("constant_speed") != std::string::npos &&
+      (key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0))
+    return 3;
   const bool time_optimal = key.find("time_optimal") != std::string::npos;
   if (time_optimal && (key.find("start=moving") != std::string::npos ||
                        key.find("start=over_bound") != std::string::npos ||
