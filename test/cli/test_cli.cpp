@@ -214,7 +214,7 @@ TEST(Cli, TimeOptimalPolylineIsTheSumOfTheTrapezoids)
 
   const CliRun bad = run(data("unknown_timing.yaml"));
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal)"), std::string::npos)
+  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal, constant_speed)"), std::string::npos)
       << bad.err;
 }
 

@@ -46,7 +46,7 @@ TEST(NameTable, EveryTableRoundTrips)
   expectRoundTrip(Timing::kTimeOptimal);
   EXPECT_STREQ(toString(CurveType::kPiecewiseGeodesic), "piecewise_geodesic");
   EXPECT_STREQ(toString(EndCondition::kStart), "start");
-  EXPECT_EQ(knownNames<Timing>(), "stretch, time_optimal");
+  EXPECT_EQ(knownNames<Timing>(), "stretch, time_optimal, constant_speed");
   EXPECT_EQ(knownNames<EndCondition>(), "natural, clamped, start");
 }
 
