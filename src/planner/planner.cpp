@@ -83,7 +83,7 @@ const char* boundFields()
                                             : "max_linear_velocity, max_angular_velocity or their accelerations";
 }
 
-/// The request's timing (stretch or time_optimal) applied to a curve that starts at waypoints[0].
+/// The request's timing (stretch, time_optimal or constant_speed) applied to a curve that starts at waypoints[0].
 template <class Space, class G>
 void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io,
                  BasicResult<Space>* out_io)
@@ -91,6 +91,17 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   std::shared_ptr<const Curve<G>>& curve = *curve_io;
   CurveFigures& fig = *fig_io;
   BasicResult<Space>& out = *out_io;
+  // A retimed motion replaces the curve: its span (tiny bounds give a long motion: every time must
+  // still fit ros::Duration; `cause` is named otherwise) and the waypoints' times through its s⁻¹,
+  // the last pinned to the end where s⁻¹ is exact only to rounding.
+  const auto adopt = [&](const auto& timed, const std::string& cause, bool pin_end) {
+    validateTimeSpan(timed->startTime(), timed->endTime(), cause);
+    for (double& t : out.waypoint_times)
+      t = timed->profile().timeAt(t);
+    if (pin_end && !out.waypoint_times.empty())
+      out.waypoint_times.back() = timed->endTime();
+    curve = timed;
+  };
   if constexpr (std::is_same_v<Space, PoseSpace>)
     if (r.timing == Timing::kConstantSpeed)
     {
@@ -98,14 +109,9 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
       options.speed = r.speed;
       options.metric = { 1.0, r.rotation_scale * r.rotation_scale };
       auto timed = timing::makeConstantSpeedCurve<G>(curve, rateBounds(r), options);
-      validateTimeSpan(timed->startTime(), timed->endTime(), "speed");
-      for (double& t : out.waypoint_times)
-        t = timed->profile().timeAt(t);
-      if (!out.waypoint_times.empty())
-        out.waypoint_times.back() = timed->endTime();
+      adopt(timed, "speed", true);
       out.constant_speed_start = timed->profile().windowStart();
       out.constant_speed_end = timed->profile().windowEnd();
-      curve = timed;
       setConstantSpeedFigures(*timed, &fig);
       return;
     }
@@ -113,25 +119,15 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   {
     auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r));
     out.time_scale = timed->profile().stretch;
-    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<Space>());
-    for (double& t : out.waypoint_times)
-      t = timed->profile().timeAt(t);
-    if (!out.waypoint_times.empty())
-      out.waypoint_times.back() = timed->endTime();  // (timeAt is exact to rounding; the end is the end)
-    curve = timed;
+    adopt(timed, boundFields<Space>(), true);
     setJerkLimitedFigures(r, *timed, &fig);
     return;
   }
   if (r.timing == Timing::kTimeOptimal)
   {
-    const timing::RateBounds bounds = rateBounds(r);
-    auto timed = timing::makeTimeOptimalCurve<G>(curve, bounds);
+    auto timed = timing::makeTimeOptimalCurve<G>(curve, rateBounds(r));
     out.time_scale = timed->profile().stretch;
-    // Tiny bounds give a long motion: every time must still fit ros::Duration.
-    validateTimeSpan(timed->startTime(), timed->endTime(), boundFields<Space>());
-    for (double& t : out.waypoint_times)
-      t = timed->profile().timeAt(t);
-    curve = timed;
+    adopt(timed, boundFields<Space>(), false);  // (grid points map exactly: the end is the end)
     setTimedFigures(r, timed->profile(), &fig);
     return;
   }

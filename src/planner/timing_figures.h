@@ -129,19 +129,26 @@ double piecewiseEnergy(const Curve<G>& curve, double rotation_scale)
   return energy;
 }
 
-/// The figures of a jerk-limited motion: length and rotation length are the path's; the peaks
-/// are the timing's verified ones (JerkLimitedProfile), the energy the motion's.
-template <class Space, class G>
-void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::JerkLimitedCurve<G>& timed,
-                           CurveFigures* fig)
+/// The peaks a timing verified densely (JerkLimitedProfile, ConstantSpeedProfile: their
+/// max_speed, max_acceleration, max_jerk per channel) as the response's figures.
+template <class Profile>
+void setVerifiedPeaks(const Profile& p, CurveFigures* fig)
 {
-  const timing::JerkLimitedProfile& p = timed.profile();
   fig->max_linear_speed = p.max_speed[timing::kLinear];
   fig->max_angular_speed = p.max_speed[timing::kAngular];
   fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
   fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
   fig->max_linear_jerk = p.max_jerk[timing::kLinear];
   fig->max_angular_jerk = p.max_jerk[timing::kAngular];
+}
+
+/// The figures of a jerk-limited motion: length and rotation length are the path's; the peaks
+/// are the timing's verified ones (JerkLimitedProfile), the energy the motion's.
+template <class Space, class G>
+void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::JerkLimitedCurve<G>& timed,
+                           CurveFigures* fig)
+{
+  setVerifiedPeaks(timed.profile(), fig);
   fig->energy = piecewiseEnergy(timed, r.rotation_scale);
 }
 
@@ -151,14 +158,8 @@ void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::
 template <class G>
 void setConstantSpeedFigures(const timing::ConstantSpeedCurve<G>& timed, CurveFigures* fig)
 {
-  const timing::ConstantSpeedProfile& p = timed.profile();
-  fig->max_linear_speed = p.max_speed[timing::kLinear];
-  fig->max_angular_speed = p.max_speed[timing::kAngular];
-  fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
-  fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
-  fig->max_linear_jerk = p.max_jerk[timing::kLinear];
-  fig->max_angular_jerk = p.max_jerk[timing::kAngular];
-  fig->energy = p.acceleration_energy;
+  setVerifiedPeaks(timed.profile(), fig);
+  fig->energy = timed.profile().acceleration_energy;
 }
 
 }  // namespace planner_detail

@@ -572,9 +572,7 @@ private:
     for (int i = 1; i <= kRampVelocitySteps; ++i)
     {
       const double tau = static_cast<double>(i) / kRampVelocitySteps;
-      const double smooth = tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
-      const double h1 = tau * (1.0 + tau * tau * (-6.0 + tau * (8.0 - 3.0 * tau)));
-      if (!(v0 + dv * smooth + a0t * h1 > 0.0))
+      if (!(v0 + dv * rampSlope(tau) + a0t * startSlope(tau) > 0.0))
         throw InvalidInputError("start_state: its chord acceleration " + formatNumber(p_.start_acceleration) +
                                 " m/s^2 would turn the motion back along the path before it reaches " +
                                 formatNumber(p_.speed) + " m/s; replan when it brakes less, or use timing "

@@ -73,28 +73,7 @@ void TimeOptimalSolver::updateCaps()
 
 Interval TimeOptimalSolver::controls(std::size_t i, double x, double next) const
 {
-  const double d = delta(i);
-  Interval u;
-  u.lo = -x / (2.0 * d);
-  u.hi = (next - x) / (2.0 * d);
-  const PathJet& a = right_[i].jet;
-  const PathJet& b = left_[i + 1].jet;
-  for (int c = 0; c < 2; ++c)
-  {
-    if (!(bounds_.acceleration[c] > 0.0))
-      continue;
-    // At s_i: |C″ x + C′ u|.
-    const double a0 = accelerationBound(i, c);
-    intersectEllipse(a[c].bb, a[c].ab, a[c].aa, a[c].cross, a0 * a0, x, &u);
-    // At s_{i+1}: |C″ (x + 2Δu) + C′ u| = |C″ x + (C′ + 2Δ C″) u|.
-    const ChannelJet& e = b[c];
-    const double a1 = accelerationBound(i + 1, c);
-    const double alpha = std::max(0.0, 4.0 * d * d * e.aa + 4.0 * d * e.ab + e.bb);
-    intersectEllipse(alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a1 * a1, x, &u);
-    if (u.empty)
-      return u;
-  }
-  return u;
+  return controlInterval(controlConstants(i, next), x);
 }
 
 TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::size_t i, double next) const
@@ -119,7 +98,7 @@ TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::siz
   return k;
 }
 
-bool TimeOptimalSolver::admissible(const ControlConstants& k, double x)
+Interval TimeOptimalSolver::controlInterval(const ControlConstants& k, double x)
 {
   Interval u;
   u.lo = -x / k.two_delta;
@@ -128,10 +107,15 @@ bool TimeOptimalSolver::admissible(const ControlConstants& k, double x)
   {
     const std::array<double, 5>& e = k.ellipse[j];
     intersectEllipse(e[0], e[1], e[2], e[3], e[4], x, &u);
-    if (u.empty || u.lo > u.hi)
-      return false;
+    if (u.isEmpty())
+      return u;
   }
-  return !u.isEmpty();
+  return u;
+}
+
+bool TimeOptimalSolver::admissible(const ControlConstants& k, double x)
+{
+  return !controlInterval(k, x).isEmpty();
 }
 
 void TimeOptimalSolver::backward()

@@ -134,12 +134,13 @@ private:
   /// Upper end of x_{i+1}: the controllable set and the velocity bound seen from the left.
   double nextLimit(std::size_t i) const { return std::min(k_[i + 1], left_[i + 1].x_max); }
 
-  /// The admissible controls u_i for x_i = x with x_{i+1} ∈ [0, next].
+  /// The admissible controls u_i for x_i = x with x_{i+1} ∈ [0, next] (its lower and upper ends
+  /// are meaningful only when it is not empty).
   Interval controls(std::size_t i, double x, double next) const;
 
-  /// What controls(i, ·, next) computes that does not depend on x, for the backward pass's
-  /// bisection, which varies x only: 1/(2Δ)'s divisor, next, and the ellipses of the bounded
-  /// channels in controls' order (α, β, |a|², cross, A²).
+  /// What controls(i, ·, next) computes that does not depend on x, computed once for the backward
+  /// pass's bisection, which varies x only: 1/(2Δ)'s divisor, next, and the ellipses of the
+  /// bounded channels (α, β, |a|², cross, A²), at s_i and s_{i+1} for each.
   struct ControlConstants
   {
     double two_delta = 0.0;
@@ -150,8 +151,11 @@ private:
 
   ControlConstants controlConstants(std::size_t i, double next) const;
 
-  /// Whether controls(i, x, next) is non-empty, from its constants: the same arithmetic, stopping
-  /// as soon as the interval is empty (it only shrinks).
+  /// The admissible controls at x from the constants, the ellipses intersected in order; stops as
+  /// soon as the interval is empty (it only shrinks).
+  static Interval controlInterval(const ControlConstants& k, double x);
+
+  /// Whether controls(i, x, next) is non-empty, from its constants.
   static bool admissible(const ControlConstants& k, double x);
 
   void backward();

@@ -104,12 +104,24 @@ S rampShape(const S& tau)
   return tau * tau * tau * tau * (2.5 + tau * (-3.0 + tau));
 }
 
+/// P′(τ) = 10τ³ − 15τ⁴ + 6τ⁵, the quintic smoothstep: the ramp's speed as a fraction of its change.
+inline double rampSlope(double tau)
+{
+  return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
+}
+
 /// The moving start's extra shape Q(τ) = ∫₀^τ H₁ with H₁(τ) = τ − 6τ³ + 8τ⁴ − 3τ⁵ (the quintic
 /// Hermite basis function of the slope at 0: H₁′(0) = 1, every other end value 0); Q(1) = 1/10.
 template <class S>
 S startShape(const S& tau)
 {
   return tau * tau * (0.5 + tau * tau * (-1.5 + tau * (1.6 - 0.5 * tau)));
+}
+
+/// Q′(τ) = H₁(τ) = τ − 6τ³ + 8τ⁴ − 3τ⁵.
+inline double startSlope(double tau)
+{
+  return tau * (1.0 + tau * tau * (-6.0 + tau * (8.0 - 3.0 * tau)));
 }
 
 /// The timing s(t) = S(σ(t)) (file comment).
