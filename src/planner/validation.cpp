@@ -15,6 +15,7 @@ namespace se3_interpolation
 namespace
 {
 using se3_interpolation::requireFinite;  // the scalar overload, beside the vector ones below
+using se3_interpolation::requireBounded;  // the Vector3d overload, beside the others below
 
 /// A step of at least 1 ns keeps rounded nanoseconds distinct; the margin absorbs the
 /// rounding of t0 + (t1 - t0) i / (n - 1) near 1 ns spacing.
@@ -46,15 +47,6 @@ void requireBounded(double x, const std::string& field)
                             formatNumber(kMaxMagnitude) + " (larger values can overflow the curve's acceleration)");
 }
 
-/// A position or twist part of bounded magnitude: components named .x, .y, .z.
-void requireBounded(const Eigen::Vector3d& v, const std::string& field)
-{
-  static const char* kAxis[] = { ".x", ".y", ".z" };
-  for (int i = 0; i < 3; ++i)
-    if (!(std::abs(v[i]) <= kMaxMagnitude))
-      requireBounded(v[i], field + kAxis[i]);
-}
-
 /// A sphere tangent of bounded magnitude: components named [j].
 void requireBounded(const Eigen::VectorXd& v, const std::string& field)
 {
@@ -74,17 +66,6 @@ void requireUnitNorm(double norm, const std::string& field, const std::string& p
     throw InvalidInputError(field + ": " + prefix + "norm " + formatNumber(norm) + " is outside " + range +
                             " (expected a unit " + what + ")");
   }
-}
-
-Quaternion<double> validQuaternion(const Quaternion<double>& q, const std::string& field)
-{
-  const double c[] = { q.x(), q.y(), q.z(), q.w() };
-  static const char* kName[] = { ".x", ".y", ".z", ".w" };
-  for (int i = 0; i < 4; ++i)
-    requireFinite(c[i], field + kName[i]);
-  const double n = std::sqrt(q.coeffs().squaredNorm());
-  requireUnitNorm(n, field, "quaternion ", "quaternion x, y, z, w");
-  return Quaternion<double>(q.coeffs() / n);
 }
 
 /// A field only some families take (FamilyField) is refused, when `given`, for the others that
@@ -304,10 +285,29 @@ std::string withLimitPrefix(const std::string& message, const std::string& prefi
   return out;
 }
 
+void requireBounded(const Eigen::Vector3d& v, const std::string& field)
+{
+  static const char* kAxis[] = { ".x", ".y", ".z" };
+  for (int i = 0; i < 3; ++i)
+    if (!(std::abs(v[i]) <= kMaxMagnitude))
+      requireBounded(v[i], field + kAxis[i]);
+}
+
+Quaternion<double> validateQuaternion(const Quaternion<double>& q, const std::string& field)
+{
+  const double c[] = { q.x(), q.y(), q.z(), q.w() };
+  static const char* kName[] = { ".x", ".y", ".z", ".w" };
+  for (int i = 0; i < 4; ++i)
+    requireFinite(c[i], field + kName[i]);
+  const double n = std::sqrt(q.coeffs().squaredNorm());
+  requireUnitNorm(n, field, "quaternion ", "quaternion x, y, z, w");
+  return Quaternion<double>(q.coeffs() / n);
+}
+
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
 {
   requireBounded(raw.p, field + ".position");
-  return Pose<double>(validQuaternion(raw.q, field + ".orientation"), raw.p);
+  return Pose<double>(validateQuaternion(raw.q, field + ".orientation"), raw.p);
 }
 
 template <class Space>

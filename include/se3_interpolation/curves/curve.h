@@ -3,7 +3,8 @@
 // de Casteljau, Bézier), bspline.h (de Boor), hermite.h (Crouch Case 1), chart_cubic.h (the
 // pieces of the C² spline), interpolating_solver.h (its Newton solve), interpolating_spline.h
 // (natural / clamped / start), blended_spline.h (Pobegailo C^n), corner_blend.h (blended
-// corners of a geodesic polygon), start_join.h (the joining quintic of replanning).
+// corners of a geodesic polygon), start_join.h (the joining quintic of replanning), chart_hermite.h
+// (the two-point Hermite polynomials in a chart that the joining quintic and goal trajectories use).
 //
 // The curve interface shared by every construction, and time reparameterisation.
 //

@@ -11,7 +11,7 @@
 // which, with A = E_0 − c_0 − c_1 h − c_2 h², B = (E_1 − c_1 − 2 c_2 h) h, C = (E_2 − c_2) h²,
 // gives
 //   c_3 h³ = 10 A − 4 B + C,   c_4 h⁴ = −15 A + 7 B − 2 C,   c_5 h⁵ = 6 A − 3 B + C           (J2)
-// (the classical quintic Hermite basis, written in the monomials). G::exp(x_s, ·) inverts
+// (the classical quintic Hermite basis, written in the monomials: chartHermite of chart_hermite.h). G::exp(x_s, ·) inverts
 // G::log(x_s, ·) as a map, so it inverts it on jets too: J has at t_s the value, velocity and
 // acceleration of X_s and at t_s + h those of R at t_r, i.e. the joined motion is C² at the
 // switch and at the joint, to rounding, whatever the curve R (and in any geometry whose log at x_s
@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "se3_interpolation/curves/chart_hermite.h"
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/geometry/geometry.h"
@@ -51,50 +52,7 @@ typename G::template Point<Jet<3>> evaluateAt(const Curve<G>& c, const Jet<3>& t
 {
   return jet3Of(c, t, side);
 }
-
-/// The coefficients 0, 1, 2 of a tangent of jets, as three tangents of doubles.
-template <class G>
-std::array<typename G::template Tangent<double>, 3> tangentCoefficients(const typename G::template Tangent<Jet<2>>& v)
-{
-  std::array<typename G::template Tangent<double>, 3> c;
-  for (int k = 0; k < 3; ++k)
-  {
-    c[k].resize(v.size());
-    for (Eigen::Index i = 0; i < v.size(); ++i)
-      c[k][i] = v[i].coefficient(k);
-  }
-  return c;
-}
 }  // namespace detail
-
-/// The second-order jet of a pose moving with the given velocity and acceleration (planner.h
-/// conventions: ṗ, p̈ and the spatial ω, ω̇ with Ṙ = [ω]× R). The inverse of kinematicsFromJet:
-/// q̇ = ½ (0, ω) q and q̈ = ½ (0, ω̇) q + ¼ (0, ω)(0, ω) q; a jet stores q̈/2.
-inline Pose<Jet<2>> poseJet(const Pose<double>& x, const Twist& velocity, const Twist& acceleration)
-{
-  const Quaternion<double> w(0.0, velocity.angular.x(), velocity.angular.y(), velocity.angular.z());
-  const Quaternion<double> dw(0.0, acceleration.angular.x(), acceleration.angular.y(), acceleration.angular.z());
-  const Quaternion<double> q1 = Quaternion<double>(w.coeffs() * 0.5) * x.q;
-  const Quaternion<double> q2a = dw * x.q;
-  const Quaternion<double> q2b = w * (w * x.q);
-  const Eigen::Vector4d q2 = 0.25 * q2a.coeffs() + 0.125 * q2b.coeffs();  // q̈/2
-  Pose<Jet<2>> j;
-  Eigen::Matrix<Jet<2>, 4, 1> c;
-  for (int i = 0; i < 4; ++i)
-  {
-    c[i] = Jet<2>(x.q.coeffs()[i]);
-    c[i].coefficient(1) = q1.coeffs()[i];
-    c[i].coefficient(2) = q2[i];
-  }
-  j.q.coeffs() = c;
-  for (int i = 0; i < 3; ++i)
-  {
-    j.p[i] = Jet<2>(x.p[i]);
-    j.p[i].coefficient(1) = velocity.linear[i];
-    j.p[i].coefficient(2) = 0.5 * acceleration.linear[i];
-  }
-  return j;
-}
 
 /// The joining segment (J1) on [start_time, start_time + duration] followed by `rest` from
 /// `rest_from` on. Throws InvalidInputError for a duration that is not positive and finite,
@@ -120,34 +78,22 @@ public:
     if (!(h_ > 0.0) || !std::isfinite(h_))
       throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
                               formatNumber(h_) + " s (it must be positive)");
-    const PointT<Jet<2>> origin = G::template cast<Jet<2>>(start_);
-    const auto c = detail::tangentCoefficients<G>(G::log(origin, start_jet));
-    typename G::template Tangent<Jet<2>> end_log;
+    const auto c = chartJet<G>(start_, start_jet);
+    std::array<Tangent, 3> e;
     try
     {
-      end_log = G::log(origin, rest_->jet(Jet<2>::variable(rest_from_), Side::kRight));
+      e = chartJet<G>(start_, rest_->jet(Jet<2>::variable(rest_from_), Side::kRight));
     }
     catch (const NonUniqueGeodesicError&)
     {
       throw NonUniqueGeodesicError("waypoints[0]: the curve's start is half a turn from the start state's "
                                    "orientation, so the joining segment is not unique");
     }
-    const auto e = detail::tangentCoefficients<G>(end_log);
-    const double h = h_;
-    const Tangent a = e[0] - c[0] - c[1] * h - c[2] * (h * h);
-    const Tangent b = (e[1] - c[1] - c[2] * (2.0 * h)) * h;
-    const Tangent cc = (e[2] - c[2]) * (h * h);
-    coefficients_ = { c[0],
-                      c[1],
-                      c[2],
-                      Tangent((10.0 * a - 4.0 * b + cc) / (h * h * h)),
-                      Tangent((-15.0 * a + 7.0 * b - 2.0 * cc) / (h * h * h * h)),
-                      Tangent((6.0 * a - 3.0 * b + cc) / (h * h * h * h * h)) };
-    for (const Tangent& c : coefficients_)
-      if (!c.allFinite())
-        throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
-                                formatNumber(h_) + " s, too short for its start velocity and the curve it joins "
-                                "(the joining polynomial overflows); give the first waypoint a later time");
+    coefficients_ = chartHermite<G>(c, e, h_, 2);
+    if (!finiteCoefficients<G>(coefficients_))
+      throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
+                              formatNumber(h_) + " s, too short for its start velocity and the curve it joins "
+                              "(the joining polynomial overflows); give the first waypoint a later time");
   }
 
   template <class S>
@@ -164,12 +110,7 @@ public:
         rest_time = rest_time + S(rest_->endTime() - valueOf(rest_time));
       return detail::evaluateAt<G>(*rest_, rest_time, side);
     }
-    const S tau = t - S(t0_);
-    using TangentS = typename G::template Tangent<S>;
-    TangentS p = coefficients_[5].template cast<S>();
-    for (int k = 4; k >= 0; --k)
-      p = TangentS(p * tau + coefficients_[k].template cast<S>());
-    return G::exp(G::template cast<S>(start_), p);
+    return chartPolynomialAt<G>(start_, coefficients_, kMaxChartHermiteDegree, S(t - S(t0_)));
   }
 
   double startTime() const override { return t0_; }
@@ -203,7 +144,7 @@ private:
   std::shared_ptr<const Curve<G>> rest_;
   double rest_from_;
   BreakpointSnap rest_snap_;
-  std::array<Tangent, 6> coefficients_;
+  ChartPolynomial<G> coefficients_;
 };
 
 }  // namespace se3_interpolation

@@ -51,6 +51,14 @@ std::string withLimitPrefix(const std::string& message, const std::string& prefi
 /// A validated, normalised pose; throws InvalidInputError naming `field` (e.g. "waypoints[2]").
 Pose<double> validatePose(const Pose<double>& raw, const std::string& field);
 
+/// A finite quaternion with norm in [kMinUnitNorm, kMaxUnitNorm], normalised; throws
+/// InvalidInputError naming `field` (a component as `field`.x … .w).
+Quaternion<double> validateQuaternion(const Quaternion<double>& raw, const std::string& field);
+
+/// A position or twist part with finite components of magnitude at most kMaxMagnitude; throws
+/// InvalidInputError naming the component (`field`.x, .y, .z).
+void requireBounded(const Eigen::Vector3d& v, const std::string& field);
+
 
 void requireFinite(double x, const std::string& field);
 void requireFiniteNonNegative(double x, const std::string& field);
