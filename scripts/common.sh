@@ -20,7 +20,7 @@ SE3_APT_PACKAGES=(
   python3-visualization-msgs python3-std-srvs python3-trajectory-msgs python3-tf2-ros
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev doxygen
-  catkin-lint
+  catkin-lint libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
 )
 
 # Prints the first local TCP port from 11398 to 11497 that is free to bind (the ROS master of a

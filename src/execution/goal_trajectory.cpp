@@ -452,7 +452,23 @@ void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) c
 {
   const SixRates bounds = boundsOf(limits);
   requireNoJumps(*interpolant_, bounds);
-  const MotionPeaks peaks = peaksOf(*interpolant_);
+  MotionPeaks peaks = peaksOf(*interpolant_);
+  // Jerk: the mean of each segment, |Δp̈| / h and |Δω̇| / h between its points (file comment).
+  const std::vector<double>& b = interpolant_->times();
+  peaks[4] = RatePeak();
+  peaks[5] = RatePeak();
+  for (std::size_t i = 0; i + 1 < b.size(); ++i)
+  {
+    const Kinematics k0 = interpolant_->at(b[i], Side::kRight);
+    const Kinematics k1 = interpolant_->at(b[i + 1], Side::kLeft);
+    const double h = b[i + 1] - b[i];
+    const double linear = (k1.acceleration.linear - k0.acceleration.linear).norm() / h;
+    const double angular = (k1.acceleration.angular - k0.acceleration.angular).norm() / h;
+    if (linear > peaks[4].value)
+      peaks[4] = { linear, b[i], i };
+    if (angular > peaks[5].value)
+      peaks[5] = { angular, b[i], i };
+  }
   std::size_t worst = bounds.size();
   double worst_ratio = 1.0 + tolerance;
   for (std::size_t c = 0; c < bounds.size(); ++c)
@@ -465,9 +481,14 @@ void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) c
     return;
   const RatePeak& p = peaks[worst];
   const RateName& r = kRateNames[worst];
-  refuse(pointField(p.segment) + ": between it and " + pointField(p.segment + 1) + " the " + r.name + " reaches " +
-         formatNumber(p.value) + " " + r.unit + " at time_from_start " + formatNumber(p.time) + " s, above " +
-         r.bound + " = " + formatNumber(bounds[worst]) + " " + r.unit);
+  const bool mean = worst >= 4;
+  refuse(pointField(p.segment) + ": between it and " + pointField(p.segment + 1) + " the " +
+         (mean ? "mean " : "") + r.name + " reaches " + formatNumber(p.value) + " " + r.unit + " at time_from_start " +
+         formatNumber(p.time) + " s, above " + r.bound + " = " + formatNumber(bounds[worst]) + " " + r.unit +
+         (worst == 2 || worst == 3 ?
+              " (where a trajectory's acceleration jumps between two points, as time_optimal's does without a jerk "
+              "bound, its interpolation overshoots: generate it with max_linear_jerk and max_angular_jerk)" :
+              ""));
 }
 
 void GoalTrajectory::requireEndsAtRest() const

@@ -61,6 +61,19 @@ Pose<double> fromMsg(const geometry_msgs::Transform& msg)
   return poseOf(msg.rotation, p);
 }
 
+GoalPoint fromMsg(const trajectory_msgs::MultiDOFJointTrajectoryPoint& msg)
+{
+  GoalPoint point;
+  point.time_from_start = msg.time_from_start.toSec();
+  if (!msg.transforms.empty())
+    point.pose = fromMsg(msg.transforms.front());
+  if (!msg.velocities.empty())
+    point.velocity = fromMsg(msg.velocities.front());
+  if (!msg.accelerations.empty())
+    point.acceleration = fromMsg(msg.accelerations.front());
+  return point;
+}
+
 TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vector<geometry_msgs::Pose>& poses)
 {
   TrajectoryRequest r;

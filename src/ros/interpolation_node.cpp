@@ -47,11 +47,15 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
     playback_.setLoop(after.loop);
     if (after.tf_rate != before.tf_rate)
       moving_frame_->setRate(after.tf_rate);
+    if (follow_server_ && (after.command_rate != before.command_rate || after.feedback_rate != before.feedback_rate))
+      follow_server_->setRates(after.command_rate, after.feedback_rate);
     ROS_INFO_STREAM("dynamic_reconfigure: curve " << after.curve << ", geometry " << after.geometry
                                                   << ", parameterization " << after.parameterization << ", timing "
                                                   << after.timing << ", loop " << (after.loop ? "on" : "off")
                                                   << ", tf_rate " << after.tf_rate << " Hz");
   });
+  follow_server_ = std::make_unique<FollowTrajectoryServer>(
+      private_nh_, playback_, tf_buffer_, [this] { return parameters_->get(); }, publish_mutex_, p);
   waypoint_topics_ = std::make_unique<WaypointTopics>(private_nh_, p, tf_buffer_, [this] { autoGenerate(); });
   clear_service_ = private_nh_.advertiseService("clear_waypoints", &InterpolationNode::clearWaypoints, this);
   ros::NodeHandle service_nh(private_nh_);
@@ -89,6 +93,7 @@ InterpolationNode::~InterpolationNode()
   maintenance_spinner_->stop();
   watchdog_.reset();
   waypoint_topics_.reset();
+  follow_server_.reset();
   parameters_.reset();
   moving_frame_.reset();
 }
@@ -295,6 +300,8 @@ void InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::
   motion.duration = result.duration;
   motion.frame_id = header.frame_id;
   motion.child_frame_id = child_frame_id;
+  motion.tag = "~generate";
+  follow_server_->interrupt("replaced by a trajectory of ~generate (publish or auto-generation)");
   playback_.play(std::move(motion), toNanoseconds(header.stamp), toNanoseconds(ros::Time::now()));
   moving_frame_->publishSamples(result, header, child_frame_id, params.max_tf_samples);
 }
@@ -337,6 +344,7 @@ bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_
   const WaypointTopics::Buffer::Snapshot cleared = waypoint_topics_->buffer().clear();
   {
     std::lock_guard<std::mutex> publishing(publish_mutex_);
+    follow_server_->interrupt("~clear_waypoints stopped the motion");
     playback_.hold(toNanoseconds(ros::Time::now()));
     nav_msgs::Path empty;
     empty.header.stamp = ros::Time::now();

@@ -170,7 +170,9 @@ std::string parameterError(const ParameterSpec& spec, double value)
 std::string parameterError(const ParameterSpec& spec, const std::string& value)
 {
   const std::string field = std::string("~") + spec.name;
-  if (spec.type == ParameterType::kFrame)
+  if (spec.type == ParameterType::kOptionalFrame && value.empty())
+    return "";
+  if (spec.type == ParameterType::kFrame || spec.type == ParameterType::kOptionalFrame)
   {
     try
     {

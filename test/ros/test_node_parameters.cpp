@@ -233,6 +233,7 @@ TEST(NodeParameters, DynamicReconfigureIsTheTablesRunTimeRows)
         EXPECT_EQ(type, "double") << spec.name;
         break;
       case ParameterType::kFrame:
+      case ParameterType::kOptionalFrame:
       case ParameterType::kChoice:
         EXPECT_EQ(type, "str") << spec.name;
         break;

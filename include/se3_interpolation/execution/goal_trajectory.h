@@ -32,6 +32,14 @@
 // i.e. between the points, not only at them. Where the velocity jumps (order 0) the acceleration is
 // an impulse, where the acceleration jumps (orders 0, 1) the jerk is: a bound on those is refused
 // there, naming the point.
+// Velocity and acceleration bounds hold for the interpolated motion itself; a jerk bound holds for
+// each segment's mean jerk, |Δp̈| / h and |Δω̇| / h between its points (what a controller
+// differentiating the setpoints at the points' rate sees). The quintic's own jerk cannot be held
+// to the bound: sampled from a jerk-limited motion whose jerk switches sign between two points, the
+// quintic through them reaches ~1.4 times the jerk of the motion sampled, however dense the
+// samples (the overshoot of a polynomial through a kink of the derivative it fits); likewise its
+// acceleration overshoots where the sampled motion's acceleration jumps (time_optimal without a
+// jerk bound), which the acceleration bound then refuses, suggesting a jerk bound.
 #pragma once
 
 #include <array>
@@ -105,6 +113,13 @@ struct RatePeak
 /// The peaks of the six rates, in the order of MotionLimits: |ṗ|, |ω|, |p̈|, |ω̇|, |p⃛|, |ω̈|.
 using MotionPeaks = std::array<RatePeak, 6>;
 
+/// The relative tolerance of the node's bounds check of a goal (checkLimits' `tolerance`): sampled
+/// every 10 ms from a motion that holds its velocity and acceleration bounds exactly (jerk-limited
+/// time_optimal at its acceleration bound), the quintic between the samples overshoots them by up
+/// to ~0.3 % (measured: test_goal_trajectory's planner samples, test_node_action); 1 % lets such
+/// goals through and still refuses the ~40 % overshoot of a sampled acceleration jump.
+constexpr double kGoalLimitTolerance = 0.01;
+
 /// The end of a motion counts as at rest below these speeds (m/s, rad/s): far below what a robot
 /// executes, far above the rounding of a motion planned to stop (~1e-12).
 constexpr double kRestLinear = 1e-6;
@@ -153,7 +168,8 @@ public:
   /// relative of the true peak (the search refines to ~1e-12).
   MotionPeaks peaks() const;
 
-  /// Checks the motion, between the points as well as at them, against `limits`.
+  /// Checks the motion, between the points as well as at them, against `limits` (jerk: the
+  /// segments' mean jerk, file comment).
   /// @param limits the bounds (0 = unbounded)
   /// @param tolerance a peak up to bound × (1 + tolerance) is accepted
   /// @throws InvalidGoalError (kInvalidGoal) naming the segment "trajectory.points[i]" (segment

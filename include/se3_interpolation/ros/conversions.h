@@ -10,6 +10,7 @@
 
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/GenerationStatus.h"
+#include "se3_interpolation/execution/goal_trajectory.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -29,6 +30,11 @@ geometry_msgs::Twist toMsg(const Twist& twist);
 geometry_msgs::Transform& toMsg(const Pose<double>& pose, geometry_msgs::Transform& out);
 /// The pose of a transform parent_T_child (a tf2 lookup's), the quaternion kept as given.
 Pose<double> fromMsg(const geometry_msgs::Transform& msg);
+
+/// A goal's point from the first joint's transform, velocity and acceleration of a
+/// MultiDOFJointTrajectory point (absent where the message has none; the caller checks that the
+/// point has a transform and no second joint); time_from_start in s.
+GoalPoint fromMsg(const trajectory_msgs::MultiDOFJointTrajectoryPoint& msg);
 
 /// The core request from a service request (waypoints taken from `poses`: the request's own,
 /// transformed into the waypoints' frame, then those of waypoint_frames).

@@ -47,6 +47,7 @@
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/execution/playback.h"
 #include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/ros/follow_trajectory_server.h"
 #include "se3_interpolation/ros/master_watchdog.h"
 #include "se3_interpolation/ros/moving_frame.h"
 #include "se3_interpolation/ros/run_time_parameters.h"
@@ -104,6 +105,7 @@ private:
   std::unique_ptr<MovingFrame> moving_frame_;
   std::unique_ptr<WaypointTopics> waypoint_topics_;
   std::unique_ptr<RunTimeParameters> parameters_;
+  std::unique_ptr<FollowTrajectoryServer> follow_server_;
 
   ros::ServiceServer clear_service_;
   ros::CallbackQueue service_queue_;

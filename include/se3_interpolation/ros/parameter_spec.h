@@ -11,7 +11,8 @@ enum class ParameterType
   kBool,
   kInt,
   kDouble,
-  kFrame,  ///< a TF frame id (tf2's rules, validateFrameId)
+  kFrame,          ///< a TF frame id (tf2's rules, validateFrameId)
+  kOptionalFrame,  ///< a TF frame id, or empty for none
   kChoice  ///< a string that must be one of ParameterSpec::choices (an enum in dynamic_reconfigure)
 };
 

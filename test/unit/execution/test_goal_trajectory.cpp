@@ -514,7 +514,7 @@ TEST(GoalTrajectory, CheckLimitsAcceptsTheBoundAndRefusesJustBelowIt)
     {
       const GoalTrajectory g = restToRest(length, duration, rotation, geometry);
       EXPECT_NO_THROW(g.checkLimits(MotionLimits()));
-      for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t k = 0; k < 2; ++k)  // velocity and acceleration: the interpolant's own peaks
       {
         const std::size_t rate = 2 * k + (rotation ? 1 : 0);
         auto limits = [&](double bound) {
@@ -543,6 +543,43 @@ TEST(GoalTrajectory, CheckLimitsAcceptsTheBoundAndRefusesJustBelowIt)
         }
       }
     }
+}
+
+TEST(GoalTrajectory, CheckLimitsBoundsTheMeanJerkOfEachSegment)
+{
+  // Jerk is bounded as each segment's mean, |Δa| / h between its points: here the second segment's
+  // acceleration changes by |(1.2, -0.9, 0)| = 1.5 in 0.5 s (3 m/s³), the first's by 0.4 in 1 s.
+  for (bool rotation : { false, true })
+  {
+    auto t6 = [rotation](const Eigen::Vector3d& v) {
+      return rotation ? twist(Eigen::Vector3d::Zero(), v) : twist(v, Eigen::Vector3d::Zero());
+    };
+    const Quaternion<double> q = Quaternion<double>::Identity();
+    const std::vector<GoalPoint> points{
+      point(0.0, Pose<double>(q, Eigen::Vector3d::Zero()), Twist(), Twist()),
+      point(1.0, Pose<double>(q, Eigen::Vector3d(0.1, 0.0, 0.0)), t6(Eigen::Vector3d(0.2, 0, 0)),
+            t6(Eigen::Vector3d(0.4, 0, 0))),
+      point(1.5, Pose<double>(q, Eigen::Vector3d(0.2, 0.0, 0.0)), Twist(), t6(Eigen::Vector3d(1.6, -0.9, 0))),
+    };
+    const GoalTrajectory g(points, GeometryType::kDoubleGeodesic);
+    const double mean = 1.5 / 0.5;
+    MotionLimits l;
+    (rotation ? l.max_angular_jerk : l.max_linear_jerk) = mean * (1.0 + 1e-9);
+    EXPECT_NO_THROW(g.checkLimits(l));
+    EXPECT_GT(g.peaks()[rotation ? 5 : 4].value, mean) << "the quintic's own jerk peaks above the mean";
+    (rotation ? l.max_angular_jerk : l.max_linear_jerk) = mean * (1.0 - 1e-6);
+    try
+    {
+      g.checkLimits(l);
+      ADD_FAILURE() << "not refused";
+    }
+    catch (const InvalidGoalError& e)
+    {
+      const std::string what = e.what();
+      EXPECT_EQ(what.find("trajectory.points[1]: between it and trajectory.points[2] the mean "), 0u) << what;
+      EXPECT_NE(what.find(rotation ? "~max_angular_jerk" : "~max_linear_jerk"), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(GoalTrajectory, CheckLimitsFindsPeaksBetweenThePoints)

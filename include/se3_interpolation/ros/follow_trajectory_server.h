@@ -1,0 +1,108 @@
+// ros/follow_trajectory_server.h: the action ~follow_trajectory (se3_interpolation/FollowTrajectory,
+// actionlib::ActionServer) and the controller setpoint ~command. It makes the node the executor of
+// a MultiDOFJointTrajectory: a goal is checked (execution/goal_trajectory.h: its points, its
+// motion between them, the node's ~max_* bounds, at rest at its end; then its joint, frame and
+// stamp; then execution/goal_execution.h's start rule), played on the node's one Playback (the
+// moving TF frame ~child_frame_id, what from_current replans from) and supervised at
+// ~feedback_rate against the measured frame ~actual_frame (execution/goal_execution.h's
+// GoalSupervisor). A cancel or a path tolerance abort brings the frame to rest along its path
+// (Playback::stop, within ~max_linear_acceleration / ~max_angular_acceleration, else in
+// ~stop_time). docs/ros_interface.md, "Executing motions", is the user's description.
+//
+// ~command (geometry_msgs/PoseStamped, world_T_body of the moving frame in the trajectory's frame,
+// the target convention of Cartesian controllers such as cartesian_motion_controller) carries the
+// setpoint at ~command_rate only while a goal is shown, or the pose held after one: a trajectory of
+// ~generate (publish, auto-generation) never reaches it, and replacing a goal by one ends the goal.
+//
+// Threading: goals, cancels and the feedback timer run on one callback queue and thread (so a goal
+// is checked and started in order), ~command on another (a long goal check never delays the
+// setpoint). Starting a goal takes the node's publication mutex, so that no ~generate publication
+// slips between its start check and its play.
+#pragma once
+
+#include <actionlib/server/action_server.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "se3_interpolation/FollowTrajectoryAction.h"
+#include "se3_interpolation/execution/goal_execution.h"
+#include "se3_interpolation/execution/playback.h"
+#include "se3_interpolation/ros/node_parameters.h"
+
+namespace se3_interpolation
+{
+/// The tags of what the playback shows (Motion::tag): goals' start with this, so ~command knows them.
+constexpr const char* kGoalTagPrefix = "follow_trajectory goal ";
+
+class FollowTrajectoryServer
+{
+public:
+  using ActionServer = actionlib::ActionServer<FollowTrajectoryAction>;
+  using GoalHandle = ActionServer::GoalHandle;
+
+  /// Serves ~follow_trajectory and ~command on `private_nh`. `playback` is the node's (shared with
+  /// ~generate and TF), `tf` its buffer (for ~actual_frame and frame checks), `parameters` gives the
+  /// parameters in effect, `publish_mutex` serialises every change of the playback.
+  FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback, const tf2_ros::Buffer& tf,
+                         std::function<NodeParameters()> parameters, std::mutex& publish_mutex,
+                         const NodeParameters& initial);
+  ~FollowTrajectoryServer();
+
+  /// The rates of ~command and of the feedback (Hz, > 0).
+  void setRates(double command_rate, double feedback_rate);
+
+  /// Something other than a goal took the moving frame (a ~generate publication, ~clear_waypoints):
+  /// the running goal ends PREEMPTED, `why` in its error_string. Call with the publication mutex held.
+  void interrupt(const std::string& why);
+
+private:
+  /// A running goal.
+  struct Active
+  {
+    GoalHandle handle;
+    std::string tag;          ///< its Motion::tag
+    std::string frame_id;     ///< the trajectory's frame
+    Nanoseconds stamp = 0;    ///< its time zero
+    Pose<double> last;        ///< its last point
+    GoalSupervisor supervisor;
+  };
+
+  void onGoal(GoalHandle handle);
+  void onCancel(GoalHandle handle);
+  void feedbackCallback(const ros::TimerEvent& event);
+  void commandCallback(const ros::TimerEvent& event);
+  /// Starts `handle` or rejects it with its code and message (never throws).
+  void start(GoalHandle handle);
+  /// Brings the frame to rest from `now` and returns where it stops.
+  Pose<double> stopFrame(Nanoseconds now, const NodeParameters& params);
+  /// The measured pose of ~actual_frame in `frame` (empty when ~actual_frame is empty or unknown).
+  std::optional<Pose<double>> measured(const std::string& frame, const NodeParameters& params) const;
+
+  Playback& playback_;
+  const tf2_ros::Buffer& tf_;
+  std::function<NodeParameters()> parameters_;
+  std::mutex& publish_mutex_;
+
+  std::mutex mutex_;  ///< guards active_ and next_goal_
+  std::optional<Active> active_;
+  std::uint64_t next_goal_ = 1;
+
+  ros::CallbackQueue action_queue_;
+  ros::CallbackQueue command_queue_;
+  ros::Publisher command_pub_;
+  std::unique_ptr<ActionServer> server_;
+  ros::Timer feedback_timer_;
+  ros::Timer command_timer_;
+  std::unique_ptr<ros::AsyncSpinner> action_spinner_;
+  std::unique_ptr<ros::AsyncSpinner> command_spinner_;
+};
+
+}  // namespace se3_interpolation

@@ -1,0 +1,358 @@
+#include "se3_interpolation/ros/follow_trajectory_server.h"
+
+#include <geometry_msgs/PoseStamped.h>
+
+#include <utility>
+#include <vector>
+
+#include "se3_interpolation/planner/names.h"
+#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/ros/conversions.h"
+
+namespace se3_interpolation
+{
+namespace
+{
+Nanoseconds nanosecondsOf(const ros::Time& t)
+{
+  return static_cast<Nanoseconds>(t.toNSec());
+}
+
+/// The goal's motion limits: the node's ~max_* bounds in effect.
+MotionLimits limitsOf(const NodeParameters& p)
+{
+  MotionLimits l;
+  l.max_linear_velocity = p.max_linear_velocity;
+  l.max_angular_velocity = p.max_angular_velocity;
+  l.max_linear_acceleration = p.max_linear_acceleration;
+  l.max_angular_acceleration = p.max_angular_acceleration;
+  l.max_linear_jerk = p.max_linear_jerk;
+  l.max_angular_jerk = p.max_angular_jerk;
+  return l;
+}
+
+/// A goal's tolerances, its zeros taken from the node's parameters.
+GoalTolerances tolerancesOf(const FollowTrajectoryGoal& goal, const NodeParameters& p)
+{
+  auto either = [](double given, double fallback) { return given > 0.0 ? given : fallback; };
+  GoalTolerances t;
+  t.path_linear = either(goal.path_tolerance_linear, p.path_tolerance_linear);
+  t.path_angular = either(goal.path_tolerance_angular, p.path_tolerance_angular);
+  t.goal_linear = either(goal.goal_tolerance_linear, p.goal_tolerance_linear);
+  t.goal_angular = either(goal.goal_tolerance_angular, p.goal_tolerance_angular);
+  t.goal_time = either(goal.goal_time_tolerance, p.goal_time_tolerance);
+  return t;
+}
+
+/// Refuses a negative or non-finite tolerance, naming it.
+void requireTolerance(double value, const char* field)
+{
+  if (!(value >= 0.0) || !std::isfinite(value))
+    throw InvalidGoalError(GoalError::kInvalidGoal, std::string(field) + ": " + formatNumber(value) +
+                                                        " is not a finite tolerance >= 0 (0 = the node's default)");
+}
+
+/// The node's ~geometry (validated by the parameter table, so always a known name).
+GeometryType geometryOf(const NodeParameters& p)
+{
+  return parseName(p.geometry, "~geometry", RequestDefaults::kGeometry);
+}
+}  // namespace
+
+FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback,
+                                               const tf2_ros::Buffer& tf, std::function<NodeParameters()> parameters,
+                                               std::mutex& publish_mutex, const NodeParameters& initial)
+  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex)
+{
+  ros::NodeHandle action_nh(private_nh);
+  action_nh.setCallbackQueue(&action_queue_);
+  ros::NodeHandle command_nh(private_nh);
+  command_nh.setCallbackQueue(&command_queue_);
+  command_pub_ = command_nh.advertise<geometry_msgs::PoseStamped>("command", 10);
+  server_ = std::make_unique<ActionServer>(
+      action_nh, "follow_trajectory", [this](GoalHandle h) { onGoal(std::move(h)); },
+      [this](GoalHandle h) { onCancel(std::move(h)); }, false);
+  feedback_timer_ = action_nh.createTimer(ros::Duration(1.0 / initial.feedback_rate),
+                                          &FollowTrajectoryServer::feedbackCallback, this);
+  command_timer_ = command_nh.createTimer(ros::Duration(1.0 / initial.command_rate),
+                                          &FollowTrajectoryServer::commandCallback, this);
+  server_->start();
+  action_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &action_queue_);
+  action_spinner_->start();
+  command_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &command_queue_);
+  command_spinner_->start();
+}
+
+FollowTrajectoryServer::~FollowTrajectoryServer()
+{
+  command_spinner_->stop();
+  action_spinner_->stop();
+  feedback_timer_.stop();
+  command_timer_.stop();
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (active_)
+  {
+    FollowTrajectoryResult result;
+    result.error_string = "the node is shutting down";
+    active_->handle.setAborted(result, result.error_string);
+    active_.reset();
+  }
+}
+
+void FollowTrajectoryServer::setRates(double command_rate, double feedback_rate)
+{
+  command_timer_.setPeriod(ros::Duration(1.0 / command_rate));
+  feedback_timer_.setPeriod(ros::Duration(1.0 / feedback_rate));
+}
+
+void FollowTrajectoryServer::interrupt(const std::string& why)
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!active_)
+    return;
+  FollowTrajectoryResult result;
+  result.error_code = FollowTrajectoryResult::SUCCESSFUL;
+  result.error_string = why;
+  active_->handle.setCanceled(result, why);
+  active_.reset();
+}
+
+void FollowTrajectoryServer::onGoal(GoalHandle handle)
+{
+  try
+  {
+    start(std::move(handle));
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR_STREAM("~follow_trajectory: " << boundedMessage(e.what()));
+  }
+}
+
+void FollowTrajectoryServer::start(GoalHandle handle)
+{
+  const FollowTrajectoryGoal& goal = *handle.getGoal();
+  const NodeParameters params = parameters_();
+  FollowTrajectoryResult result;
+  try
+  {
+    const auto& points = goal.trajectory.points;
+    if (points.empty())
+      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: empty (give at least one point)");
+    if (points.size() > static_cast<std::size_t>(params.max_waypoints))
+      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                          " points; the limit (~max_waypoints) is " +
+                                                          std::to_string(params.max_waypoints));
+    std::vector<GoalPoint> goal_points;
+    goal_points.reserve(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      if (points[i].transforms.empty())
+        throw InvalidGoalError(GoalError::kInvalidJoints,
+                               indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
+                                   quotedText(params.child_frame_id) + ")");
+      goal_points.push_back(fromMsg(points[i]));
+    }
+    requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
+    requireTolerance(goal.path_tolerance_angular, "path_tolerance_angular");
+    requireTolerance(goal.goal_tolerance_linear, "goal_tolerance_linear");
+    requireTolerance(goal.goal_tolerance_angular, "goal_tolerance_angular");
+    requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
+    GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
+    trajectory.requireEndsAtRest();
+    trajectory.checkLimits(limitsOf(params), kGoalLimitTolerance);
+
+    const auto& names = goal.trajectory.joint_names;
+    if (names.size() != 1)
+      throw InvalidGoalError(GoalError::kInvalidJoints,
+                             "trajectory.joint_names: " + std::to_string(names.size()) +
+                                 " given; one is executed, the node's moving frame ~child_frame_id " +
+                                 quotedText(params.child_frame_id));
+    if (names[0] != params.child_frame_id)
+      throw InvalidGoalError(GoalError::kInvalidJoints, "trajectory.joint_names[0]: " + quotedText(names[0]) +
+                                                            " is not this node's moving frame ~child_frame_id " +
+                                                            quotedText(params.child_frame_id));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (points[i].transforms.size() > 1 || points[i].velocities.size() > 1 || points[i].accelerations.size() > 1)
+        throw InvalidGoalError(GoalError::kInvalidJoints,
+                               indexedField("trajectory.points", i) + ": " + std::to_string(points[i].transforms.size()) +
+                                   " transforms, " + std::to_string(points[i].velocities.size()) + " velocities, " +
+                                   std::to_string(points[i].accelerations.size()) +
+                                   " accelerations for one joint (at most one each)");
+
+    const std::string frame = goal.trajectory.header.frame_id.empty() ? params.frame_id : goal.trajectory.header.frame_id;
+    try
+    {
+      validateFrameId(frame, "trajectory.header.frame_id");
+    }
+    catch (const InvalidInputError& e)
+    {
+      throw InvalidGoalError(GoalError::kInvalidGoal, e.what());
+    }
+
+    const Nanoseconds now = nanosecondsOf(ros::Time::now());
+    const Nanoseconds stamp = goal.trajectory.header.stamp.isZero() ? now : nanosecondsOf(goal.trajectory.header.stamp);
+    const GoalTolerances tolerances = tolerancesOf(goal, params);
+    const std::string child = params.child_frame_id;
+
+    std::lock_guard<std::mutex> publishing(publish_mutex_);
+    const std::optional<PlaybackState> shown_now = playback_.at(now);
+    const bool plays_here = shown_now && shown_now->child_frame_id == child;
+    if (plays_here && shown_now->frame_id != frame)
+      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.header.frame_id: " + quotedText(frame) +
+                                                          " is not the frame " + quotedText(shown_now->frame_id) +
+                                                          " in which " + quotedText(child) + " moves");
+    if (!plays_here && frame != params.frame_id && !tf_._frameExists(frame))
+      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.header.frame_id: " + quotedText(frame) +
+                                                          " is neither ~frame_id " + quotedText(params.frame_id) +
+                                                          " nor a frame TF knows");
+    const GoalStart begin = checkGoalStart(
+        trajectory, stamp, now,
+        [&](Nanoseconds instant) -> std::optional<PlaybackState> {
+          std::optional<PlaybackState> s = playback_.at(instant);
+          if (s && s->child_frame_id != child)
+            return std::nullopt;
+          return s;
+        },
+        tolerances.path_linear, tolerances.path_angular);
+
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::string tag = kGoalTagPrefix + std::to_string(next_goal_++);
+    if (active_)
+    {
+      FollowTrajectoryResult replaced;
+      replaced.error_string = "replaced by the goal " + handle.getGoalID().id;
+      active_->handle.setCanceled(replaced, replaced.error_string);
+      active_.reset();
+    }
+    handle.setAccepted("starts at time_from_start " + formatNumber(begin.time) + " s");
+    const double end_time = trajectory.endTime();
+    const Pose<double> last = trajectory.stateAt(end_time).pose;
+    Motion motion = trajectory.motion(frame, child);
+    motion.tag = tag;
+    playback_.play(std::move(motion), stamp, nanosecondsOf(ros::Time::now()));
+    active_.emplace(Active{ handle, tag, frame, stamp, last,
+                            GoalSupervisor(tolerances, stamp + toNanoseconds(end_time), last) });
+  }
+  catch (const InvalidGoalError& e)
+  {
+    result.error_code = static_cast<int>(e.code());
+    result.error_string = boundedMessage(e.what());
+    handle.setRejected(result, result.error_string);
+  }
+  catch (const std::invalid_argument& e)  // the core's other errors (antipodal points, limits): the goal's content
+  {
+    result.error_code = FollowTrajectoryResult::INVALID_GOAL;
+    result.error_string = boundedMessage(e.what());
+    handle.setRejected(result, result.error_string);
+  }
+}
+
+Pose<double> FollowTrajectoryServer::stopFrame(Nanoseconds now, const NodeParameters& params)
+{
+  StopLimits limits;
+  limits.max_linear_acceleration = params.max_linear_acceleration;
+  limits.max_angular_acceleration = params.max_angular_acceleration;
+  limits.stop_time = params.stop_time;
+  const Nanoseconds rest = playback_.stop(now, limits);
+  const std::optional<PlaybackState> held = playback_.at(rest);
+  return held ? held->sample.pose : Pose<double>();
+}
+
+void FollowTrajectoryServer::onCancel(GoalHandle handle)
+{
+  const NodeParameters params = parameters_();
+  std::lock_guard<std::mutex> publishing(publish_mutex_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!active_ || !(active_->handle == handle))
+    return;
+  FollowTrajectoryResult result;
+  result.stopped_at = toMsg(stopFrame(nanosecondsOf(ros::Time::now()), params));
+  result.error_string = "cancelled: the frame stops along its path";
+  handle.setCanceled(result, result.error_string);
+  active_.reset();
+}
+
+std::optional<Pose<double>> FollowTrajectoryServer::measured(const std::string& frame,
+                                                             const NodeParameters& params) const
+{
+  if (params.actual_frame.empty())
+    return std::nullopt;
+  try
+  {
+    return fromMsg(tf_.lookupTransform(frame, params.actual_frame, ros::Time(0)).transform);
+  }
+  catch (const tf2::TransformException& e)
+  {
+    ROS_WARN_STREAM_THROTTLE(1.0, "~actual_frame " << params.actual_frame << " in " << frame
+                                                   << " is not available: " << e.what());
+    return std::nullopt;
+  }
+}
+
+void FollowTrajectoryServer::feedbackCallback(const ros::TimerEvent& /*event*/)
+{
+  const NodeParameters params = parameters_();
+  std::lock_guard<std::mutex> publishing(publish_mutex_);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!active_)
+    return;
+  const ros::Time now_time = ros::Time::now();
+  const Nanoseconds now = nanosecondsOf(now_time);
+  const std::optional<PlaybackState> shown = playback_.at(now);
+  // Before its start instant the goal is not shown yet (a splice ahead): the setpoint is what plays.
+  const TrajectorySample desired = shown ? shown->sample : TrajectorySample();
+  const std::optional<Pose<double>> actual = measured(active_->frame_id, params);
+  const GoalProgress progress = active_->supervisor.update(now, desired.pose, actual);
+
+  FollowTrajectoryFeedback feedback;
+  feedback.header.stamp = now_time;
+  feedback.header.frame_id = active_->frame_id;
+  feedback.time_from_start = secondsBetween(active_->stamp, now);
+  toMsg(desired.pose, feedback.desired);
+  feedback.desired_velocity = toMsg(desired.velocity);
+  toMsg(actual ? *actual : desired.pose, feedback.actual);
+  feedback.linear_error = active_->supervisor.error().linear;
+  feedback.angular_error = active_->supervisor.error().angular;
+  active_->handle.publishFeedback(feedback);
+
+  FollowTrajectoryResult result;
+  switch (progress)
+  {
+    case GoalProgress::kRunning:
+      return;
+    case GoalProgress::kSucceeded:
+      result.error_code = FollowTrajectoryResult::SUCCESSFUL;
+      result.stopped_at = toMsg(active_->last);
+      active_->handle.setSucceeded(result);
+      break;
+    case GoalProgress::kPathToleranceViolated:
+      result.error_code = FollowTrajectoryResult::PATH_TOLERANCE_VIOLATED;
+      result.error_string = active_->supervisor.message();
+      result.stopped_at = toMsg(stopFrame(now, params));
+      active_->handle.setAborted(result, result.error_string);
+      break;
+    case GoalProgress::kGoalToleranceViolated:
+      result.error_code = FollowTrajectoryResult::GOAL_TOLERANCE_VIOLATED;
+      result.error_string = active_->supervisor.message();
+      result.stopped_at = toMsg(desired.pose);
+      active_->handle.setAborted(result, result.error_string);
+      break;
+  }
+  active_.reset();
+}
+
+void FollowTrajectoryServer::commandCallback(const ros::TimerEvent& /*event*/)
+{
+  const ros::Time now = ros::Time::now();
+  const std::optional<PlaybackState> shown = playback_.at(nanosecondsOf(now));
+  if (!shown || shown->tag.rfind(kGoalTagPrefix, 0) != 0)
+    return;
+  geometry_msgs::PoseStamped command;
+  command.header.stamp = now;
+  command.header.frame_id = shown->frame_id;
+  command.pose = toMsg(shown->sample.pose);
+  command_pub_.publish(command);
+}
+
+}  // namespace se3_interpolation
