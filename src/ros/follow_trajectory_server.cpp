@@ -143,6 +143,12 @@ void FollowTrajectoryServer::start(GoalHandle handle)
       throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
                                                           " points; the limit (~max_waypoints) is " +
                                                           std::to_string(params.max_waypoints));
+    const double work = static_cast<double>(points.size()) * kGoalCheckSecondsPerPoint;
+    if (work > params.max_work_seconds)
+      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                          " points take about " + formatNumber(work) +
+                                                          " s to check; the limit (~max_work_seconds) is " +
+                                                          formatNumber(params.max_work_seconds) + " s");
     std::vector<GoalPoint> goal_points;
     goal_points.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i)

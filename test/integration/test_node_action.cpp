@@ -164,6 +164,26 @@ protected:
     return positionOf(pts.back().transforms[0].translation);
   }
 
+  /// The response's linear velocity (`acceleration` false) or acceleration at `t`, linearly
+  /// interpolated between samples.
+  static Eigen::Vector3d sampledRate(const GenerateTrajectory::Response& res, double t, bool acceleration)
+  {
+    const auto& pts = res.trajectory.points;
+    auto rate = [&](std::size_t i) {
+      return positionOf(acceleration ? pts[i].accelerations[0].linear : pts[i].velocities[0].linear);
+    };
+    for (std::size_t i = 1; i < pts.size(); ++i)
+    {
+      const double t0 = pts[i - 1].time_from_start.toSec(), t1 = pts[i].time_from_start.toSec();
+      if (t <= t1)
+      {
+        const double u = std::max(0.0, (t - t0) / (t1 - t0));
+        return (1 - u) * rate(i - 1) + u * rate(i);
+      }
+    }
+    return rate(pts.size() - 1);
+  }
+
   /// The distance from `p` to the response's sampled path.
   static double distanceToPath(const GenerateTrajectory::Response& res, const Eigen::Vector3d& p)
   {
@@ -267,6 +287,11 @@ TEST_F(NodeAction, SplicesAReplanWithoutAJump)
   const double t_old = switch_time - first.trajectory.header.stamp.toSec();
   const auto& start = second.trajectory.points.front();
   EXPECT_LT((positionOf(start.transforms[0].translation) - sampledPosition(first, t_old)).norm(), 1e-4);
+  // Velocity and acceleration too (C²), within the error of interpolating 10 ms samples of a
+  // motion whose jerk is at most 20 m/s³: 20 · 0.01² / 8 and 20 · 0.01 / 4.
+  EXPECT_LT((positionOf(start.velocities[0].linear) - sampledRate(first, t_old, false)).norm(), 1e-3);
+  EXPECT_LT((positionOf(start.accelerations[0].linear) - sampledRate(first, t_old, true)).norm(), 0.1);
+  EXPECT_GT(positionOf(start.velocities[0].linear).norm(), 0.05) << "the switch is mid-motion";
   b->sendGoal(goalOf(second));
   ASSERT_TRUE(b->waitForResult(ros::Duration(second.duration + 10.0)));
   EXPECT_EQ(b->getState(), State::SUCCEEDED) << b->getState().getText();
@@ -386,6 +411,16 @@ TEST_F(NodeAction, RefusesBadGoalsWithTheirCodes)
         }
       },
       FollowTrajectoryResult::INVALID_GOAL, "~max_linear_" },
+    { "too many points",
+      [](FollowTrajectoryGoal& g) {
+        const auto last = g.trajectory.points.back();
+        while (g.trajectory.points.size() <= 20000)  // ~max_waypoints, the service's size limit
+        {
+          g.trajectory.points.push_back(last);
+          g.trajectory.points.back().time_from_start += ros::Duration(1e-3 * g.trajectory.points.size());
+        }
+      },
+      FollowTrajectoryResult::INVALID_GOAL, "~max_waypoints" },
     { "negative tolerance", [](FollowTrajectoryGoal& g) { g.path_tolerance_linear = -1.0; },
       FollowTrajectoryResult::INVALID_GOAL, "path_tolerance_linear" },
     { "two joints", [](FollowTrajectoryGoal& g) { g.trajectory.joint_names.push_back("other"); },
