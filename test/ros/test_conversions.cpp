@@ -722,6 +722,46 @@ TEST(Conversions, PathAndTrajectoryCarryEverySample)
   }
 }
 
+// A goal's points: what toMsg writes for a trajectory, fromMsg reads back as the samples (the
+// action executes what ~generate returns); absent velocities and accelerations stay absent, a
+// second joint's entries are not read, and the quaternion is kept as given (GoalTrajectory checks it).
+TEST(Conversions, GoalPointsAreTheTrajectorysSamples)
+{
+  const TrajectoryResult synthetic = syntheticResult(50);
+  std_msgs::Header header;
+  header.stamp = ros::Time(1700000000, 5);
+  trajectory_msgs::MultiDOFJointTrajectory traj;
+  toMsg(synthetic, header, "tool0", traj);
+  ASSERT_EQ(traj.points.size(), synthetic.samples.size());
+  for (std::size_t i = 0; i < traj.points.size(); ++i)
+  {
+    const GoalPoint p = fromMsg(traj.points[i]);
+    const TrajectorySample& s = synthetic.samples[i];
+    EXPECT_EQ(p.time_from_start, traj.points[i].time_from_start.toSec());
+    EXPECT_NEAR(p.time_from_start, s.time, 1e-9);
+    EXPECT_EQ(p.pose.p, s.pose.p);
+    EXPECT_LT(std::min((p.pose.q.coeffs() - s.pose.q.coeffs()).norm(), (p.pose.q.coeffs() + s.pose.q.coeffs()).norm()),
+              1e-15);
+    ASSERT_TRUE(p.velocity && p.acceleration);
+    EXPECT_EQ(p.velocity->linear, s.velocity.linear);
+    EXPECT_EQ(p.velocity->angular, s.velocity.angular);
+    EXPECT_EQ(p.acceleration->linear, s.acceleration.linear);
+    EXPECT_EQ(p.acceleration->angular, s.acceleration.angular);
+  }
+  trajectory_msgs::MultiDOFJointTrajectoryPoint bare;
+  bare.transforms.resize(2);
+  bare.transforms[0].translation.x = 1.5;
+  bare.transforms[0].rotation.w = 0.5;
+  bare.transforms[1].translation.x = 9.0;
+  bare.time_from_start = ros::Duration(2, 500000000);
+  const GoalPoint p = fromMsg(bare);
+  EXPECT_EQ(p.time_from_start, 2.5);
+  EXPECT_EQ(p.pose.p.x(), 1.5);
+  EXPECT_EQ(p.pose.q.w(), 0.5);
+  EXPECT_FALSE(p.velocity);
+  EXPECT_FALSE(p.acceleration);
+}
+
 namespace
 {
 /// One figure of the response: set in the result, read in the response and in ~status.
