@@ -127,6 +127,13 @@ def default_text(e):
     return number(d)
 
 
+def written_text(e):
+    """The default as the docs table and the config file write it: an empty string quoted, so that
+    YAML reads a string, not null (which roslaunch cannot send to the parameter server)."""
+    text = default_text(e)
+    return text if text or e["type"] in ("bool", "int", "double") else '""'
+
+
 def cpp_string(s):
     return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
@@ -201,7 +208,7 @@ def markdown(entries):
     for e in entries:
         kind = "`" + " \\| ".join(e["choices"]) + "`" if e["type"] == "choice" else e["type"]
         lines.append("| `%s` | %s | `%s` | %s | %s | %s | %s |" % (
-            e["name"], kind, default_text(e), range_text(e), e.get("unit", ""),
+            e["name"], kind, written_text(e), range_text(e), e.get("unit", ""),
             "yes" if e.get("reconfigure") else "", e["doc"]))
     lines.append(DOCS_END)
     return "\n".join(lines) + "\n"
@@ -213,7 +220,7 @@ def config(entries):
              "# edit it, and load it with the launch files' config argument. Generated from cfg/node_parameters.yaml",
              "# (cfg/node_parameter_table.py config); docs/ros_interface.md explains each."]
     for e in entries:
-        value = default_text(e)
+        value = written_text(e)
         notes = [x for x in ("[%s]" % e["unit"] if e.get("unit") else "", range_text(e),
                              " | ".join(e["choices"]) if e["type"] == "choice" else "",
                              "run time" if e.get("reconfigure") else "") if x]

@@ -1,15 +1,19 @@
 #include "se3_interpolation/execution/goal_execution.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace se3_interpolation
 {
 namespace
 {
-/// "1.5e-05 m" etc.: the values of the messages.
+/// "1.5e-05 m" etc.: the values of the messages, to 4 significant digits (what a user compares;
+/// the tolerances are round numbers).
 std::string withUnit(double value, const char* unit)
 {
-  return formatNumber(value) + " " + unit;
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.4g", value);
+  return std::string(text) + " " + unit;
 }
 
 /// What differs between the frame's state `shown` and the goal's first state `start`, beyond the
