@@ -4,8 +4,10 @@
 // (after the reported recovery interval when the start state itself exceeds one), passes the
 // waypoints its curve promises, has derivatives that agree with finite differences of its poses and
 // figures that agree with the measured peaks; a refused request throws a std::invalid_argument
-// whose message names a request field. Shared by test_request_space.cpp (the grid and the random
-// sweep of the request space).
+// whose message names a request field. A served motion, executed as an action goal (its samples as
+// the node's toMsg writes them, execution/goal_trajectory.h), replays its samples, ends at rest
+// exactly when its last sample does, and keeps its bounds wherever the node's check accepts it
+// (checkGoal). Shared by test_request_space.cpp (the grid and the random sweep of the request space).
 #pragma once
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -21,7 +24,9 @@
 #include <vector>
 
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/execution/goal_trajectory.h"
 #include "se3_interpolation/math/lie_groups.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 
 namespace se3_interpolation
@@ -162,6 +167,14 @@ struct CheckOptions
   std::size_t dense_points = 3000;
   std::size_t difference_points = 24;
   std::uint32_t seed = 1;
+  /// The goal check (checkGoal): run at all, up to how many samples (its cost grows with them:
+  /// ~5 ms for 64; every grid case has 64, the sweep's sample_period reaches 4000, of which the
+  /// 1000 keeps the sweep's cost), and the brute-force evaluations per segment of the goal's
+  /// motion. Measured on the full test (a shared machine): 370 s before the goal check, 416 s
+  /// and 364 s with it.
+  bool goal = true;
+  std::size_t goal_max_samples = 1000;
+  std::size_t goal_evaluations_per_segment = 16;
 };
 
 /// Peak rates measured on the dense evaluation (|ṗ|, |ω|, |p̈|, |ω̇|).
@@ -714,17 +727,240 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
   return v;
 }
 
+/// What the goal check found of one served request (checkGoal).
+struct GoalCheck
+{
+  bool checked = false;       ///< the goal was built (the check ran and construction succeeded)
+  bool ends_at_rest = false;  ///< the last sample's speeds are within kRestLinear and kRestAngular
+  bool accepted = false;      ///< checkLimits(the request's bounds, kGoalLimitTolerance) accepted it
+  std::string refusal;        ///< checkLimits' message where it refused
+  bool repeated_times = false;  ///< two samples at one time (explicit sample_times): not a goal
+};
+
+/// A time as it comes back from a trajectory_msgs point: ros::Duration(t) keeps whole seconds and
+/// round((t − sec)·1e9) nanoseconds, toSec() gives sec + 1e-9·nsec (roscpp_core's fromSec/toSec).
+inline double rosDurationSeconds(double t)
+{
+  const double sec = std::floor(t);
+  const double nsec = std::round((t - sec) * 1e9);
+  return sec + 1e-9 * nsec;
+}
+
+/// The served samples as the goal's points, as the node converts them: toMsg(TrajectoryResult, ...,
+/// MultiDOFJointTrajectory) writes each sample's pose, velocity and acceleration and
+/// time_from_start = sample.time (not shifted to the first sample: both count from the request's
+/// stamp), fromMsg(MultiDOFJointTrajectoryPoint) reads them back; only the time is rounded (to ns).
+inline std::vector<GoalPoint> goalPointsOf(const TrajectoryResult& result)
+{
+  std::vector<GoalPoint> points;
+  points.reserve(result.samples.size());
+  for (const TrajectorySample& s : result.samples)
+  {
+    GoalPoint p;
+    p.time_from_start = rosDurationSeconds(s.time);
+    p.pose = s.pose;
+    p.velocity = s.velocity;
+    p.acceleration = s.acceleration;
+    points.push_back(p);
+  }
+  return points;
+}
+
+/// The served motion executed as an action goal (`~follow_trajectory`) on the request's geometry:
+///  (a) the goal is built without an exception;
+///  (b) it passes every sample: pose (1e-8), velocity and acceleration (1e-9, relative plus absolute,
+///      and for the velocity the rounding of the accelerations over the segment);
+///  (c) requireEndsAtRest passes exactly when the last sample is at rest (and it is, when the
+///      samples reach the end of a time_optimal or constant_speed motion), else it refuses naming
+///      the last point;
+///  (d) where checkLimits(the request's bounds, kGoalLimitTolerance) accepts it, a brute-force
+///      evaluation (options.goal_evaluations_per_segment states per segment and the end, both
+///      channels' speeds and acceleration norms; the jerk as each segment's mean |Δa|/h from the
+///      points' accelerations) stays within bound × (1 + kGoalLimitTolerance) (+ 1e-6 relative,
+///      the accuracy checkLimits' peak search promises, and rounding): the node's acceptance
+///      checked independently of its peak search; where it refuses, its message names a "~max_"
+///      bound and "trajectory.points[".
+/// Runs when options.goal is set and the result has 1 … options.goal_max_samples samples.
+inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryResult& result,
+                           const CheckOptions& options, std::vector<Violation>& v)
+{
+  GoalCheck g;
+  if (!options.goal || result.samples.empty() || result.samples.size() > options.goal_max_samples)
+    return g;
+  auto fail = [&v](const std::string& kind, double magnitude, const std::string& detail) {
+    v.push_back({ kind, magnitude, detail });
+  };
+  const std::vector<GoalPoint> points = goalPointsOf(result);
+  const std::size_t n = points.size();
+  // Explicit sample_times may repeat a time (they need only be non-decreasing): no goal has two
+  // points at one time, and the goal is refused naming the repeated time_from_start.
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(points[i].time_from_start > points[i - 1].time_from_start))
+    {
+      g.repeated_times = true;
+      try
+      {
+        GoalTrajectory(points, parseName(request.geometry, "geometry", RequestDefaults::kGeometry));
+        fail("goal construction", 0.0, "a goal with a repeated time_from_start is accepted");
+      }
+      catch (const std::exception& e)
+      {
+        if (std::string(e.what()).find("time_from_start") == std::string::npos)
+          fail("goal construction", 0.0, std::string("a repeated time_from_start refused naming another field: ") + e.what());
+      }
+      return g;
+    }
+  std::optional<GoalTrajectory> goal;
+  try
+  {
+    // (A served request's geometry is a valid name.)
+    goal.emplace(points, parseName(request.geometry, "geometry", RequestDefaults::kGeometry));
+  }
+  catch (const std::exception& e)
+  {
+    fail("goal construction", 0.0, std::string("the served samples as a goal are refused: ") + e.what());
+    return g;
+  }
+  g.checked = true;
+
+  // (b) The goal replays the samples.
+  double worst = 0.0;
+  std::string worst_at;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const TrajectorySample s = goal->stateAt(points[i].time_from_start);
+    const TrajectorySample& x = result.samples[i];
+    const double gaps[3] = { poseGap(s.pose, x.pose),
+                             std::max(relativeGap(s.velocity.linear, x.velocity.linear),
+                                      relativeGap(s.velocity.angular, x.velocity.angular)),
+                             std::max(relativeGap(s.acceleration.linear, x.acceleration.linear),
+                                      relativeGap(s.acceleration.angular, x.acceleration.angular)) };
+    // The last point is the end of a polynomial (from the left): its velocity carries the rounding
+    // of the segment's accelerations over h (a planner's last sample has shown |p̈| = 2.7e9 m/s²,
+    // sweep #1059: 1.3e-7 m/s); a pose gap below 1e-8 is the gap's own rounding on long motions
+    // (sweep #2346, t = 4586 s: 1.1e-9).
+    double slack = 0.0;
+    if (i > 0)
+    {
+      const double h = points[i].time_from_start - points[i - 1].time_from_start;
+      slack = 1e-15 * h *
+              (x.acceleration.linear.norm() + x.acceleration.angular.norm() +
+               result.samples[i - 1].acceleration.linear.norm() + result.samples[i - 1].acceleration.angular.norm());
+    }
+    const double gap = std::max({ gaps[0] * 0.1, gaps[1] - slack, gaps[2] });
+    if (gap > 1e-9 && gap > worst)
+    {
+      worst = gap;
+      worst_at = "the goal at trajectory.points[" + std::to_string(i) + "] (t = " + num(x.time) + ") is off the sample: pose " +
+                 num(gaps[0]) + ", velocity " + num(gaps[1]) + ", acceleration " + num(gaps[2]);
+    }
+  }
+  if (worst > 0.0)
+    fail("goal replay", worst, worst_at);
+
+  // (c) At rest at the end exactly when the last sample is.
+  const TrajectorySample& last = result.samples.back();
+  const double end_linear = last.velocity.linear.norm(), end_angular = last.velocity.angular.norm();
+  g.ends_at_rest = end_linear <= kRestLinear && end_angular <= kRestAngular;
+  const std::string last_point = "trajectory.points[" + std::to_string(n - 1) + "]";
+  const double t1 = result.start_time + result.duration;
+  const bool reaches_end = std::abs(last.time - t1) <= 1e-12 * std::max(1.0, std::abs(t1));
+  if (!g.ends_at_rest && reaches_end && (request.timing == "time_optimal" || request.timing == "constant_speed"))
+    fail("goal ends moving", std::max(end_linear, end_angular),
+         "timing " + request.timing + " ends moving: the last sample's speeds are " + num(end_linear) + " m/s, " +
+             num(end_angular) + " rad/s");
+  try
+  {
+    goal->requireEndsAtRest();
+    if (!g.ends_at_rest)
+      fail("goal rest", std::max(end_linear, end_angular),
+           "requireEndsAtRest accepts a motion whose last sample moves at " + num(end_linear) + " m/s, " +
+               num(end_angular) + " rad/s");
+  }
+  catch (const std::exception& e)
+  {
+    if (g.ends_at_rest)
+      fail("goal rest", std::max(end_linear, end_angular),
+           std::string("requireEndsAtRest refuses a motion whose last sample is at rest: ") + e.what());
+    else if (std::string(e.what()).find(last_point) == std::string::npos)
+      fail("goal rest message", 0.0, std::string("requireEndsAtRest's refusal does not name ") + last_point + ": " + e.what());
+  }
+
+  // (d) The bounds: checkLimits' verdict, and where it accepts, a brute-force evaluation.
+  MotionLimits limits;
+  limits.max_linear_velocity = request.max_linear_velocity;
+  limits.max_angular_velocity = request.max_angular_velocity;
+  limits.max_linear_acceleration = request.max_linear_acceleration;
+  limits.max_angular_acceleration = request.max_angular_acceleration;
+  limits.max_linear_jerk = request.max_linear_jerk;
+  limits.max_angular_jerk = request.max_angular_jerk;
+  try
+  {
+    goal->checkLimits(limits, kGoalLimitTolerance);
+    g.accepted = true;
+  }
+  catch (const std::exception& e)
+  {
+    g.refusal = e.what();
+    if (g.refusal.find("~max_") == std::string::npos || g.refusal.find("trajectory.points[") == std::string::npos)
+      fail("goal limits message", 0.0, "checkLimits' refusal names no ~max_ bound or no trajectory.points[: " + g.refusal);
+    return g;
+  }
+  const double bound[6] = { limits.max_linear_velocity,     limits.max_angular_velocity,
+                            limits.max_linear_acceleration, limits.max_angular_acceleration,
+                            limits.max_linear_jerk,         limits.max_angular_jerk };
+  static const char* const kGoalBounds[6] = { "~max_linear_velocity",     "~max_angular_velocity",
+                                              "~max_linear_acceleration", "~max_angular_acceleration",
+                                              "~max_linear_jerk",         "~max_angular_jerk" };
+  double ratio[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+  double ratio_t[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+  auto observe = [&](int j, double value, double slack, double t) {
+    if (bound[j] > 0.0 && value > bound[j] * (1.0 + kGoalLimitTolerance) * (1.0 + 1e-6) + slack &&
+        value / bound[j] > ratio[j])
+    {
+      ratio[j] = value / bound[j];
+      ratio_t[j] = t;
+    }
+  };
+  const std::size_t per_segment = std::max<std::size_t>(options.goal_evaluations_per_segment, 1);
+  auto rates = [&](const TrajectorySample& s) {
+    for (int j = 0; j < 4; ++j)
+      observe(j, rateOf(s, j), 1e-12, s.time);
+  };
+  for (std::size_t i = 0; i + 1 < n; ++i)
+  {
+    const double ta = points[i].time_from_start, tb = points[i + 1].time_from_start;
+    for (std::size_t k = 0; k < per_segment; ++k)
+      rates(goal->stateAt(ta + (tb - ta) * static_cast<double>(k) / static_cast<double>(per_segment)));
+    const double h = tb - ta;
+    const Twist& a0 = *points[i].acceleration;
+    const Twist& a1 = *points[i + 1].acceleration;
+    // Rounding of the two accelerations over h.
+    observe(4, (a1.linear - a0.linear).norm() / h, 4e-16 * (a0.linear.norm() + a1.linear.norm()) / h, ta);
+    observe(5, (a1.angular - a0.angular).norm() / h, 4e-16 * (a0.angular.norm() + a1.angular.norm()) / h, ta);
+  }
+  rates(goal->stateAt(goal->endTime()));
+  for (int j = 0; j < 6; ++j)
+    if (ratio[j] > 0.0)
+      fail(std::string("goal bound ") + kGoalBounds[j], ratio[j],
+           std::string("checkLimits accepts the goal, but ") + (j >= 4 ? "the mean jerk of a segment" : "its motion") +
+               " reaches " + num(ratio[j]) + " x " + kGoalBounds[j] + " = " + num(bound[j]) + " at t = " +
+               num(ratio_t[j]) + " (" + std::to_string(n) + " points)");
+  return g;
+}
+
 /// The outcome of one request: served (with the invariants it broke) or refused (with its message).
 struct Outcome
 {
   bool served = false;
   std::string message;  ///< the refusal's message
   std::vector<Violation> violations;
+  GoalCheck goal;  ///< the goal check of a served request (checkGoal)
 };
 
-/// Runs one request through generate() and the checker. A refusal must be a std::invalid_argument
-/// (the core's InterpolationError family) whose message names a request field; any other
-/// exception is a violation.
+/// Runs one request through generate(), the checker and, when served, the goal check. A refusal
+/// must be a std::invalid_argument (the core's InterpolationError family) whose message names a
+/// request field; any other exception is a violation.
 inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits& limits,
                            const CheckOptions& options = CheckOptions())
 {
@@ -734,6 +970,14 @@ inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits
     const TrajectoryResult result = generate(request, limits);
     out.served = true;
     out.violations = checkInvariants(request, result, options);
+    try
+    {
+      out.goal = checkGoal(request, result, options, out.violations);
+    }
+    catch (const std::exception& e)
+    {
+      out.violations.push_back({ "goal exception", 0.0, e.what() });
+    }
   }
   catch (const std::invalid_argument& e)
   {
