@@ -200,6 +200,21 @@ protected:
     return best;
   }
 
+  /// The second differences of consecutive setpoints (the acceleration ~command shows a
+  /// controller) stay within the node's linear acceleration bound (5 % for the differences).
+  static void expectAccelerationWithinTheBound(const std::vector<Command>& commands)
+  {
+    for (std::size_t i = 2; i < commands.size(); ++i)
+    {
+      const double h1 = commands[i - 1].t - commands[i - 2].t, h2 = commands[i].t - commands[i - 1].t;
+      if (h1 <= 1e-4 || h2 <= 1e-4)
+        continue;
+      const Eigen::Vector3d v1 = (commands[i - 1].p - commands[i - 2].p) / h1;
+      const Eigen::Vector3d v2 = (commands[i].p - commands[i - 1].p) / h2;
+      EXPECT_LE((v2 - v1).norm() / (0.5 * (h1 + h2)), 1.05 * kMaxLinearAcceleration) << "at t = " << commands[i].t;
+    }
+  }
+
   std::vector<Command> commandsBetween(double from, double to)
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -302,15 +317,7 @@ TEST_F(NodeAction, SplicesAReplanWithoutAJump)
   // acceleration bound allows between consecutive setpoints.
   const std::vector<Command> around = commandsBetween(switch_time - 0.2, switch_time + 0.2);
   ASSERT_GE(around.size(), 20u);
-  for (std::size_t i = 2; i < around.size(); ++i)
-  {
-    const double h1 = around[i - 1].t - around[i - 2].t, h2 = around[i].t - around[i - 1].t;
-    if (h1 <= 1e-4 || h2 <= 1e-4)
-      continue;
-    const Eigen::Vector3d v1 = (around[i - 1].p - around[i - 2].p) / h1;
-    const Eigen::Vector3d v2 = (around[i].p - around[i - 1].p) / h2;
-    EXPECT_LE((v2 - v1).norm() / (0.5 * (h1 + h2)), 1.05 * kMaxLinearAcceleration) << "at t = " << around[i].t;
-  }
+  expectAccelerationWithinTheBound(around);
 }
 
 /// A goal that would make the frame jump is rejected while the motion goes on untouched.
@@ -363,15 +370,7 @@ TEST_F(NodeAction, CancelStopsOnThePathWithinTheBound)
   ros::WallDuration(2.0).sleep();
   const std::vector<Command> stop = commandsBetween(cancelled_at - 0.1, cancelled_at + 2.0);
   ASSERT_GE(stop.size(), 100u);
-  for (std::size_t i = 2; i < stop.size(); ++i)
-  {
-    const double h1 = stop[i - 1].t - stop[i - 2].t, h2 = stop[i].t - stop[i - 1].t;
-    if (h1 <= 1e-4 || h2 <= 1e-4)
-      continue;
-    const Eigen::Vector3d v1 = (stop[i - 1].p - stop[i - 2].p) / h1;
-    const Eigen::Vector3d v2 = (stop[i].p - stop[i - 1].p) / h2;
-    EXPECT_LE((v2 - v1).norm() / (0.5 * (h1 + h2)), 1.05 * kMaxLinearAcceleration) << "at t = " << stop[i].t;
-  }
+  expectAccelerationWithinTheBound(stop);
   EXPECT_LT((stop.back().p - stopped).norm(), 1e-9) << "~command holds the stop pose";
 }
 
