@@ -509,18 +509,18 @@ Playback::stopEntry(const std::shared_ptr<const Entry>& shown, Nanoseconds now, 
   return { entry, rest };
 }
 
+Playback::Snapshot Playback::snapshot() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return { latest_, loop_ };
+}
+
 Nanoseconds Playback::stop(Nanoseconds now, const StopLimits& limits)
 {
   checkLimits(limits);
   for (;;)
   {
-    std::shared_ptr<const Entry> latest;
-    bool loop;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      latest = latest_;
-      loop = loop_;
-    }
+    const auto [latest, loop] = snapshot();
     const std::shared_ptr<const Entry> e = shownAt(latest, now);
     if (!e)
       return now;
@@ -546,13 +546,7 @@ Nanoseconds Playback::stop(Nanoseconds now, double ramp_seconds)
 std::optional<StopPlan> Playback::planStop(Nanoseconds now, const StopLimits& limits) const
 {
   checkLimits(limits);
-  std::shared_ptr<const Entry> latest;
-  bool loop;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    latest = latest_;
-    loop = loop_;
-  }
+  const auto [latest, loop] = snapshot();
   const std::shared_ptr<const Entry> e = shownAt(latest, now);
   if (!e)
     return std::nullopt;

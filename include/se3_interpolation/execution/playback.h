@@ -174,6 +174,14 @@ private:
                                                                         Nanoseconds now, bool loop,
                                                                         const StopLimits& limits);
 
+  /// The timeline and the loop setting, read together under the lock.
+  struct Snapshot
+  {
+    std::shared_ptr<const Entry> latest;
+    bool loop = false;
+  };
+  Snapshot snapshot() const;
+
   mutable std::mutex mutex_;
   std::shared_ptr<const Entry> latest_;
   bool loop_ = false;
