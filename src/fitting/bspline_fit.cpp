@@ -899,15 +899,6 @@ std::size_t fitIntervals(double t0, double t1, double control_period, int degree
   return static_cast<std::size_t>(intervals);
 }
 
-FitLoss fitLossFromName(const std::string& name)
-{
-  if (name.empty() || name == "squared")
-    return FitLoss::kSquared;
-  if (name == "huber")
-    return FitLoss::kHuber;
-  throw InvalidInputError("loss: unknown value '" + name.substr(0, 40) + "' (expected squared or huber)");
-}
-
 template <>
 BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& poses,
                                                const std::vector<double>& times, const FitOptions& options)

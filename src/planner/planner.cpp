@@ -430,6 +430,12 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   std::shared_ptr<const Curve<G>> curve = std::move(built.curve);
   BasicResult<Space> out;
   out.blend_radii = std::move(built.blend_radii);
+  if (built.fit)
+  {
+    out.residual_linear = built.fit->residual_linear;
+    out.residual_angular = built.fit->residual_angular;
+    out.knots = std::move(built.fit->knots);
+  }
   CurveFigures fig = measureCurve(*curve, r.rotation_scale);
   requireStableStartSolve(r, fig);
 

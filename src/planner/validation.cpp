@@ -77,6 +77,35 @@ void requireFamilyTakes(CurveType curve, FamilyField field, bool given, const ch
                             toString(curve) + "')");
 }
 
+/// The fields of curve fit (fitting/bspline_fit.h): refused for every other family; poses only.
+template <class Space>
+void validateFitFields(const BasicRequest<Space>& r, BasicValidatedRequest<Space>* v)
+{
+  requireFamilyTakes(v->curve, kFitField, r.control_period != 0.0, "control_period");
+  requireFamilyTakes(v->curve, kFitField, r.smoothing != 0.0, "smoothing");
+  requireFamilyTakes(v->curve, kFitField, !r.loss.empty(), "loss");
+  requireFamilyTakes(v->curve, kFitField, r.loss_scale != 0.0, "loss_scale");
+  if (v->curve != CurveType::kFit)
+    return;
+  if constexpr (std::is_same_v<Space, SphereSpace>)
+    throw InvalidInputError("curve: 'fit' fits poses; it is not available on the sphere");
+  requireFiniteNonNegative(r.control_period, "control_period");
+  requireFiniteNonNegative(r.smoothing, "smoothing");
+  requireFiniteNonNegative(r.loss_scale, "loss_scale");
+  v->control_period = r.control_period > 0.0 ? r.control_period : kDefaultControlPeriod;
+  v->smoothing = r.smoothing;
+  v->loss = parseName(r.loss, "loss", FitLoss::kSquared);
+  v->loss_scale = r.loss_scale;
+  if (v->loss == FitLoss::kHuber && v->loss_scale == 0.0)
+    throw InvalidInputError("loss_scale: loss 'huber' needs loss_scale > 0 (m of chord distance: residuals beyond "
+                            "it count linearly, as outliers)");
+  if (v->degree > kMaxFitDegree)
+    throw InvalidInputError("degree: " + std::to_string(v->degree) + " for curve 'fit'; at most " +
+                            std::to_string(kMaxFitDegree));
+  // The knot count is bounded before anything is allocated (fitIntervals names control_period).
+  fitIntervals(r.times.front(), r.times.back(), v->control_period, v->degree, r.waypoints.size());
+}
+
 /// A field without meaning in the space must stay 0.
 void requireUnused(double x, const std::string& field, const std::string& instead)
 {
@@ -332,6 +361,9 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
 
   validateTimes(r.times, n);
   v.times = r.times;
+  if (r.times.empty() && familyRequiresTimes(v.curve))
+    throw InvalidInputError("times: curve '" + std::string(toString(v.curve)) +
+                            "' needs the waypoints' times (one per waypoint: when each pose was recorded)");
   if (r.times.empty())
     for (std::size_t i = 0; i + 1 < n; ++i)
       if (identical(v.waypoints[i], v.waypoints[i + 1]))
@@ -393,6 +425,8 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
   v.speed = r.speed;
   if (v.timing == Timing::kConstantSpeed)
     requireConstantSpeedFields(v);
+
+  validateFitFields(r, &v);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
   if (r.start_state)

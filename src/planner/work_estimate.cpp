@@ -18,8 +18,6 @@ namespace
 /// kGoldenMaxIterations evaluations.
 constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
 constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
-/// Construction cost per waypoint, in work units (times, logs, the C^2 solve's sweeps).
-constexpr double kConstructionUnitsPerWaypoint = 10.0;
 /// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
 /// of T): at most 17 per piece plus 512.
 constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
@@ -128,8 +126,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   if (r.timing == Timing::kTimeOptimal)
     w.timing_units += kTimeOptimalUnitsPerInterval * w.timing_intervals * (r.jerk ? kJerkLimitedTimingFactor : 1.0);
   w.samples = samples;
-  w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units +
-            kConstructionUnitsPerWaypoint * static_cast<double>(r.waypoints);
+  w.construction_units = visitFamily(r.curve, [&r](auto family) { return decltype(family)::constructionUnits(r); });
+  w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units + w.construction_units;
   w.seconds = w.total * secondsPerUnit(r);
   return w;
 }

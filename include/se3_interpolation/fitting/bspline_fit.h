@@ -94,8 +94,4 @@ template <class G>
 BSplineFitResult fitBSpline(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
                             const FitOptions& options);
 
-/// The request spelling of a loss: "squared" (and "") or "huber".
-/// @throws InvalidInputError naming `loss` for any other
-FitLoss fitLossFromName(const std::string& name);
-
 }  // namespace se3_interpolation

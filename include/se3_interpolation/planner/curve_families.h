@@ -16,6 +16,7 @@
 #include "se3_interpolation/planner/families/bezier.h"
 #include "se3_interpolation/planner/families/blended.h"
 #include "se3_interpolation/planner/families/bspline.h"
+#include "se3_interpolation/planner/families/fit.h"
 #include "se3_interpolation/planner/families/hermite.h"
 #include "se3_interpolation/planner/families/interpolating.h"
 #include "se3_interpolation/planner/families/piecewise_geodesic.h"
@@ -24,7 +25,7 @@ namespace se3_interpolation
 {
 /// Every curve family, in the order of CurveType (one line per family).
 using CurveFamilies = std::tuple<PiecewiseGeodesicFamily, BezierFamily, BsplineFamily, InterpolatingFamily,
-                                 HermiteFamily, BlendedFamily>;
+                                 HermiteFamily, BlendedFamily, FitFamily>;
 
 /// The number of registered families.
 constexpr std::size_t kCurveFamilyCount = std::tuple_size_v<CurveFamilies>;
@@ -59,6 +60,13 @@ decltype(auto) visitFamily(CurveType type, Visit&& visit)
 inline unsigned familyFields(CurveType type)
 {
   return visitFamily(type, [](auto family) { return decltype(family)::kFields; });
+}
+
+/// @param type a family
+/// @return whether it needs the request's `times` (CurveFamilyDefaults::kRequiresTimes)
+inline bool familyRequiresTimes(CurveType type)
+{
+  return visitFamily(type, [](auto family) { return decltype(family)::kRequiresTimes; });
 }
 
 /// @param field one FamilyField

@@ -9,7 +9,8 @@
 //                       blend radius of every waypoint where the family blends corners;
 //   continuesStartState whether its curve starts in the request's start state itself (instead of
 //                       being entered by the joining segment of curves/start_join.h);
-//   the cost model      pieces, evaluationCost, secondsPerUnit and costlyField, read by the work
+//   kRequiresTimes      whether the request must give `times`;
+//   the cost model      pieces, evaluationCost, constructionUnits, secondsPerUnit and costlyField, read by the work
 //                       estimate (work_estimate.h), which sums them the same way for every family.
 // The defaults are those of a family of one piece per waypoint step that takes none of the
 // exclusive fields.
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,11 +40,12 @@ enum FamilyField : unsigned
   kEndConditionField = 1u << 3,  ///< `end_condition` and the end velocities and acceleration it reads
   kVelocitiesField = 1u << 4,    ///< `velocities`
   kBlendRadiusField = 1u << 5,   ///< `blend_radius`
+  kFitField = 1u << 6,           ///< `control_period`, `smoothing`, `loss`, `loss_scale`
 };
 
 /// The fields a family that does not take them refuses when they are set (knots, blend_radius);
 /// the others keep their defaults whatever the curve, and only the families that take them read them.
-constexpr unsigned kExclusiveFields = kKnotsField | kBlendRadiusField;
+constexpr unsigned kExclusiveFields = kKnotsField | kBlendRadiusField | kFitField;
 
 /// Seconds per work unit of a family (work_estimate.h, secondsPerUnit): double geodesic
 /// (stretch, time_optimal), screw (stretch, time_optimal); the sphere uses the screw's. Measured
@@ -52,23 +55,50 @@ constexpr unsigned kExclusiveFields = kKnotsField | kBlendRadiusField;
 /// (re-measured after each change of the estimate's model, `bench_work_estimate --middle`).
 using SecondsPerUnit = std::array<double, 4>;
 
+/// What a fit reports besides its curve (BasicResult::residual_linear, residual_angular, knots).
+struct FitSummary
+{
+  double residual_linear = 0.0;   ///< m, RMS at the waypoints' times
+  double residual_angular = 0.0;  ///< rad, RMS at the waypoints' times
+  std::vector<double> knots;
+};
+
 /// What a family's factory builds: the curve and, for corner-blending families, the radius r_i
-/// of each waypoint's blend (empty otherwise; BasicResult::blend_radii).
+/// of each waypoint's blend (empty otherwise; BasicResult::blend_radii); for `fit`, its figures.
 template <class G>
 struct FamilyCurve
 {
+  FamilyCurve() = default;
+  /// @param built the curve
+  /// @param radii the waypoints' blend radii (corner-blending families)
+  FamilyCurve(std::shared_ptr<const Curve<G>> built, std::vector<double> radii = {})  // NOLINT: { curve, radii }
+    : curve(std::move(built)), blend_radii(std::move(radii))
+  {
+  }
+
   std::shared_ptr<const Curve<G>> curve;
   std::vector<double> blend_radii;
+  std::optional<FitSummary> fit;
 };
 
 /// The defaults of a curve family's descriptor (file comment).
 struct CurveFamilyDefaults
 {
   static constexpr unsigned kFields = kNoFields;
+  /// Whether the family needs the request's `times` (validation refuses a request without them).
+  static constexpr bool kRequiresTimes = false;
 
   /// @param shape the request's shape (work_estimate.h)
   /// @return the curve's analytic pieces, over which the figures integrate: one per waypoint step
   static double pieces(const WorkShape& shape) { return std::max(1.0, static_cast<double>(shape.waypoints) - 1.0); }
+
+  /// @param shape the request's shape
+  /// @return the work of building the curve, in work units (work_estimate.h): about
+  ///         kConstructionUnitsPerWaypoint per waypoint (times, logs, the C² solve's sweeps)
+  static double constructionUnits(const WorkShape& shape)
+  {
+    return kConstructionUnitsPerWaypoint * static_cast<double>(shape.waypoints);
+  }
 
   /// The field a refused work estimate names when neither the samples nor time_optimal dominate.
   /// @param shape the request's shape

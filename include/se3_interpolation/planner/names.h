@@ -1,4 +1,4 @@
-// The names of the request's string fields (curve, geometry, parameterization, timing, the
+// The names of the request's string fields (curve, geometry, parameterization, timing, loss, the
 // entries of outputs): one table per enum (name_table.h), read by the planner, the node's
 // parameters and the CLI, so that a name is spelled in one place. curve's table is made from the
 // registered families (planner/curve_families.h); end_condition's lives with its enum in
@@ -42,6 +42,15 @@ struct NameTable<Timing>
       { "stretch", Timing::kStretch },
       { "time_optimal", Timing::kTimeOptimal },
       { "constant_speed", Timing::kConstantSpeed },
+  } };
+};
+
+template <>
+struct NameTable<FitLoss>
+{
+  static constexpr std::array<std::pair<const char*, FitLoss>, 2> kNames = { {
+      { "squared", FitLoss::kSquared },
+      { "huber", FitLoss::kHuber },
   } };
 };
 

@@ -24,6 +24,7 @@
 
 #include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/curves/end_condition.h"
+#include "se3_interpolation/fitting/bspline_fit.h"
 #include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
@@ -37,7 +38,8 @@ enum class CurveType
   kBspline,
   kInterpolating,
   kHermite,
-  kBlended
+  kBlended,
+  kFit
 };
 enum class GeometryType
 {
@@ -211,6 +213,12 @@ struct BasicRequest
   std::uint32_t sample_count = 0;
   /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
   double blend_radius = 0.0;
+  /// curve fit (fitting/bspline_fit.h): s between knots (0 = kDefaultControlPeriod), the jerk
+  /// penalty λ ≥ 0, the loss ("" = squared, "squared", "huber") and Huber's δ (m of chord distance).
+  double control_period = 0.0;
+  double smoothing = 0.0;
+  std::string loss;
+  double loss_scale = 0.0;
   /// Start from this state instead of at waypoints[0] (the service's `from_current`, filled by the
   /// node from the trajectory it is playing; the CLI's `start_state`). With it one waypoint suffices.
   std::optional<StartState> start_state;
@@ -249,6 +257,11 @@ struct BasicValidatedRequest
   double speed = 0.0;  ///< m/s (timing constant_speed; > 0 there, else unread)
   Sampling sampling;
   double blend_radius = 0.0;
+  /// curve fit: control_period (s, > 0: the default resolved), smoothing, loss, loss_scale.
+  double control_period = 0.0;
+  double smoothing = 0.0;
+  FitLoss loss = FitLoss::kSquared;
+  double loss_scale = 0.0;
   /// The validated start state. When set, `waypoints`, `times` and `velocities` begin with it: the
   /// start pose at time 0 (in place of waypoints[0] when that is the start pose, see
   /// `start_replaces_first`, else inserted before it).
@@ -281,6 +294,12 @@ struct BasicResult
   /// clock as start_time), where a process tool is switched on. Both 0 otherwise.
   double constant_speed_start = 0.0;
   double constant_speed_end = 0.0;
+  /// With curve fit: the RMS distances of the fitted curve from the waypoints at their times
+  /// (m and rad) and the fitted B-spline's knots (its control poses are control_points). Else 0
+  /// and empty.
+  double residual_linear = 0.0;
+  double residual_angular = 0.0;
+  std::vector<double> knots;
   /// Length, rotation length, peak rates and energy of the final (timed) motion.
   CurveFigures figures;
   /// The final curve's point at any time in [start_time, start_time + duration] (for TF).

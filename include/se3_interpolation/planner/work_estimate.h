@@ -32,6 +32,8 @@
 // the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -53,6 +55,7 @@ struct WorkEstimate
   double timing_evaluations = 0.0;    ///< evaluations of time_optimal
   double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations
   double samples = 0.0;
+  double construction_units = 0.0;    ///< building the curve (the family's constructionUnits)
   double total = 0.0;                 ///< work units
   double seconds = 0.0;               ///< total × the family's calibrated seconds per unit
 };
@@ -71,7 +74,14 @@ struct WorkShape
   bool start_state = false;  ///< replanning from a given state (the figures are measured again)
   bool screw = false;        ///< the screw geometry (its steps cost more than the double geodesic's)
   bool jerk = false;         ///< a jerk bound (max_linear_jerk or max_angular_jerk > 0)
+  double fit_intervals = 0.0;  ///< curve fit: the knot intervals M (fitting/bspline_fit.h)
+  bool fit_smoothing = false;  ///< curve fit: smoothing > 0
+  bool fit_huber = false;      ///< curve fit: loss huber
 };
+
+/// Building the curve costs about this many work units per waypoint (times, logs, the C² solve's
+/// sweeps); families that do more say so (CurveFamilyDefaults::constructionUnits).
+constexpr double kConstructionUnitsPerWaypoint = 10.0;
 
 /// The shape of a validated request of any space.
 template <class Space>
@@ -89,7 +99,13 @@ WorkShape workShape(const BasicValidatedRequest<Space>& r)
   w.start_state = r.start_state.has_value();
   w.jerk = r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
   if constexpr (std::is_same_v<Space, PoseSpace>)
+  {
     w.screw = r.geometry == GeometryType::kScrew;
+    if (r.curve == CurveType::kFit && r.times.size() >= 2)
+      w.fit_intervals = std::max(1.0, std::ceil((r.times.back() - r.times.front()) / r.control_period - 1e-9));
+    w.fit_smoothing = r.smoothing > 0.0;
+    w.fit_huber = r.loss == FitLoss::kHuber;
+  }
   else
     w.screw = true;  // the sphere's steps cost about the screw's
   return w;

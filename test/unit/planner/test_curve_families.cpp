@@ -37,6 +37,8 @@ ValidatedRequest validatedOf(const std::string& curve, const std::string& end_co
                   Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(1, 1, 0)) };
   r.curve = curve;
   r.end_condition = end_condition;
+  if (familyRequiresTimes(parseName(curve, "curve", RequestDefaults::kCurve)))
+    r.times = { 0.0, 0.1, 0.2 };  // one knot interval of the default control period
   return validateRequest(r, PlannerLimits());
 }
 }  // namespace
@@ -59,6 +61,9 @@ TEST(CurveFamilies, ExclusiveFieldsNameTheFamiliesThatTakeThem)
   EXPECT_EQ(familiesTaking(kKnotsField), "'bspline'");
   EXPECT_EQ(familiesTaking(kBlendRadiusField), "'piecewise_geodesic'");
   EXPECT_EQ(familiesTaking(kVelocitiesField), "'hermite'");
+  EXPECT_EQ(familiesTaking(kFitField), "'fit'");
+  EXPECT_TRUE(familyRequiresTimes(CurveType::kFit));
+  EXPECT_FALSE(familyRequiresTimes(CurveType::kBspline));
   EXPECT_NE(familyFields(CurveType::kBspline) & kDegreeField, 0u);
   EXPECT_EQ(familyFields(CurveType::kBezier), static_cast<unsigned>(kNoFields));
 
