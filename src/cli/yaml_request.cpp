@@ -190,7 +190,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
               { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "speed", "sample_times", "sample_period",
+                "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "speed", "control_period", "smoothing", "loss", "loss_scale", "sample_times", "sample_period",
                 "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
   // The service's from_current starts from the motion the node plays; the CLI plays none.
   if (root["from_current"] && toBool(root["from_current"], "from_current"))
@@ -234,6 +234,14 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->timing = toString(root["timing"], "timing");
   if (root["speed"])
     r->speed = toDouble(root["speed"], "speed");
+  if (root["control_period"])
+    r->control_period = toDouble(root["control_period"], "control_period");
+  if (root["smoothing"])
+    r->smoothing = toDouble(root["smoothing"], "smoothing");
+  if (root["loss"])
+    r->loss = toString(root["loss"], "loss");
+  if (root["loss_scale"])
+    r->loss_scale = toDouble(root["loss_scale"], "loss_scale");
   if (root["sample_times"])
     r->sample_times = toDoubles(root["sample_times"], "sample_times");
   if (root["sample_period"])

@@ -104,6 +104,10 @@ TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vec
   r.max_angular_jerk = msg.max_angular_jerk;
   r.timing = msg.timing;
   r.speed = msg.speed;
+  r.control_period = msg.control_period;
+  r.smoothing = msg.smoothing;
+  r.loss = msg.loss;
+  r.loss_scale = msg.loss_scale;
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;
@@ -156,7 +160,23 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.peak_angular_jerk = result.figures.max_angular_jerk;
   out.constant_speed_start = result.constant_speed_start;
   out.constant_speed_end = result.constant_speed_end;
+  out.residual_linear = result.residual_linear;
+  out.residual_angular = result.residual_angular;
   out.energy = result.figures.energy;
+  return out;
+}
+
+GenerateTrajectory::Response& copyFit(const TrajectoryResult& result, const std_msgs::Header& header,
+                                      GenerateTrajectory::Response& out)
+{
+  out.knots = result.knots;
+  out.control_poses.poses.clear();
+  if (result.knots.empty())
+    return out;
+  out.control_poses.header = header;
+  out.control_poses.poses.reserve(result.control_points.size());
+  for (const Pose<double>& x : result.control_points)
+    out.control_poses.poses.push_back(toMsg(x));
   return out;
 }
 
@@ -173,6 +193,8 @@ GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, Generatio
   out.peak_angular_jerk = res.peak_angular_jerk;
   out.constant_speed_start = res.constant_speed_start;
   out.constant_speed_end = res.constant_speed_end;
+  out.residual_linear = res.residual_linear;
+  out.residual_angular = res.residual_angular;
   out.energy = res.energy;
   return out;
 }

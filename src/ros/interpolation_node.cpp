@@ -114,9 +114,11 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     const PlannerLimits limits = params.limits();
     std::vector<geometry_msgs::Pose> poses;
     std::string frame;
+    std::vector<double> recorded_times;  // the buffered waypoints' stamps, as a recording
     if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
     {
       WaypointTopics::Buffer::Snapshot buffered = waypoint_topics_->buffer().snapshot();
+      recorded_times = buffered.recordedTimes();
       poses = std::move(buffered.waypoints);
       frame = buffered.frame_id;
       if (poses.size() < 2)
@@ -149,7 +151,16 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     TrajectoryRequest r = fromMsg(req, poses);
     filled = applyRequestDefaults(params, &r);
     ros::Time stamp = req.waypoints.header.stamp;
-    if (req.from_current)
+    // A fit of the buffer without times: the poses streamed on ~waypoint are a recording, timed by
+    // their stamps (after the first one's). It is replayed from its first pose, at its own pace:
+    // the recording is the motion, so it does not replan from the current one (from_current).
+    bool from_current = req.from_current;
+    if (r.curve == FitFamily::kName && r.times.empty() && !recorded_times.empty())
+    {
+      r.times = std::move(recorded_times);
+      from_current = false;
+    }
+    if (from_current)
     {
       // The switch time T_s: the request's stamp, else ~replan_lead from now; times count from it.
       if (stamp.isZero())
@@ -176,6 +187,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
                     result.samples.size(), 1e3 * std::chrono::duration<double>(filling - planning).count(),
                     1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - filling).count());
     copyFigures(result, res);
+    copyFit(result, header, res);
     res.success = true;
     std::ostringstream msg;
     msg << result.samples.size() << " samples over " << result.duration << " s";
@@ -184,6 +196,10 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     if (result.recovery_time > 0.0)
       msg << "; the start state exceeds a bound: every bound holds from t = " << result.recovery_time
           << " s on (recovery_time)";
+    if (!result.knots.empty())
+      msg << "; fitted " << result.control_points.size() << " control poses to " << result.waypoints.size()
+          << " waypoints (residual_linear " << result.residual_linear << " m, residual_angular "
+          << result.residual_angular << " rad)";
     res.message = msg.str();
     if (req.publish)
     {
@@ -241,6 +257,12 @@ std::vector<std::string> InterpolationNode::applyRequestDefaults(const NodeParam
   fill(&r.max_linear_jerk, params.max_linear_jerk, r.max_linear_jerk == 0.0, "max_linear_jerk");
   fill(&r.max_angular_jerk, params.max_angular_jerk, r.max_angular_jerk == 0.0, "max_angular_jerk");
   fill(&r.speed, params.speed, r.speed == 0.0, "speed");
+  // The fit's defaults apply to the curve that uses them only (never an error elsewhere).
+  const bool fit = r.curve == FitFamily::kName;
+  fill(&r.control_period, params.control_period, fit && r.control_period == 0.0, "control_period");
+  fill(&r.smoothing, params.smoothing, fit && r.smoothing == 0.0, "smoothing");
+  fill(&r.loss, params.loss, fit && r.loss.empty(), "loss");
+  fill(&r.loss_scale, params.loss_scale, fit && r.loss_scale == 0.0, "loss_scale");
   fill(&r.duration, params.duration, r.duration == 0.0, "duration");
   fill(&r.sample_count, static_cast<std::uint32_t>(params.sample_count),
        r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0, "sample_count");

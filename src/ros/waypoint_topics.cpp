@@ -94,7 +94,7 @@ void WaypointTopics::handleWaypoint(const geometry_msgs::PoseStamped::ConstPtr& 
       pose = tf_.transform(pose, frame, ros::Duration(tf_timeout_));
     validatePose(fromMsg(pose.pose), "waypoint.pose");
     std::size_t n = 0;
-    if (!buffer_.append(pose.pose, &n))
+    if (!buffer_.append(pose.pose, &n, msg->header.stamp.toSec()))
       throw LimitExceededError(limitMessage(buffer_.capacity()));
     ROS_DEBUG_STREAM("buffered waypoint " << n - 1);
     if (n >= 2 && on_change_)

@@ -345,6 +345,28 @@ inline TrajectoryRequest decode(ByteReader& in, std::vector<std::string>* respon
   if (in.byte() % 5 == 4)
     r.timing = "constant_speed";
   r.speed = in.optionalNumber();
+  // curve fit and its fields: after everything else, from their own bytes (the fit needs times:
+  // one per waypoint when the byte asks for them).
+  const std::uint8_t fit = in.byte();
+  if (fit % 6 == 5)
+  {
+    r.curve = "fit";
+    if (fit % 12 == 11 && r.times.size() != r.waypoints.size())
+      r.times = sequence(in, r.waypoints.size());
+  }
+  // The fields go to the fit, and sometimes to another curve (refused, naming the field).
+  const bool fit_fields = r.curve == "fit" || fit % 16 == 15;
+  const double control_period = in.optionalNumber();
+  const double smoothing = in.optionalNumber();
+  const std::string loss = in.name({ "squared", "huber" });
+  const double loss_scale = in.optionalNumber();
+  if (fit_fields)
+  {
+    r.control_period = control_period;
+    r.smoothing = smoothing;
+    r.loss = loss;
+    r.loss_scale = loss_scale;
+  }
   return r;
 }
 
@@ -392,7 +414,8 @@ inline std::string describe(const TrajectoryRequest& r)
        list(r.sample_times) + "\nsample_period: " + list(std::vector<double>{ r.sample_period }) +
        "\nsample_count: " + std::to_string(r.sample_count) + "\nblend_radius: " +
        list(std::vector<double>{ r.blend_radius }) + "\nmax_linear_jerk, max_angular_jerk: " +
-       list(std::vector<double>{ r.max_linear_jerk, r.max_angular_jerk }) + "\ntiming: '" + r.timing + "'\nspeed: " + list(std::vector<double>{ r.speed }) + "\n";
+       list(std::vector<double>{ r.max_linear_jerk, r.max_angular_jerk }) + "\ntiming: '" + r.timing + "'\nspeed: " + list(std::vector<double>{ r.speed }) + "\ncontrol_period, smoothing, loss_scale: " +
+       list(std::vector<double>{ r.control_period, r.smoothing, r.loss_scale }) + "\nloss: '" + r.loss + "'\n";
   if (r.start_state)
     s += "start_state: {pose: {position: " + list(r.start_state->pose.p) + ", orientation: " +
          list(r.start_state->pose.q.coeffs()) + "}, velocity: " + twist(r.start_state->velocity) +

@@ -77,6 +77,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // sphere, naming timing) and the speed.
   r.timing = in.name({ "stretch", "time_optimal", "constant_speed" });
   r.speed = in.optionalNumber();
+  // curve fit (refused on the sphere, naming curve) and its fields.
+  const std::uint8_t fit = in.byte();
+  if (fit % 8 == 7)
+    r.curve = "fit";
+  const double control_period = in.optionalNumber();
+  const double smoothing = in.optionalNumber();
+  const std::string loss = in.name({ "squared", "huber" });
+  if (fit % 16 == 15)
+  {
+    r.control_period = control_period;
+    r.smoothing = smoothing;
+    r.loss = loss;
+  }
   PlannerLimits limits;
   limits.max_samples = kMaxSamples;
   limits.max_waypoints = kMaxWaypoints;

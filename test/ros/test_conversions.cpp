@@ -468,6 +468,11 @@ std::vector<CopiedField> copiedFields()
                 [](const T& r) { return r.max_angular_jerk == 6.5; } });
   f.push_back({ "timing", [](R& m) { m.timing = "timing-name"; }, [](const T& r) { return r.timing == "timing-name"; } });
   f.push_back({ "speed", [](R& m) { m.speed = 7.5; }, [](const T& r) { return r.speed == 7.5; } });
+  f.push_back({ "control_period", [](R& m) { m.control_period = 0.375; },
+                [](const T& r) { return r.control_period == 0.375; } });
+  f.push_back({ "smoothing", [](R& m) { m.smoothing = 8.5; }, [](const T& r) { return r.smoothing == 8.5; } });
+  f.push_back({ "loss", [](R& m) { m.loss = "loss-name"; }, [](const T& r) { return r.loss == "loss-name"; } });
+  f.push_back({ "loss_scale", [](R& m) { m.loss_scale = 9.5; }, [](const T& r) { return r.loss_scale == 9.5; } });
   f.push_back({ "sample_times", [](R& m) { m.sample_times = { 0.125, 0.375 }; },
                 [](const T& r) { return r.sample_times == std::vector<double>{ 0.125, 0.375 }; } });
   f.push_back({ "sample_period", [](R& m) { m.sample_period = 0.03125; },
@@ -802,6 +807,10 @@ std::vector<Figure> figures()
       [](const Res& m) { return m.constant_speed_start; }, [](const S& s) { return s.constant_speed_start; } },
     { "constant_speed_end", [](T& r, double v) { r.constant_speed_end = v; },
       [](const Res& m) { return m.constant_speed_end; }, [](const S& s) { return s.constant_speed_end; } },
+    { "residual_linear", [](T& r, double v) { r.residual_linear = v; },
+      [](const Res& m) { return m.residual_linear; }, [](const S& s) { return s.residual_linear; } },
+    { "residual_angular", [](T& r, double v) { r.residual_angular = v; },
+      [](const Res& m) { return m.residual_angular; }, [](const S& s) { return s.residual_angular; } },
     { "energy", [](T& r, double v) { r.figures.energy = v; }, [](const Res& m) { return m.energy; },
       [](const S& s) { return s.energy; } },
   };
@@ -1034,4 +1043,52 @@ TEST(Conversions, MarkersShowTheWaypointsPathBlendsAndAxes)
   }
   // Nothing sampled: no axes, empty strips.
   expectMarkers(TrajectoryResult(), bspline_waypoints, 10, 0.1);
+}
+
+// curve fit: the response's control_poses and knots are the result's, stamped with the response's
+// header; replayed as a bspline request they give the fitted curve (its first sample's pose);
+// every other curve leaves both empty.
+TEST(Conversions, FittedBSplineReachesTheResponse)
+{
+  TrajectoryRequest r;
+  for (int i = 0; i <= 40; ++i)
+  {
+    r.waypoints.emplace_back(so3Exp(Eigen::Vector3d(0.02 * i, 0.0, 0.01 * i)),
+                             Eigen::Vector3d(0.05 * i, std::sin(0.1 * i), 0.0));
+    r.times.push_back(0.05 * i);
+  }
+  r.curve = "fit";
+  r.control_period = 0.5;
+  const TrajectoryResult fit = generate(r, PlannerLimits());
+  std_msgs::Header header;
+  header.frame_id = "world";
+  header.stamp = ros::Time(12.5);
+  GenerateTrajectory::Response res;
+  copyFit(fit, header, res);
+  EXPECT_EQ(res.knots, fit.knots);
+  EXPECT_EQ(res.control_poses.header.frame_id, "world");
+  EXPECT_EQ(res.control_poses.header.stamp, ros::Time(12.5));
+  ASSERT_EQ(res.control_poses.poses.size(), fit.control_points.size());
+  ASSERT_EQ(res.control_poses.poses.size(), 4u + 3u);
+  for (std::size_t i = 0; i < fit.control_points.size(); ++i)
+  {
+    const Pose<double> back = fromMsg(res.control_poses.poses[i]);
+    EXPECT_LT((back.p - fit.control_points[i].p).norm(), 1e-15) << i;
+    EXPECT_LT((back.q.coeffs() - fit.control_points[i].q.coeffs()).norm(), 1e-15) << i;
+  }
+  TrajectoryRequest replay;
+  replay.curve = "bspline";
+  replay.waypoints = fit.control_points;
+  replay.knots = res.knots;
+  replay.degree = 3;
+  const TrajectoryResult again = generate(replay, PlannerLimits());
+  EXPECT_LT((again.samples.front().pose.p - fit.samples.front().pose.p).norm(), 1e-12);
+  EXPECT_LT((again.samples.back().pose.p - fit.samples.back().pose.p).norm(), 1e-12);
+
+  std::vector<Pose<double>> waypoints;
+  GenerateTrajectory::Response other;
+  copyFit(plannedResult("bspline", &waypoints), header, other);
+  EXPECT_TRUE(other.knots.empty());
+  EXPECT_TRUE(other.control_poses.poses.empty());
+  EXPECT_TRUE(other.control_poses.header.frame_id.empty());
 }

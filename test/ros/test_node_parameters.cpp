@@ -73,20 +73,23 @@ TEST(NodeParameters, ChoicesAreTheRequestsNames)
   EXPECT_EQ(std::string(findNodeParameter("geometry")->choices), knownNames<GeometryType>());
   EXPECT_EQ(std::string(findNodeParameter("parameterization")->choices), knownNames<Parameterization>());
   EXPECT_EQ(std::string(findNodeParameter("timing")->choices), knownNames<Timing>());
+  EXPECT_EQ(std::string(findNodeParameter("loss")->choices), knownNames<FitLoss>());
   std::size_t choices = 0;
   for (const ParameterSpec& spec : kNodeParameterSpecs)
     choices += spec.type == ParameterType::kChoice;
-  EXPECT_EQ(choices, 4u);  // every choice parameter is compared above
+  EXPECT_EQ(choices, 5u);  // every choice parameter is compared above
 }
 
 TEST(NodeParameters, StringParametersUseTheRequestNameTables)
 {
-  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended" })
+  for (const char* curve : { "piecewise_geodesic", "bezier", "bspline", "interpolating", "hermite", "blended", "fit" })
     EXPECT_EQ(stringParameterError("curve", curve), "") << curve;
+  EXPECT_EQ(stringParameterError("loss", "huber"), "");
+  EXPECT_EQ(stringParameterError("loss", "cauchy").rfind("~loss: unknown value 'cauchy'", 0), 0u);
   EXPECT_EQ(stringParameterError("timing", "time_optimal"), "");
   EXPECT_EQ(stringParameterError("curve", "bspine"),
             "~curve: unknown value 'bspine' (expected one of: piecewise_geodesic, bezier, bspline, interpolating, "
-            "hermite, blended)");
+            "hermite, blended, fit)");
   EXPECT_EQ(stringParameterError("timing", "fast").rfind("~timing: unknown value 'fast'", 0), 0u);
   EXPECT_EQ(stringParameterError("geometry", "").rfind("~geometry: refused (empty", 0), 0u);
   // Frame ids: tf2's rules, a bounded quote.

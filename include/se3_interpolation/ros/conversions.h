@@ -49,9 +49,14 @@ trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, 
                                                 trajectory_msgs::MultiDOFJointTrajectory& out);
 
 /// The response's figures from the result's: duration, length, rotation_length, max_linear_speed,
-/// max_angular_speed, the peak accelerations and jerks, energy (success, message and the sample arrays are left as they are).
+/// max_angular_speed, the peak accelerations and jerks, the constant-speed window, the fit's
+/// residuals, energy (success, message and the sample arrays are left as they are).
 GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out);
-/// The status's figures from a response's (the same six fields, "as in GenerateTrajectory.srv").
+/// curve fit: the response's control_poses (stamped `header`) and knots from the result's; empty
+/// for the other curves.
+GenerateTrajectory::Response& copyFit(const TrajectoryResult& result, const std_msgs::Header& header,
+                                      GenerateTrajectory::Response& out);
+/// The status's figures from a response's (the same fields, "as in GenerateTrajectory.srv").
 GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, GenerationStatus& out);
 
 /// rviz markers: waypoints (spheres), the control polygon, the sampled path, the blend zones

@@ -29,6 +29,26 @@ TEST(WaypointBuffer, AppendsUpToItsCapacityReplacesAndClears)
   EXPECT_EQ(b.frameId(), "odom");  // the frame stays
 }
 
+// Stamped appends are a recording: their times count from the first stamp; one waypoint without
+// a stamp (or a ~waypoints replacement) and there is no recording.
+TEST(WaypointBuffer, StampedAppendsAreARecording)
+{
+  WaypointBuffer<int> b(10, "map");
+  std::size_t n = 0;
+  for (int i = 0; i < 4; ++i)
+    ASSERT_TRUE(b.append(i, &n, 1000.0 + 0.25 * i));
+  EXPECT_EQ(b.snapshot().recordedTimes(), (std::vector<double>{ 0.0, 0.25, 0.5, 0.75 }));
+  ASSERT_TRUE(b.append(4, &n));
+  EXPECT_TRUE(b.snapshot().recordedTimes().empty());
+  ASSERT_TRUE(b.replace({ 1, 2, 3 }, "map"));
+  EXPECT_EQ(b.snapshot().stamps, (std::vector<double>{ 0.0, 0.0, 0.0 }));
+  EXPECT_TRUE(b.snapshot().recordedTimes().empty());
+  b.clear();
+  ASSERT_TRUE(b.append(5, &n, 7.0));
+  ASSERT_TRUE(b.append(6, &n, 8.5));
+  EXPECT_EQ(b.snapshot().recordedTimes(), (std::vector<double>{ 0.0, 1.5 }));
+}
+
 TEST(WaypointBuffer, ConcurrentAppendsAreAllCountedUpToTheCapacity)
 {
   WaypointBuffer<int> b(1500, "map");
