@@ -9,7 +9,8 @@
 // caches still slow them).
 //
 // Waypoints: a random walk from a fixed seed, each step a rotation of 0.2 … 1 rad about a random
-// axis and a translation ~ N(0, 0.5²) m per axis; chord-spaced times; 100 samples.
+// axis and a translation ~ N(0, 0.5²) m per axis; chord-spaced times; 100 samples. curve fit: a
+// noisy 100 Hz recording at its times (bench/recording.h), N = 10³ … 10⁵ poses.
 #include <ctime>
 #include <cstdio>
 #include <cstring>
@@ -20,6 +21,7 @@
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
 #include "random_walk.h"
+#include "recording.h"
 
 namespace
 {
@@ -63,7 +65,7 @@ int main(int argc, char** argv)
     { "piecewise_geodesic", 0.0, { 100, 1000, 10000 } }, { "piecewise_geodesic", 0.2, { 100, 1000, 10000 } },
     { "bezier", 0.0, { 20, 100, 400 } },                 { "bspline", 0.0, { 100, 1000, 10000 } },
     { "interpolating", 0.0, { 100, 1000, 10000 } },      { "hermite", 0.0, { 100, 1000, 10000 } },
-    { "blended", 0.0, { 100, 1000, 10000 } },
+    { "blended", 0.0, { 100, 1000, 10000 } },        { "fit", 0.0, { 1000, 10000, 100000 } },
   };
   PlannerLimits limits;
   limits.max_work_seconds = 1e6;
@@ -79,6 +81,13 @@ int main(int argc, char** argv)
           if (middle_only && n != f.sizes[1])
             continue;
           TrajectoryRequest r = request(n);
+          if (std::string(f.curve) == "fit")
+          {
+            // A fit's waypoints are a recording: a noisy 100 Hz motion at its times.
+            const se3_bench::Recording recording = se3_bench::noisyRecording(n);
+            r.waypoints = recording.poses;
+            r.times = recording.times;
+          }
           r.curve = f.curve;
           r.blend_radius = f.blend_radius;
           r.geometry = geometry;

@@ -35,7 +35,9 @@ constexpr double kJerkDifferenceStep = 1e-6;
 constexpr int kMaxIterations = 200;
 constexpr double kInitialDamping = 1e-6;
 constexpr double kMaxDamping = 1e12;
-constexpr double kConvergedStep = 1e-11;
+constexpr double kConvergedStep = 1e-10;
+/// A relative decrease of the objective at or below this is rounding: converged.
+constexpr double kRoundingImprovement = 1e-14;
 
 /// Huber's loss and its derivative (the IRLS weight) at s = d² for δ = scale.
 double huberLoss(double s, double scale)
@@ -600,13 +602,18 @@ public:
           trial[j] = L::exp(control_[j], Vec<D>(delta.template segment<D>(static_cast<Eigen::Index>(j) * D)));
         ++iterations_;
         const double value = objective(trial, other);
+        const double size = delta.lpNorm<Eigen::Infinity>();
         if (std::isfinite(value) && value <= current)
         {
           control_ = std::move(trial);
           *objective_value = value;
           damping_ = std::max(damping_ / 3.0, kInitialDamping * 1e-6);
-          return delta.lpNorm<Eigen::Infinity>();
+          // An improvement at the objective's rounding is convergence, whatever the step.
+          return current - value <= kRoundingImprovement * current ? 0.0 : size;
         }
+        // A step this small that does not improve: the objective is at its rounding floor.
+        if (size < kConvergedStep)
+          return 0.0;
       }
       damping_ *= 4.0;
       if (damping_ > kMaxDamping)

@@ -63,20 +63,23 @@ struct FitFamily : CurveFamilyDefaults
     return std::max(1.0, m * (m + 1.0) / 2.0);
   }
 
-  /// The fit's own work in units per waypoint (besides the curve's figures, timing and samples):
-  /// the Levenberg–Marquardt steps' de Boor evaluations with Jacobians (a geodesic step's log,
-  /// exp and three Jacobians, about 4 units each) and the trial evaluations, counted in
-  /// test_work_estimate; Huber's reweighting passes and the smoothing's jerk Jacobians (per knot
-  /// interval, 2·dof·(m + 1) third-order de Boor evaluations at each of 4 Gauss points) on top.
+  /// The fit's own work (besides the curve's figures, timing and samples), in work units:
+  /// per waypoint, Levenberg–Marquardt's de Boor evaluations with their Jacobians and trials
+  /// (kFitUnitsPerStep per geodesic step of de Boor, the screw's dearer by kFitScrewFactor, Huber's
+  /// reweighting kFitHuberFactor times as much); per knot interval with smoothing, the jerk's
+  /// Jacobians (kFitSmoothingUnits per tangent direction and geodesic step). Calibrated against
+  /// bench_fit on a noisy 100 Hz recording with knots every 0.25 s (bench/recording.h): measured
+  /// 5.4 µs (double geodesic) and 30 µs (screw) per pose, ×10.5 and ×3.2 with Huber's loss, and
+  /// 0.65 ms and 2.5 ms per knot interval of smoothing.
   static double constructionUnits(const WorkShape& shape)
   {
     const double m = static_cast<double>(shape.degree);
-    const double steps = m * (m + 1.0) / 2.0;
-    const double per_waypoint = kFitIterations * (kFitUnitsPerStep * steps) * (shape.fit_huber ? kFitHuberFactor : 1.0);
+    const double steps = std::max(1.0, m * (m + 1.0) / 2.0);
+    const double per_waypoint =
+        kFitUnitsPerStep * steps * (shape.screw ? kFitScrewFactor : 1.0) * (shape.fit_huber ? kFitHuberFactor : 1.0);
     const double dof = shape.screw ? 6.0 : 3.0;
-    const double smoothing =
-        shape.fit_smoothing ? kFitIterations * 4.0 * 2.0 * dof * (m + 1.0) * kJetUnits * steps * shape.fit_intervals : 0.0;
-    return per_waypoint * static_cast<double>(shape.waypoints) + smoothing;
+    const double per_interval = shape.fit_smoothing ? kFitSmoothingUnits * dof * steps : 0.0;
+    return per_waypoint * static_cast<double>(shape.waypoints) + per_interval * shape.fit_intervals;
   }
 
   static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 5.65e-08, 1.03e-07, 1.69e-07, 2.56e-07 }; }
@@ -91,14 +94,16 @@ struct FitFamily : CurveFamilyDefaults
   }
 
 private:
-  /// Levenberg–Marquardt steps with their trials, as counted on noisy recordings (5–17).
-  static constexpr double kFitIterations = 12.0;
-  /// Units per geodesic step of a de Boor evaluation with the step's Jacobians (and its trial).
-  static constexpr double kFitUnitsPerStep = 6.0;
-  /// Huber's reweighting costs about this many times the squared loss's steps (measured).
-  static constexpr double kFitHuberFactor = 4.0;
-  /// A third-order jet's geodesic step, in units.
-  static constexpr double kJetUnits = 3.0;
+  /// Work units per waypoint and geodesic step of de Boor (bench_fit: 16 × 6 × 5.65e-8 s = 5.4 µs
+  /// per pose in the double geodesic).
+  static constexpr double kFitUnitsPerStep = 16.0;
+  /// The screw geometry's SE(3) Jacobians, per unit (its units already cost 3× the double
+  /// geodesic's: secondsPerUnit).
+  static constexpr double kFitScrewFactor = 1.7;
+  /// Huber's reweighting passes (measured ×10.5 in the double geodesic, ×3.2 in the screw).
+  static constexpr double kFitHuberFactor = 10.0;
+  /// Smoothing's jerk Jacobians per knot interval, tangent direction and geodesic step.
+  static constexpr double kFitSmoothingUnits = 520.0;
 };
 
 }  // namespace se3_interpolation
