@@ -234,7 +234,11 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
   };
   if (r.timing != Timing::kStretch && at_rest)
   {
-    // At rest: the time-optimal or constant-speed motion along the curve from the start pose, like any other.
+    // At rest: the time-optimal or constant-speed motion along the curve from the start pose, like
+    // any other. A fit approximates the start pose (its first fitted point) instead of passing it:
+    // the joining segment leads from the start pose to it first, as under stretch.
+    if (r.curve == CurveType::kFit)
+      curve = join(through, t1, t1);
     applyTiming<PoseSpace, G>(r, curve_io, fig_io, out_io);
   }
   else if (r.timing != Timing::kStretch)
@@ -430,8 +434,10 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   std::shared_ptr<const Curve<G>> curve = std::move(built.curve);
   BasicResult<Space> out;
   out.blend_radii = std::move(built.blend_radii);
+  std::optional<std::vector<typename Space::Waypoint>> fit_control;
   if (built.fit)
   {
+    fit_control = curve->controlPoints();
     out.residual_linear = built.fit->residual_linear;
     out.residual_angular = built.fit->residual_angular;
     out.knots = std::move(built.fit->knots);
@@ -453,7 +459,9 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   out.duration = curve->endTime() - curve->startTime();
   out.figures = fig;
   out.waypoints = r.waypoints;
-  out.control_points = curve->controlPoints();
+  // A fit's control points are the fitted B-spline's (with its knots they replay it), not those of
+  // the motion that a start state's joining segment prepends the start pose to.
+  out.control_points = fit_control ? std::move(*fit_control) : curve->controlPoints();
   out.point_at = [curve](double t) { return curve->value(t); };
   // At the start time from the left, as the first sample: the state the motion starts from.
   const double t0 = curve->startTime();

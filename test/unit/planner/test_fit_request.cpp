@@ -211,3 +211,35 @@ TEST(FitRequest, AMovingStartJoinsTheFit)
   EXPECT_LT((out.samples.front().pose.p - s.pose.p).norm(), 1e-9);
   EXPECT_LT((out.samples.front().velocity.linear - s.velocity.linear).norm(), 1e-9);
 }
+
+TEST(FitRequest, AStartAtRestJoinsTheFitAndReportsTheFittedControlPoses)
+{
+  // The fit passes near the start pose (its first fitted point, at time 0), not through it: the
+  // motion starts at the start pose itself (the joining segment, at rest there), and control_points
+  // are the fitted B-spline's (as many as its knots take), not the joined motion's with the start
+  // pose in front.
+  TrajectoryRequest r = recording();
+  StartState s;
+  s.pose = Pose<double>(so3Exp(Eigen::Vector3d(0.0, 0.0, 0.2)), Eigen::Vector3d(-0.05, 0.02, 0.0));
+  r.start_state = s;
+  for (double& t : r.times)
+    t += 0.5;
+  r.max_linear_acceleration = 0.5;
+  r.max_angular_acceleration = 1.0;
+  r.sample_count = 50;
+  for (const char* timing : { "stretch", "time_optimal" })
+  {
+    r.timing = timing;
+    const TrajectoryResult out = generate(r, PlannerLimits());
+    EXPECT_LT((out.samples.front().pose.p - s.pose.p).norm(), 1e-9) << timing;
+    EXPECT_LT(out.samples.front().pose.q.angularDistance(s.pose.q), 1e-9) << timing;
+    EXPECT_LT(out.samples.front().velocity.linear.norm(), 1e-9) << timing;
+    EXPECT_EQ(out.control_points.size() + 3u + 1u, out.knots.size()) << timing;
+    EXPECT_EQ(out.knots.front(), 0.0) << timing;
+  }
+  // constant_speed from rest: the joining segment stands still at its start, where no path speed
+  // holds a chord speed; refused naming speed (it was served starting away from the start pose).
+  r.timing = "constant_speed";
+  r.speed = 0.05;
+  EXPECT_TRUE(startsWith(errorOf(r), "speed: the path stands still at path time 0 s")) << errorOf(r);
+}
