@@ -58,7 +58,8 @@ inline const std::vector<std::string>& requestFieldNames()
     "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk",
     "max_angular_jerk",  "timing",          "speed",
     "sample_times",      "sample_period",   "sample_count",   "blend_radius",
-    "start_state",       "from_current",    "outputs",
+    "start_state",       "from_current",    "outputs",        "control_period",
+    "smoothing",         "loss",            "loss_scale",
   };
   return kNames;
 }
@@ -144,16 +145,20 @@ struct Violation
   std::string detail;
 };
 
-/// Which waypoints the curve of a request passes, at result.waypoint_times.
+/// Which waypoints the curve of a request passes, at result.waypoint_times: `fit` approximates
+/// them and passes none (not even the last: the motion ends where the fitted curve does).
 enum class PassedWaypoints
 {
   kAll,
-  kFirstAndLast
+  kFirstAndLast,
+  kNone
 };
 
 inline PassedWaypoints passedWaypoints(const TrajectoryRequest& r)
 {
   const std::string curve = r.curve.empty() ? "interpolating" : r.curve;
+  if (curve == "fit")
+    return PassedWaypoints::kNone;
   if (curve == "interpolating" || curve == "hermite" || curve == "blended")
     return PassedWaypoints::kAll;
   if (curve == "piecewise_geodesic" && !(r.blend_radius > 0.0))
@@ -253,6 +258,61 @@ inline Pose<double> normalisedWaypoint(const TrajectoryRequest& r, std::size_t i
   Pose<double> x = r.waypoints[i];
   x.q.normalize();
   return x;
+}
+
+/// The outputs of a served `fit` (fitting/bspline_fit.h): the fitted B-spline's knots, clamped and
+/// uniform on the fitted times [t_0, t_N] (with a start state the start pose is fitted too, at
+/// time 0, so t_0 = 0), of the requested degree (default min(3, points − 1)), as many control
+/// points as knots − degree − 1 and at most one per fitted point, and finite residuals ≥ 0.
+inline void checkFitOutputs(const TrajectoryRequest& request, const TrajectoryResult& result, std::vector<Violation>& v)
+{
+  auto fail = [&v](const std::string& detail) { v.push_back({ "fit outputs", 0.0, detail }); };
+  if (!std::isfinite(result.residual_linear) || result.residual_linear < 0.0 ||
+      !std::isfinite(result.residual_angular) || result.residual_angular < 0.0)
+    fail("residual_linear " + num(result.residual_linear) + ", residual_angular " + num(result.residual_angular));
+  if (request.times.empty())
+  {
+    fail("a fit served without times");
+    return;
+  }
+  // A start state at times[0] = 0 is waypoints[0] itself (validation refuses any other); at a
+  // later times[0] it is an extra point at 0.
+  const bool start_inserted = request.start_state && request.times.front() != 0.0;
+  const std::size_t points = request.waypoints.size() + (start_inserted ? 1 : 0);
+  const double first = request.start_state ? 0.0 : request.times.front();
+  const double last = request.times.back();
+  const int m = request.degree > 0 ? request.degree : std::min(3, static_cast<int>(points) - 1);
+  const std::vector<double>& u = result.knots;
+  const std::size_t need = 2 * static_cast<std::size_t>(std::max(m, 0) + 1);
+  if (m < 1 || u.size() < need)
+  {
+    fail(std::to_string(u.size()) + " knots for degree " + std::to_string(m) + " (at least " +
+         std::to_string(need) + ")");
+    return;
+  }
+  if (result.control_points.size() + static_cast<std::size_t>(m) + 1 != u.size())
+    fail(std::to_string(result.control_points.size()) + " control points for " + std::to_string(u.size()) +
+         " knots of degree " + std::to_string(m));
+  if (result.control_points.size() > points)
+    fail(std::to_string(result.control_points.size()) + " control points for " + std::to_string(points) +
+         " fitted points");
+  const double tol = 1e-12 * std::max({ 1.0, std::abs(first), std::abs(last) });
+  const std::size_t k = u.size();
+  for (std::size_t i = 0; i <= static_cast<std::size_t>(m); ++i)
+    if (std::abs(u[i] - first) > tol || std::abs(u[k - 1 - i] - last) > tol)
+    {
+      fail("knots not clamped to [" + num(first) + ", " + num(last) + "]: knots[" + std::to_string(i) + "] = " +
+           num(u[i]) + ", knots[" + std::to_string(k - 1 - i) + "] = " + num(u[k - 1 - i]));
+      return;
+    }
+  const double step = (last - first) / static_cast<double>(k - 2 * static_cast<std::size_t>(m) - 1);
+  for (std::size_t i = static_cast<std::size_t>(m) + 1; i + static_cast<std::size_t>(m) < k; ++i)
+    if (std::abs(u[i] - u[i - 1] - step) > tol)
+    {
+      fail("knots not uniform: knots[" + std::to_string(i) + "] - knots[" + std::to_string(i - 1) + "] = " +
+           num(u[i] - u[i - 1]) + ", the uniform step " + num(step));
+      return;
+    }
 }
 
 /// Checks a served request's result; returns the broken invariants (empty: all hold).
@@ -607,7 +667,7 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
       fail("waypoint_times", result.waypoint_times.back() - t1,
            "last waypoint time " + num(result.waypoint_times.back()) + " is not the end " + num(t1));
     const PassedWaypoints passed = passedWaypoints(request);
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n && passed != PassedWaypoints::kNone; ++i)
     {
       const bool promised = passed == PassedWaypoints::kAll || i + 1 == n || (i == 0 && !request.start_state);
       if (!promised)
@@ -629,7 +689,9 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
     // With a start state, curves that pass only their ends end at the last waypoint and start at
     // the start state (checked above).
   }
-  if (!explicit_knots)
+  if (passedWaypoints(request) == PassedWaypoints::kNone)
+    checkFitOutputs(request, result, v);
+  else if (!explicit_knots)
   {
     const TrajectorySample end = result.state_at(t1);
     const double gap = poseGap(end.pose, normalisedWaypoint(request, n - 1));
