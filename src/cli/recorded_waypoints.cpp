@@ -353,7 +353,7 @@ std::string withRecordedOrigin(const std::string& message, const RecordedWaypoin
   if (best == std::string::npos)
     return message;
   return message + " (waypoints[" + std::to_string(index) + "] and times[" + std::to_string(index) +
-         "] are " + recordedOrigin(recorded, index) + ")";
+         "] come from " + recordedOrigin(recorded, index) + ")";
 }
 
 }  // namespace cli
