@@ -11,7 +11,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.bash" --env-only
 # declared in package.xml too (exec_depend). rosbash gives rosrun (only a recommendation of
 # ros-core); tf2-tools gives tf2_ros/static_transform_publisher and tf2_tools/echo.py; the
 # dynamic_reconfigure and nodelet packages give the run-time parameter server (and dynparam) and the
-# nodelet manager. catkin-lint gives catkin_lint (scripts/check_install.sh).
+# nodelet manager. catkin-lint gives catkin_lint (scripts/check_install.sh). librosbag-storage-dev
+# (rosbag_storage) lets se3_interpolate read recorded waypoints from a bag (--bag).
 SE3_APT_PACKAGES=(
   build-essential cmake ros-core-dev rosbash tf2-tools libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libnodeletlib-dev libnodeletlib-tools
@@ -21,6 +22,7 @@ SE3_APT_PACKAGES=(
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev doxygen
   catkin-lint libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
+  librosbag-storage-dev
 )
 
 # Prints the first local TCP port from 11398 to 11497 that is free to bind (the ROS master of a

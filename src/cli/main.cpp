@@ -1,4 +1,5 @@
 // se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]
+//                 [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
 // (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
@@ -11,6 +12,9 @@
 // file or symbolic link is ever written through. An existing OUT.csv that is not a regular file
 // (a FIFO, a device such as /dev/null) is written directly instead of being replaced.
 // The request file is read up to kMaxRequestBytes before parsing: larger files are refused.
+//
+// --waypoints and --bag give the waypoints and times from a recording (recorded_waypoints.h);
+// the request file then carries the other fields only.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -25,10 +29,12 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "csv_writer.h"
+#include "recorded_waypoints.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -42,7 +48,8 @@ constexpr int kUsageError = 2;
 constexpr std::size_t kMaxRequestBytes = 8u << 20;
 
 const char* const kUsage =
-    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]\n";
+    "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]\n"
+    "                       [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]\n";
 
 struct Arguments
 {
@@ -50,6 +57,8 @@ struct Arguments
   std::string output;
   std::string space = "pose";
   se3_interpolation::PlannerLimits limits;  ///< --max-work-seconds raises or lowers limits.max_work_seconds
+  std::string waypoints;                    ///< --waypoints FILE.csv
+  se3_interpolation::cli::BagSelection bag;  ///< --bag, --topic, --frame, --parent
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -62,6 +71,16 @@ Arguments parseArguments(int argc, char** argv)
       a.output = argv[++i];
     else if (arg == "--space" && i + 1 < argc)
       a.space = argv[++i];
+    else if (arg == "--waypoints" && i + 1 < argc)
+      a.waypoints = argv[++i];
+    else if (arg == "--bag" && i + 1 < argc)
+      a.bag.path = argv[++i];
+    else if (arg == "--topic" && i + 1 < argc)
+      a.bag.topic = argv[++i];
+    else if (arg == "--frame" && i + 1 < argc)
+      a.bag.frame = argv[++i];
+    else if (arg == "--parent" && i + 1 < argc)
+      a.bag.parent = argv[++i];
     else if (arg == "--max-work-seconds" && i + 1 < argc)
     {
       const std::string value = argv[++i];
@@ -87,7 +106,40 @@ Arguments parseArguments(int argc, char** argv)
     throw std::invalid_argument(std::string("no request file given\n") + kUsage);
   if (a.space != "pose" && a.space != "sphere")
     throw std::invalid_argument("--space: unknown value '" + a.space + "' (expected pose or sphere)");
+  const bool recorded = !a.waypoints.empty() || !a.bag.path.empty();
+  if (!a.waypoints.empty() && !a.bag.path.empty())
+    throw std::invalid_argument("--waypoints and --bag: give the recorded waypoints from one of them");
+  if (a.bag.path.empty() && !(a.bag.topic.empty() && a.bag.frame.empty() && a.bag.parent.empty()))
+    throw std::invalid_argument(std::string(!a.bag.topic.empty() ? "--topic" : !a.bag.frame.empty() ? "--frame" : "--parent") +
+                                ": reads a bag; give it with --bag FILE.bag");
+  if (!a.bag.path.empty() && a.bag.topic.empty())
+    throw std::invalid_argument("--topic: missing; --bag reads the poses of one topic (--topic NAME)");
+  if (recorded && a.space != "pose")
+    throw std::invalid_argument(std::string(a.waypoints.empty() ? "--bag" : "--waypoints") +
+                                ": recorded waypoints are poses; not with --space " + a.space);
   return a;
+}
+
+/// The waypoints and times of --waypoints or --bag, if either is given.
+std::optional<se3_interpolation::cli::RecordedWaypoints> readRecorded(const Arguments& args)
+{
+  if (!args.waypoints.empty())
+    return se3_interpolation::cli::readWaypointsCsv(args.waypoints);
+  if (!args.bag.path.empty())
+    return se3_interpolation::cli::readWaypointsBag(args.bag);
+  return std::nullopt;
+}
+
+/// A bag's frame and time origin (`frame_id: map`, `time_origin: 1700000000.000000000`), before
+/// the figures.
+void printRecordedFrame(const se3_interpolation::cli::RecordedWaypoints& recorded)
+{
+  if (recorded.first_line > 0)
+    return;
+  char origin[32];
+  std::snprintf(origin, sizeof origin, "%lld.%09lld", static_cast<long long>(recorded.time_origin_ns / 1000000000),
+                static_cast<long long>(recorded.time_origin_ns % 1000000000));
+  std::cerr << "frame_id: " << recorded.frame_id << "\ntime_origin: " << origin << "\n";
 }
 
 /// `waypoint_times: t0, t1, ...`: when the trajectory passes (or is controlled by) each waypoint,
@@ -236,6 +288,7 @@ std::string readRequestFile(const std::string& path)
 
 int main(int argc, char** argv)
 {
+  std::optional<se3_interpolation::cli::RecordedWaypoints> recorded;
   try
   {
     const Arguments args = parseArguments(argc, argv);
@@ -266,8 +319,14 @@ int main(int argc, char** argv)
     }
     else
     {
-      const se3_interpolation::TrajectoryResult result =
-          se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(root), args.limits);
+      recorded = readRecorded(args);
+      const se3_interpolation::TrajectoryRequest request =
+          recorded ? se3_interpolation::cli::requestFromYaml(root, recorded->waypoints, recorded->times,
+                                                              recorded->source)
+                   : se3_interpolation::cli::requestFromYaml(root);
+      const se3_interpolation::TrajectoryResult result = se3_interpolation::generate(request, args.limits);
+      if (recorded)
+        printRecordedFrame(*recorded);
       printFigures(result);
       output([&result](const se3_interpolation::cli::CsvSink& sink) { se3_interpolation::cli::writePoseCsv(result, sink); });
     }
@@ -275,7 +334,9 @@ int main(int argc, char** argv)
   }
   catch (const std::exception& e)
   {
-    std::cerr << "se3_interpolate: error: " << e.what() << "\n";
+    std::cerr << "se3_interpolate: error: "
+              << (recorded ? se3_interpolation::cli::withRecordedOrigin(e.what(), *recorded) : std::string(e.what()))
+              << "\n";
     return kUsageError;
   }
 }

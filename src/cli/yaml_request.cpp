@@ -265,25 +265,10 @@ void readCommonFields(const YAML::Node& root, Request* r)
   if (root["child_frame_id"])
     validateFrameId(toString(root["child_frame_id"], "child_frame_id"), "child_frame_id");
 }
-}  // namespace
 
-
-std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field)
+/// The request's waypoints: the list form or the service's PoseArray.
+void readWaypoints(const YAML::Node& root, TrajectoryRequest* r)
 {
-  if (!node.IsSequence())
-    throw InvalidInputError(field + ": expected a list of vectors");
-  std::vector<std::vector<double>> out;
-  for (std::size_t i = 0; i < node.size(); ++i)
-    out.push_back(toDoubles(node[i], indexedField(field, i)));
-  return out;
-}
-
-TrajectoryRequest requestFromYaml(const YAML::Node& root)
-{
-  TrajectoryRequest r;
-  readCommonFields(root, &r);
-  if (root["blend_radius"])
-    r.blend_radius = toDouble(root["blend_radius"], "blend_radius");
   // The list form, or the service's geometry_msgs/PoseArray {header: {...}, poses: [...]}. The CLI
   // has no frames, so a header is checked for its field names only. Indices name the poses as the
   // service's messages do: waypoints[i].
@@ -302,7 +287,19 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
     throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
                             "{header: {frame_id: ..}, poses: [...]} as in the service)");
   for (std::size_t i = 0; i < poses.size(); ++i)
-    r.waypoints.push_back(toPose(poses[i], indexedField("waypoints", i)));
+    r->waypoints.push_back(toPose(poses[i], indexedField("waypoints", i)));
+}
+
+/// The pose request of `root`; its waypoints are read only if `read_waypoints` (else they are
+/// given elsewhere and left empty).
+TrajectoryRequest poseRequestFromYaml(const YAML::Node& root, bool read_waypoints)
+{
+  TrajectoryRequest r;
+  readCommonFields(root, &r);
+  if (root["blend_radius"])
+    r.blend_radius = toDouble(root["blend_radius"], "blend_radius");
+  if (read_waypoints)
+    readWaypoints(root, &r);
   if (root["start_velocity"])
     r.start_velocity = toTwist(root["start_velocity"], "start_velocity");
   if (root["end_velocity"])
@@ -333,6 +330,36 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root)
       state.acceleration = toTwist(s["acceleration"], "start_state.acceleration");
     r.start_state = state;
   }
+  return r;
+}
+}  // namespace
+
+
+std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field)
+{
+  if (!node.IsSequence())
+    throw InvalidInputError(field + ": expected a list of vectors");
+  std::vector<std::vector<double>> out;
+  for (std::size_t i = 0; i < node.size(); ++i)
+    out.push_back(toDoubles(node[i], indexedField(field, i)));
+  return out;
+}
+
+TrajectoryRequest requestFromYaml(const YAML::Node& root)
+{
+  return poseRequestFromYaml(root, true);
+}
+
+TrajectoryRequest requestFromYaml(const YAML::Node& root, std::vector<Pose<double>> waypoints,
+                                  std::vector<double> times, const std::string& source)
+{
+  for (const char* field : { "waypoints", "times" })
+    if (root && root.IsMap() && root[field])
+      throw InvalidInputError(std::string(field) + ": given both in the request file and by " + source +
+                              "; with " + source + " the request file carries the other fields only");
+  TrajectoryRequest r = poseRequestFromYaml(root, false);
+  r.waypoints = std::move(waypoints);
+  r.times = std::move(times);
   return r;
 }
 

@@ -27,6 +27,14 @@ namespace cli
 /// The request from a parsed YAML document.
 TrajectoryRequest requestFromYaml(const YAML::Node& root);
 
+/// The request from a parsed YAML document whose waypoints and times are given elsewhere (a
+/// recording: --waypoints or --bag), so the document carries the other fields only.
+/// @param source the option that gave the waypoints, for messages, e.g. "--waypoints 'rec.csv'"
+/// @throws InvalidInputError naming `waypoints` or `times` and `source` if the document gives them
+///         too, or as requestFromYaml for the other fields
+TrajectoryRequest requestFromYaml(const YAML::Node& root, std::vector<Pose<double>> waypoints,
+                                  std::vector<double> times, const std::string& source);
+
 /// For `--space sphere`: the waypoints as unit vectors of R^{m+1} (m ≥ 2), with the same
 /// sibling fields; velocities become tangent vectors.
 std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field);

@@ -1,20 +1,28 @@
 // The se3_interpolate command line: happy paths with checked CSV, and errors with exit
 // status 2, a message on stderr and no output file. The CSV's numbers parse back to the planner's
-// samples bit for bit (csv_writer.h), checked on hard values and on large outputs.
+// samples bit for bit (csv_writer.h), checked on hard values and on large outputs. Recorded
+// waypoints (--waypoints, --bag) read back exactly, from CSV files and from bags the tests write.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <rosbag/bag.h>
+#include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -23,6 +31,7 @@
 #include <vector>
 
 #include "csv_writer.h"
+#include "recorded_waypoints.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -917,4 +926,382 @@ TEST(CliHostile, MaxWorkSecondsBoundsTheRequest)
   EXPECT_NE(tight_sphere.err.find("the limit (max_work_seconds) is 9.9999999999999995e-07 s"), std::string::npos)
       << tight_sphere.err;
   EXPECT_EQ(run(sphere + " --max-work-seconds 100").status, 0);
+}
+
+// --- Recorded waypoints: --waypoints FILE.csv and --bag FILE.bag (recorded_waypoints.h) -------
+
+namespace
+{
+using se3_interpolation::Pose;
+using se3_interpolation::cli::RecordedWaypoints;
+
+/// Pose k of a test recording: a screw-like walk, rotated 0.3 k rad about a tilted axis, shifted by
+/// `offset` (so that each frame of a bag has poses of its own).
+Pose<double> recordedPose(int k, double offset)
+{
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, -0.3, 1.0).normalized();
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3 * k + offset, axis));
+  return Pose<double>(se3_interpolation::Quaternion<double>(q.w(), q.x(), q.y(), q.z()),
+                      Eigen::Vector3d(k + offset, 0.5 * k, -0.2 * k * k));
+}
+
+/// The poses 0 … n-1 of recordedPose(k, offset).
+std::vector<Pose<double>> recordedPoses(int n, double offset)
+{
+  std::vector<Pose<double>> poses;
+  for (int k = 0; k < n; ++k)
+    poses.push_back(recordedPose(k, offset));
+  return poses;
+}
+
+/// Expects `pose` to be `expected` to `tolerance` (the quaternion up to its sign).
+void expectPose(const Pose<double>& pose, const Pose<double>& expected, double tolerance, const std::string& what)
+{
+  EXPECT_LT((pose.p - expected.p).norm(), tolerance) << what;
+  EXPECT_NEAR(std::abs(pose.q.coeffs().dot(expected.q.coeffs())), 1.0, tolerance) << what;
+}
+
+/// Expects the recording to be exactly `poses` at `times`.
+void expectRecorded(const RecordedWaypoints& r, const std::vector<Pose<double>>& poses, const std::vector<double>& times)
+{
+  ASSERT_EQ(r.waypoints.size(), poses.size());
+  ASSERT_EQ(r.times.size(), times.size());
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    EXPECT_EQ(r.times[i], times[i]) << i;
+    EXPECT_EQ(r.waypoints[i].p, poses[i].p) << i;
+    EXPECT_EQ(r.waypoints[i].q.coeffs(), poses[i].q.coeffs()) << i;
+  }
+}
+
+/// Runs the CLI with `recording` (the options that give the waypoints) on a request of `curve`
+/// sampled at `times`, and expects its samples to pass through `poses` at `times` (to 1e-9);
+/// returns its standard error.
+std::string expectCliPassesThrough(const std::string& recording, const std::string& curve,
+                                   const std::vector<Pose<double>>& poses, const std::vector<double>& times)
+{
+  std::string sample_times;
+  for (std::size_t i = 0; i < times.size(); ++i)
+    sample_times += (i ? ", " : "") + std::string(se3_interpolation::formatNumber(times[i]));
+  const std::string options = writeTemp("recorded_options.yaml", "curve: " + curve + "\nsample_times: [" + sample_times + "]\n");
+  const std::string out = testing::TempDir() + "recorded_out.csv";
+  std::remove(out.c_str());
+  const CliRun r = run(options + " " + recording + " -o " + out);
+  EXPECT_EQ(r.status, 0) << recording << ": " << r.err;
+  std::string header;
+  const auto rows = parseCsv(slurp(out), &header);
+  EXPECT_EQ(rows.size(), poses.size()) << recording;
+  for (std::size_t i = 0; i < std::min(rows.size(), poses.size()); ++i)
+  {
+    EXPECT_NEAR(rows[i][0], times[i], 1e-12) << recording << " row " << i;
+    const Pose<double> sampled(se3_interpolation::Quaternion<double>(rows[i][7], rows[i][4], rows[i][5], rows[i][6]),
+                               Eigen::Vector3d(rows[i][1], rows[i][2], rows[i][3]));
+    expectPose(sampled, poses[i], 1e-9, recording + " row " + std::to_string(i));
+  }
+  return r.err;
+}
+
+/// Expects the CLI run with `args` to exit 2 without writing its output, with every one of `needles`
+/// in its message.
+void expectRefused(const std::string& args, const std::vector<std::string>& needles)
+{
+  const std::string out = testing::TempDir() + "refused_out.csv";
+  std::remove(out.c_str());
+  const CliRun r = run(args + " -o " + out);
+  EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+  for (const std::string& needle : needles)
+    EXPECT_NE(r.err.find(needle), std::string::npos) << args << ": '" << needle << "' not in " << r.err;
+  EXPECT_FALSE(exists(out)) << args;
+}
+}  // namespace
+
+// The CLI's own output reads back: its t and pose columns (of 20) are the waypoints and times, and
+// an interpolating spline through them passes through the read poses at the read times.
+TEST(RecordedCsv, OwnOutputReadsBackAndIsInterpolated)
+{
+  const std::string first = testing::TempDir() + "recorded_first.csv";
+  ASSERT_EQ(run(data("bezier_screw.yaml") + " -o " + first).status, 0);
+  // The brute-force expectation: the output's cells by std::stod, columns by their known place.
+  std::string header;
+  const auto rows = parseCsv(slurp(first), &header);
+  ASSERT_EQ(rows.size(), 11u);
+  std::vector<Pose<double>> poses;
+  std::vector<double> times;
+  for (const auto& row : rows)
+  {
+    times.push_back(row[0]);
+    poses.emplace_back(se3_interpolation::Quaternion<double>(row[7], row[4], row[5], row[6]),
+                       Eigen::Vector3d(row[1], row[2], row[3]));
+  }
+  const RecordedWaypoints read = se3_interpolation::cli::readWaypointsCsv(first);
+  expectRecorded(read, poses, times);
+  EXPECT_TRUE(read.frame_id.empty());
+  for (const char* curve : { "interpolating", "piecewise_geodesic" })
+  {
+    const std::string err = expectCliPassesThrough("--waypoints " + first, curve, poses, times);
+    EXPECT_EQ(err.find("frame_id:"), std::string::npos) << err;
+  }
+}
+
+// Columns are found by name in any order; other columns, spaces around cells, CRLF line ends and
+// a missing final newline are accepted.
+TEST(RecordedCsv, ColumnsByNameInAnyOrder)
+{
+  const std::vector<Pose<double>> poses = recordedPoses(4, 0.0);
+  const std::vector<double> times = { 0.0, 0.5, 1.25, 2.0 };
+  std::string text = "note,qw, z ,y,x,t,extra,qz,qy,qx\r\n";
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  const auto cell = [&number](double v) {
+    return std::string(number, se3_interpolation::cli::formatNumber(number, v));
+  };
+  for (std::size_t i = 0; i < poses.size(); ++i)
+  {
+    const Pose<double>& p = poses[i];
+    text += "n" + std::to_string(i) + "," + cell(p.q.w()) + ", " + cell(p.p.z()) + " ," + cell(p.p.y()) + "," +
+            cell(p.p.x()) + "," + cell(times[i]) + ",not a number," + cell(p.q.z()) + "," + cell(p.q.y()) + "," +
+            cell(p.q.x()) + (i + 1 < poses.size() ? "\r\n" : "");
+  }
+  expectRecorded(se3_interpolation::cli::parseWaypointsCsv(text, "shuffled.csv"), poses, times);
+  const std::string path = writeTemp("recorded_shuffled.csv", text);
+  expectCliPassesThrough("--waypoints " + path, "interpolating", poses, times);
+}
+
+// Each malformed file is refused naming the file, its line (1-based) and column, exit 2, no output.
+TEST(RecordedCsv, MalformedFilesNameTheLineAndColumn)
+{
+  const std::string options = writeTemp("recorded_plain.yaml", "curve: piecewise_geodesic\n");
+  const std::string head = "t,x,y,z,qx,qy,qz,qw\n";
+  const std::string row0 = "0,0,0,0,0,0,0,1\n";
+  const std::string row1 = "1,1,0,0,0,0,0,1\n";
+  const struct
+  {
+    const char* name;
+    std::string text;
+    std::vector<std::string> needles;
+  } cases[] = {
+    { "empty.csv", "", { "line 1:", "empty" } },
+    { "no_qw.csv", "t,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n", { "line 1:", "column 'qw'", "missing" } },
+    { "twice.csv", "t,x,y,x,z,qx,qy,qz,qw\n", { "line 1:", "column 'x' named twice (columns 2 and 4)" } },
+    { "header_only.csv", head, { "line 2:", "no rows" } },
+    { "short_row.csv", head + row0 + "1,1,0,0,0,0,1\n", { "line 3:", "7 cells", "has 8" } },
+    { "long_row.csv", head + row0 + row1 + "2,1,0,0,0,0,0,1,9\n", { "line 4:", "9 cells" } },
+    { "blank_line.csv", head + row0 + "\n" + row1, { "line 3:", "1 cell," } },
+    { "word.csv", head + row0 + row1 + "2,1,1,0,zero,0,0,1\n", { "line 4:", "column 'qx' (column 5)", "'zero'" } },
+    { "nan.csv", head + row0 + "1,nan,0,0,0,0,0,1\n", { "line 3:", "column 'x'", "not a finite number" } },
+    { "empty_cell.csv", head + row0 + "1,1,0,,0,0,0,1\n", { "line 3:", "column 'z'" } },
+    // The request validation's checks, with the line they came from.
+    { "not_unit.csv", head + row0 + "1,1,0,0,0,0,0,2\n", { "waypoints[1]", "line 3 of --waypoints" } },
+    { "not_increasing.csv", head + row0 + row1 + "1,2,0,0,0,0,0,1\n", { "times[2]", "line 4 of --waypoints" } },
+  };
+  for (const auto& c : cases)
+  {
+    const std::string path = writeTemp(c.name, c.text);
+    std::vector<std::string> needles = c.needles;
+    needles.push_back("'" + path + "'");
+    expectRefused(options + " --waypoints " + path, needles);
+    if (c.needles.front().rfind("line ", 0) == 0)
+    {
+      EXPECT_THROW(se3_interpolation::cli::parseWaypointsCsv(c.text, c.name), se3_interpolation::InvalidInputError)
+          << c.name;
+    }
+  }
+  expectRefused(options + " --waypoints " + testing::TempDir() + "no_such.csv", { "--waypoints", "cannot be read" });
+}
+
+// With --waypoints the request file gives the other fields only; the options are checked together.
+TEST(RecordedCsv, ConflictsAreRefusedNamingBoth)
+{
+  const std::string csv = writeTemp("recorded_conflict.csv", "t,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,1\n1,1,0,0,0,0,0,1\n");
+  const std::string with_times = writeTemp("recorded_with_times.yaml", "curve: interpolating\ntimes: [0, 1]\n");
+  expectRefused(with_times + " --waypoints " + csv, { "times: given both in the request file and by --waypoints" });
+  expectRefused(data("bezier_screw.yaml") + " --waypoints " + csv,
+                { "waypoints: given both in the request file and by --waypoints '" + csv + "'" });
+  const std::string options = writeTemp("recorded_plain.yaml", "curve: piecewise_geodesic\n");
+  expectRefused(options + " --waypoints " + csv + " --bag x.bag --topic /tf", { "--waypoints and --bag" });
+  expectRefused(options + " --waypoints " + csv + " --space sphere", { "--waypoints", "--space sphere" });
+  expectRefused(options + " --bag x.bag --topic /tf --space sphere", { "--bag", "--space sphere" });
+  expectRefused(options + " --topic /tf", { "--topic", "--bag FILE.bag" });
+  expectRefused(options + " --bag x.bag", { "--topic: missing" });
+  EXPECT_EQ(run(options + " --waypoints " + csv).status, 0);
+}
+
+// 10⁵ rows parse with std::from_chars, bit for bit (the time is printed, not asserted).
+TEST(RecordedCsv, LargeFileParsesBitForBit)
+{
+  constexpr int kRows = 100000;
+  std::mt19937_64 random(30);
+  std::uniform_real_distribution<double> value(-10.0, 10.0);
+  std::vector<double> cells(static_cast<std::size_t>(kRows) * 8);
+  std::string text = "t,x,y,z,qx,qy,qz,qw,vx\n";
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  for (int i = 0; i < kRows; ++i)
+  {
+    for (int c = 0; c < 8; ++c)
+    {
+      double& v = cells[static_cast<std::size_t>(i) * 8 + c];
+      v = c == 0 ? i * 0.01 : value(random);
+      text.append(number, se3_interpolation::cli::formatNumber(number, v));
+      text += ',';
+    }
+    text += "0\n";
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const RecordedWaypoints r = se3_interpolation::cli::parseWaypointsCsv(text, "large.csv");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "[ timing   ] " << kRows << " rows (" << text.size() / 1000000.0 << " MB) parsed in " << seconds
+            << " s\n";
+  ASSERT_EQ(r.waypoints.size(), static_cast<std::size_t>(kRows));
+  int differences = 0;
+  for (std::size_t i = 0; i < r.waypoints.size(); ++i)
+  {
+    const double* row = &cells[i * 8];
+    const Pose<double>& p = r.waypoints[i];
+    const double read[8] = { r.times[i], p.p.x(), p.p.y(), p.p.z(), p.q.x(), p.q.y(), p.q.z(), p.q.w() };
+    for (int c = 0; c < 8; ++c)
+      differences += bits(read[c]) != bits(row[c]);
+  }
+  EXPECT_EQ(differences, 0);
+}
+
+namespace
+{
+/// The message of pose k of recordedPose(k, offset) from `parent` to `child` at `stamp`.
+geometry_msgs::TransformStamped recordedTransform(int k, double offset, const std::string& parent,
+                                                  const std::string& child, const ros::Time& stamp)
+{
+  const Pose<double> p = recordedPose(k, offset);
+  geometry_msgs::TransformStamped t;
+  t.header.frame_id = parent;
+  t.header.stamp = stamp;
+  t.child_frame_id = child;
+  t.transform.translation.x = p.p.x();
+  t.transform.translation.y = p.p.y();
+  t.transform.translation.z = p.p.z();
+  t.transform.rotation.x = p.q.x();
+  t.transform.rotation.y = p.q.y();
+  t.transform.rotation.z = p.q.z();
+  t.transform.rotation.w = p.q.w();
+  return t;
+}
+
+/// The test bag's stamp of pose k: 100.5 s + k/4 s.
+ros::Time recordedStamp(int k)
+{
+  return ros::Time(100, 500000000) + ros::Duration(0.25 * k);
+}
+
+constexpr int kBagPoses = 4;
+
+/// A bag with the topics: /pose (PoseStamped in map, offset 0), /tool (TransformStamped world →
+/// tool0, offset 1), /tf (tool0 in world, offset 2, flange in base, offset 3, and a distractor
+/// camera in world, alone in one more message), /tf_mixed (tool0 in world at even k and in base at
+/// odd k, offset 4) and /chatter (std_msgs/String).
+std::string writeTestBag()
+{
+  const std::string path = testing::TempDir() + "recorded.bag";
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  for (int k = 0; k < kBagPoses; ++k)
+  {
+    const ros::Time stamp = recordedStamp(k);
+    const geometry_msgs::TransformStamped pose = recordedTransform(k, 0.0, "map", "", stamp);
+    geometry_msgs::PoseStamped ps;
+    ps.header = pose.header;
+    ps.pose.position.x = pose.transform.translation.x;
+    ps.pose.position.y = pose.transform.translation.y;
+    ps.pose.position.z = pose.transform.translation.z;
+    ps.pose.orientation = pose.transform.rotation;
+    bag.write("/pose", stamp, ps);
+    bag.write("/tool", stamp, recordedTransform(k, 1.0, "world", "tool0", stamp));
+    tf2_msgs::TFMessage tf;
+    tf.transforms = { recordedTransform(k, 2.0, "world", "tool0", stamp),
+                      recordedTransform(k, 3.0, "base", "flange", stamp),
+                      recordedTransform(k, 9.0, "world", "camera", stamp) };
+    bag.write("/tf", stamp, tf);
+    tf2_msgs::TFMessage camera_only;
+    camera_only.transforms = { recordedTransform(k + 1, 9.0, "world", "camera", stamp + ros::Duration(0.1)) };
+    bag.write("/tf", stamp + ros::Duration(0.1), camera_only);
+    tf2_msgs::TFMessage mixed;
+    mixed.transforms = { recordedTransform(k, 4.0, k % 2 ? "base" : "world", "tool0", stamp) };
+    bag.write("/tf_mixed", stamp, mixed);
+    std_msgs::String chatter;
+    chatter.data = "pose " + std::to_string(k);
+    bag.write("/chatter", stamp, chatter);
+  }
+  bag.close();
+  return path;
+}
+}  // namespace
+
+// Each message type gives exactly the recorded poses, at their stamps after the first one, in the
+// recorded frame; the CLI passes through them and reports the frame and the time origin.
+TEST(RecordedBag, ReadsEachTypeExactly)
+{
+  const std::string bag = writeTestBag();
+  std::vector<double> times;
+  for (int k = 0; k < kBagPoses; ++k)
+    times.push_back(0.25 * k);
+  const struct
+  {
+    const char* topic;
+    const char* frame;
+    const char* parent;
+    double offset;
+    const char* frame_id;
+  } cases[] = {
+    { "/pose", "", "", 0.0, "map" },     { "/tool", "", "", 1.0, "world" },   { "/tool", "tool0", "world", 1.0, "world" },
+    { "/tf", "tool0", "", 2.0, "world" }, { "/tf", "flange", "", 3.0, "base" }, { "/tf", "flange", "base", 3.0, "base" },
+  };
+  for (const auto& c : cases)
+  {
+    SCOPED_TRACE(std::string(c.topic) + " --frame " + c.frame + " --parent " + c.parent);
+    const RecordedWaypoints r = se3_interpolation::cli::readWaypointsBag({ bag, c.topic, c.frame, c.parent });
+    const std::vector<Pose<double>> poses = recordedPoses(kBagPoses, c.offset);
+    expectRecorded(r, poses, times);
+    EXPECT_EQ(r.frame_id, c.frame_id);
+    EXPECT_EQ(r.time_origin_ns, 100500000000LL);
+    std::string args = "--bag " + bag + " --topic " + c.topic;
+    args += std::string(c.frame).empty() ? "" : std::string(" --frame ") + c.frame;
+    args += std::string(c.parent).empty() ? "" : std::string(" --parent ") + c.parent;
+    const std::string err = expectCliPassesThrough(args, "interpolating", poses, times);
+    EXPECT_NE(err.find(std::string("frame_id: ") + c.frame_id + "\ntime_origin: 100.500000000\n"), std::string::npos)
+        << err;
+  }
+  // --parent picks one parent of a child recorded in two.
+  const RecordedWaypoints base = se3_interpolation::cli::readWaypointsBag({ bag, "/tf_mixed", "tool0", "base" });
+  expectRecorded(base, { recordedPose(1, 4.0), recordedPose(3, 4.0) }, { 0.0, 0.5 });
+  EXPECT_EQ(base.frame_id, "base");
+  EXPECT_EQ(base.time_origin_ns, 100750000000LL);
+}
+
+// Each refusal names its option, exit 2, no output file.
+TEST(RecordedBag, RefusalsNameTheOption)
+{
+  const std::string bag = writeTestBag();
+  const std::string options = writeTemp("recorded_plain.yaml", "curve: piecewise_geodesic\n");
+  const std::string not_a_bag = writeTemp("not_a.bag", "t,x,y,z,qx,qy,qz,qw\n");
+  const std::pair<std::string, std::vector<std::string>> cases[] = {
+    { "--bag " + testing::TempDir() + "no_such.bag --topic /tf --frame tool0", { "--bag '", "cannot be opened" } },
+    { "--bag " + not_a_bag + " --topic /tf --frame tool0", { "--bag '" + not_a_bag + "'", "cannot be opened" } },
+    { "--bag " + bag + " --topic /odom", { "--topic '/odom': no message on it", "'/chatter (std_msgs/String)'",
+                                           "'/pose (geometry_msgs/PoseStamped)'", "'/tf (tf2_msgs/TFMessage)'" } },
+    { "--bag " + bag + " --topic /chatter", { "--topic '/chatter': carries std_msgs/String; expected" } },
+    { "--bag " + bag + " --topic /tf", { "--frame: --topic '/tf' carries tf2_msgs/TFMessage",
+                                         "'camera', 'flange', 'tool0'" } },
+    { "--bag " + bag + " --topic /tf --frame gripper", { "--frame 'gripper': no transform of it",
+                                                         "'camera', 'flange', 'tool0'" } },
+    { "--bag " + bag + " --topic /tool --frame flange", { "--frame 'flange': no transform of it", "'tool0'" } },
+    { "--bag " + bag + " --topic /pose --frame tool0", { "--frame 'tool0'", "PoseStamped, which has no child frame" } },
+    { "--bag " + bag + " --topic /tf_mixed --frame tool0", { "--parent: the transforms of 'tool0'",
+                                                             "'base', 'world'", "choose one with --parent" } },
+    { "--bag " + bag + " --topic /tf --frame tool0 --parent base", { "--parent 'base': none of the transforms of "
+                                                                     "'tool0'", "(their frames: 'world')" } },
+    { "--bag " + bag + " --topic /pose --parent world", { "--parent 'world': none of the poses on '/pose'",
+                                                          "'map'" } },
+  };
+  for (const auto& c : cases)
+  {
+    expectRefused(options + " " + c.first, c.second);
+  }
+  const std::string with_waypoints = data("bezier_screw.yaml");
+  expectRefused(with_waypoints + " --bag " + bag + " --topic /pose", { "waypoints: given both", "--bag '" + bag + "'" });
 }
