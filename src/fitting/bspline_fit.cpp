@@ -30,14 +30,20 @@ constexpr double kJacobianSeriesThetaSquared = 1e-2;
 /// (rad, m): truncation ~h² ≈ 1e-12 and rounding ~1e-16/h ≈ 1e-10 relative to the jerk.
 constexpr double kJerkDifferenceStep = 1e-6;
 
-/// Levenberg–Marquardt: the steps at most, the damping's start and bounds, and the step below
-/// which (max |δ|, rad or m) it has converged: far below any recording's noise, above rounding.
-constexpr int kMaxIterations = 200;
+/// Levenberg–Marquardt: the trial steps at most (over all of Huber's passes), the damping's start
+/// and bounds, and the step below which (max |δ|, rad or m) it has converged: far below any
+/// recording's noise, above rounding.
+constexpr int kMaxIterations = 500;
 constexpr double kInitialDamping = 1e-6;
 constexpr double kMaxDamping = 1e12;
 constexpr double kConvergedStep = 1e-10;
 /// A relative decrease of the objective at or below this is rounding: converged.
 constexpr double kRoundingImprovement = 1e-14;
+/// Slow convergence (Huber's weights chasing the steps on a few points): kStagnationSteps steps that
+/// together lower the objective by less than kStagnation of it end the pass (the gradient is then
+/// below 1e-6 of the objective's scale, as test_bspline_fit's stationarity test checks).
+constexpr std::size_t kStagnationSteps = 10;
+constexpr double kStagnation = 1e-12;
 
 /// Huber's loss and its derivative (the IRLS weight) at s = d² for δ = scale.
 double huberLoss(double s, double scale)
@@ -518,9 +524,18 @@ public:
   }
 
   /// The objective: (1/N) Σ loss(other_i + s_i) + λ ∫ jerk², for the translation's part `other`.
+  /// ∞ where the control points make a half-turn geodesic step (a rejected trial).
   double objective(const std::vector<Element>& control, const std::vector<double>& other)
   {
-    const std::vector<double> s = squaredDistances(control);
+    std::vector<double> s;
+    try
+    {
+      s = squaredDistances(control);
+    }
+    catch (const NonUniqueGeodesicError&)
+    {
+      return std::numeric_limits<double>::infinity();
+    }
     double sum = 0.0;
     for (std::size_t i = 0; i < s.size(); ++i)
       sum += loss(other[i] + s[i]);
@@ -870,20 +885,27 @@ void finish(const std::vector<double>& linear2, const std::vector<double>& angul
 template <class L, class Other>
 void solveGroup(FitProblem* pb, GroupFit<L>* fit, const Other& other_part, double* objective)
 {
-  for (int it = 0; it < kMaxIterations; ++it)
+  std::vector<double> history;  // the objective after each step of this pass
+  while (fit->iterations() < kMaxIterations)
   {
     const std::vector<double> other = other_part();
     const double step = fit->step(other, objective);
+    history.push_back(*objective);
+    // Stagnation: ten steps that together lower the objective by less than kStagnation of it.
+    if (history.size() > kStagnationSteps &&
+        history[history.size() - 1 - kStagnationSteps] - *objective <= kStagnation * *objective)
+      return;
+    bool reweighted = false;
     if (pb->options.loss == FitLoss::kHuber)
     {
       const std::vector<double> s = fit->squaredDistances(fit->control());
       std::vector<double> total(s.size());
       for (std::size_t i = 0; i < s.size(); ++i)
         total[i] = s[i] + other[i];
-      if (reweight(pb, total) > kWeightTolerance)
-        continue;
+      reweighted = reweight(pb, total) > kWeightTolerance;
     }
-    if (step < kConvergedStep)
+    // No step improves the objective beyond its rounding: converged, whatever the weights do.
+    if (step == 0.0 || (step < kConvergedStep && !reweighted))
       return;
   }
 }
@@ -906,9 +928,20 @@ std::size_t fitIntervals(double t0, double t1, double control_period, int degree
   return static_cast<std::size_t>(intervals);
 }
 
-template <>
-BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& poses,
-                                               const std::vector<double>& times, const FitOptions& options)
+namespace
+{
+/// The refusal of a recording whose fit would need a half-turn geodesic step between two control
+/// points (or between the start's control points): its knots are too far apart for its turns.
+[[noreturn]] void refuseHalfTurn(const FitOptions& options)
+{
+  throw InvalidInputError("control_period: the waypoints turn by about half a turn within " +
+                          formatSeconds(options.control_period) +
+                          " s, so neighbouring control poses of the fit would be half a turn apart (no unique "
+                          "geodesic between them); a shorter control_period");
+}
+
+BSplineFitResult fitDoubleGeodesic(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
+                                   const FitOptions& options)
 {
   FitProblem pb = makeProblem(poses, times, options);
   TranslationFit translation(pb);
@@ -916,11 +949,19 @@ BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& 
   GroupFit<So3Group> rotation(pb, grevilleStart<So3Group>(pb));
   std::vector<double> linear2 = translation.squaredDistances(positions);
   double rotation_objective = rotation.objective(rotation.control(), linear2);
+  if (!std::isfinite(rotation_objective))
+    refuseHalfTurn(options);
+  double last_pass = std::numeric_limits<double>::infinity();
   for (int pass = 0; pass < kMaxReweightings; ++pass)
   {
     solveGroup(&pb, &rotation, [&]() { return linear2; }, &rotation_objective);
     if (pb.options.loss == FitLoss::kSquared)
       break;
+    // Each pass is a majorisation step of Huber's objective: one that no longer lowers it has
+    // converged.
+    if (!(rotation_objective < last_pass * (1.0 - kRoundingImprovement)))
+      break;
+    last_pass = rotation_objective;
     // The translation with the weights of the current rotation, then the weights again.
     positions = translation.solve();
     linear2 = translation.squaredDistances(positions);
@@ -947,14 +988,15 @@ BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& 
   return out;
 }
 
-template <>
-BSplineFitResult fitBSpline<ScrewSe3>(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
-                                      const FitOptions& options)
+BSplineFitResult fitScrew(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
+                          const FitOptions& options)
 {
   FitProblem pb = makeProblem(poses, times, options);
   GroupFit<Se3Group> fit(pb, grevilleStart<Se3Group>(pb));
   const std::vector<double> none(poses.size(), 0.0);
   double objective = fit.objective(fit.control(), none);
+  if (!std::isfinite(objective))
+    refuseHalfTurn(options);
   if (pb.options.loss == FitLoss::kHuber)
     reweight(&pb, fit.squaredDistances(fit.control()));
   solveGroup(&pb, &fit, [&]() { return none; }, &objective);
@@ -973,6 +1015,36 @@ BSplineFitResult fitBSpline<ScrewSe3>(const std::vector<Pose<double>>& poses, co
   }
   finish(linear2, angular2, fit.objective(fit.control(), none), fit.iterations(), &out);
   return out;
+}
+
+}  // namespace
+
+template <>
+BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& poses,
+                                               const std::vector<double>& times, const FitOptions& options)
+{
+  try
+  {
+    return fitDoubleGeodesic(poses, times, options);
+  }
+  catch (const NonUniqueGeodesicError&)
+  {
+    refuseHalfTurn(options);
+  }
+}
+
+template <>
+BSplineFitResult fitBSpline<ScrewSe3>(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
+                                      const FitOptions& options)
+{
+  try
+  {
+    return fitScrew(poses, times, options);
+  }
+  catch (const NonUniqueGeodesicError&)
+  {
+    refuseHalfTurn(options);
+  }
 }
 
 }  // namespace se3_interpolation

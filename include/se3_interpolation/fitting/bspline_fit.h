@@ -88,7 +88,8 @@ std::size_t fitIntervals(double t0, double t1, double control_period, int degree
 /// @return the control poses, knots and residuals
 /// @throws InvalidInputError naming the field: `degree`, `control_period` (also for a gap in the
 ///         recording that leaves a control pose undetermined when λ = 0: the Schoenberg–Whitney
-///         condition, naming the gap's times), `smoothing`, `loss_scale`, `times`
+///         condition, naming the gap's times; and for a recording that turns by half a turn within
+///         a knot interval), `smoothing`, `loss_scale`, `times`
 /// @throws ConvergenceError if Levenberg–Marquardt cannot reach a stationary point
 template <class G>
 BSplineFitResult fitBSpline(const std::vector<Pose<double>>& poses, const std::vector<double>& times,

@@ -540,6 +540,25 @@ TEST(BSplineFit, RefusesWhatItCannotFit)
   o.smoothing = 1e-6;
   EXPECT_NO_THROW(fitBSpline<DoubleGeodesicSe3>(gap.poses, gap.times, o));
   EXPECT_NO_THROW(fitBSpline<ScrewSe3>(gap.poses, gap.times, o));
+
+  // A recording that turns half a turn between two knots: neighbouring control poses would be half
+  // a turn apart (no unique geodesic): refused naming control_period, in both geometries.
+  const std::vector<Pose<double>> flip = { Pose<double>(),
+                                           Pose<double>(so3Exp(Vector3<double>(0.0, 0.0, kPi)), Vector3<double>(1, 0, 0)),
+                                           Pose<double>(Quaternion<double>::Identity(), Vector3<double>(2, 0, 0)) };
+  FitOptions linear;
+  linear.degree = 1;
+  linear.control_period = 1.0;
+  expectRefused(flip, { 0.0, 1.0, 2.0 }, linear, "control_period", "half a turn");
+  try
+  {
+    fitBSpline<ScrewSe3>(flip, { 0.0, 1.0, 2.0 }, linear);
+    ADD_FAILURE() << "the screw fit of a half turn was accepted";
+  }
+  catch (const InvalidInputError& e)
+  {
+    EXPECT_EQ(std::string(e.what()).rfind("control_period:", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

@@ -41,7 +41,15 @@ struct FitFamily : CurveFamilyDefaults
       options.rotation_scale = r.rotation_scale;
       BSplineFitResult fit = fitBSpline<G>(r.waypoints, times, options);
       FamilyCurve<G> out;
-      out.curve = std::make_shared<BSplineCurve<G>>(fit.control, fit.degree, fit.knots, "control poses");
+      try
+      {
+        out.curve = std::make_shared<BSplineCurve<G>>(fit.control, fit.degree, fit.knots, "control poses");
+      }
+      catch (const NonUniqueGeodesicError&)
+      {
+        throw InvalidInputError("control_period: two neighbouring control poses of the fit are half a turn apart "
+                                "(no unique geodesic between them); a shorter control_period");
+      }
       out.fit = FitSummary{ fit.residual_linear, fit.residual_angular, std::move(fit.knots) };
       return out;
     }
