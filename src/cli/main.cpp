@@ -1,5 +1,6 @@
 // se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]
 //                 [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]
+//                 [--save-bspline FILE.yaml]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
 // (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
@@ -14,7 +15,11 @@
 // The request file is read up to kMaxRequestBytes before parsing: larger files are refused.
 //
 // --waypoints and --bag give the waypoints and times from a recording (recorded_waypoints.h);
-// the request file then carries the other fields only.
+// the request file then carries the other fields only. Recordings are long: the CLI takes up to
+// kCliMaxWaypoints waypoints (the work estimate bounds what is done with them).
+// --save-bspline writes the B-spline a `curve: fit` request fitted as a `curve: bspline` request
+// (its control poses, knots, degree and geometry, every number in its shortest round-trip form),
+// which replays the fitted curve (written atomically, like OUT.csv; refused for other curves).
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -35,6 +40,7 @@
 
 #include "csv_writer.h"
 #include "recorded_waypoints.h"
+#include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -47,9 +53,14 @@ constexpr int kUsageError = 2;
 /// per input byte, so this bounds the parse to well under 1 GB.
 constexpr std::size_t kMaxRequestBytes = 8u << 20;
 
+/// The waypoints a request may have here: a recording of 10⁶ poses (about 100 MB of CSV, under 100
+/// MB of memory); the node's ~max_waypoints (default 20000) bounds its buffer and messages instead.
+constexpr std::size_t kCliMaxWaypoints = 1000000;
+
 const char* const kUsage =
     "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]\n"
-    "                       [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]\n";
+    "                       [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]\n"
+    "                       [--save-bspline FILE.yaml]\n";
 
 struct Arguments
 {
@@ -59,11 +70,13 @@ struct Arguments
   se3_interpolation::PlannerLimits limits;  ///< --max-work-seconds raises or lowers limits.max_work_seconds
   std::string waypoints;                    ///< --waypoints FILE.csv
   se3_interpolation::cli::BagSelection bag;  ///< --bag, --topic, --frame, --parent
+  std::string save_bspline;                 ///< --save-bspline FILE.yaml
 };
 
 Arguments parseArguments(int argc, char** argv)
 {
   Arguments a;
+  a.limits.max_waypoints = kCliMaxWaypoints;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
@@ -73,6 +86,8 @@ Arguments parseArguments(int argc, char** argv)
       a.space = argv[++i];
     else if (arg == "--waypoints" && i + 1 < argc)
       a.waypoints = argv[++i];
+    else if (arg == "--save-bspline" && i + 1 < argc)
+      a.save_bspline = argv[++i];
     else if (arg == "--bag" && i + 1 < argc)
       a.bag.path = argv[++i];
     else if (arg == "--topic" && i + 1 < argc)
@@ -114,6 +129,8 @@ Arguments parseArguments(int argc, char** argv)
                                 ": reads a bag; give it with --bag FILE.bag");
   if (!a.bag.path.empty() && a.bag.topic.empty())
     throw std::invalid_argument("--topic: missing; --bag reads the poses of one topic (--topic NAME)");
+  if (!a.save_bspline.empty() && a.space != "pose")
+    throw std::invalid_argument("--save-bspline: writes a fitted pose B-spline; not with --space " + a.space);
   if (recorded && a.space != "pose")
     throw std::invalid_argument(std::string(a.waypoints.empty() ? "--bag" : "--waypoints") +
                                 ": recorded waypoints are poses; not with --space " + a.space);
@@ -175,7 +192,36 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   if (r.constant_speed_end > r.constant_speed_start)
     std::cerr << "constant_speed_start: " << r.constant_speed_start
               << "\nconstant_speed_end: " << r.constant_speed_end << "\n";
+  if (!r.knots.empty())
+    std::cerr << "residual_linear: " << r.residual_linear << "\nresidual_angular: " << r.residual_angular
+              << "\ncontrol_poses: " << r.control_points.size() << "\n";
   printWaypointTimes(r.waypoint_times);
+}
+
+/// The fitted B-spline of `r` as a `curve: bspline` request in `geometry` (--save-bspline).
+std::string bsplineRequest(const se3_interpolation::TrajectoryResult& r, const std::string& geometry,
+                           const std::string& source)
+{
+  char cell[se3_interpolation::cli::kMaxNumberChars];
+  auto number = [&cell](double v) { return std::string(cell, se3_interpolation::cli::formatNumber(cell, v)); };
+  auto list = [&number](std::initializer_list<double> values) {
+    std::string s = "[";
+    for (double v : values)
+      s += (s.size() > 1 ? ", " : "") + number(v);
+    return s + "]";
+  };
+  std::string text = "# The B-spline se3_interpolate fitted to " + source +
+                     " (curve fit, residual_linear " + number(r.residual_linear) + " m, residual_angular " +
+                     number(r.residual_angular) + " rad): replays the fitted curve.\ncurve: bspline\ngeometry: " +
+                     geometry + "\ndegree: " + std::to_string(r.knots.size() - r.control_points.size() - 1) +
+                     "\nknots: [";
+  for (std::size_t i = 0; i < r.knots.size(); ++i)
+    text += (i ? ", " : "") + number(r.knots[i]);
+  text += "]\nwaypoints:\n";
+  for (const se3_interpolation::Pose<double>& x : r.control_points)
+    text += "  - {position: " + list({ x.p.x(), x.p.y(), x.p.z() }) +
+            ", orientation: " + list({ x.q.x(), x.q.y(), x.q.z(), x.q.w() }) + "}\n";
+  return text;
 }
 
 std::string systemError(const std::string& what)
@@ -324,10 +370,23 @@ int main(int argc, char** argv)
           recorded ? se3_interpolation::cli::requestFromYaml(root, recorded->waypoints, recorded->times,
                                                               recorded->source)
                    : se3_interpolation::cli::requestFromYaml(root);
+      if (!args.save_bspline.empty() && request.curve != se3_interpolation::FitFamily::kName)
+        throw std::invalid_argument("--save-bspline: writes the B-spline of curve 'fit'; the request's curve is '" +
+                                    request.curve + "'");
       const se3_interpolation::TrajectoryResult result = se3_interpolation::generate(request, args.limits);
       if (recorded)
         printRecordedFrame(*recorded);
       printFigures(result);
+      if (!args.save_bspline.empty())
+      {
+        const std::string geometry = se3_interpolation::toString(
+            se3_interpolation::parseName(request.geometry, "geometry", se3_interpolation::RequestDefaults::kGeometry));
+        const std::string text =
+            bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'");
+        writeAtomically(args.save_bspline, [&text](const se3_interpolation::cli::CsvSink& sink) {
+          sink(text.data(), text.size());
+        });
+      }
       output([&result](const se3_interpolation::cli::CsvSink& sink) { se3_interpolation::cli::writePoseCsv(result, sink); });
     }
     return 0;

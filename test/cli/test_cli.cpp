@@ -1305,3 +1305,92 @@ TEST(RecordedBag, RefusalsNameTheOption)
   const std::string with_waypoints = data("bezier_screw.yaml");
   expectRefused(with_waypoints + " --bag " + bag + " --topic /pose", { "waypoints: given both", "--bag '" + bag + "'" });
 }
+
+// curve fit from a CSV recording: the residuals among the figures; --save-bspline writes a bspline
+// request that replays the fitted motion (the same CSV to 1e-12); refused for other curves and
+// for the sphere, writing nothing.
+TEST(CliFit, SaveBsplineReplaysTheFit)
+{
+  std::mt19937 rng(12);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  std::string csv = "t,x,y,z,qx,qy,qz,qw\n";
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  auto cell = [&](double v) { return std::string(number, se3_interpolation::cli::formatNumber(number, v)); };
+  for (int i = 0; i <= 300; ++i)
+  {
+    const double t = 0.01 * i;
+    const se3_interpolation::Quaternion<double> q = se3_interpolation::so3Exp(Eigen::Vector3d(0.2 * t, -0.1 * t, 0.3 * std::sin(t)));
+    csv += cell(t) + "," + cell(0.2 * t + noise(rng)) + "," + cell(std::sin(t) + noise(rng)) + "," + cell(noise(rng)) +
+           "," + cell(q.x()) + "," + cell(q.y()) + "," + cell(q.z()) + "," + cell(q.w()) + "\n";
+  }
+  const std::string recording = writeTemp("fit_recording.csv", csv);
+  for (const char* geometry : { "double_geodesic", "screw" })
+  {
+    const std::string options = writeTemp(
+        "fit_options.yaml", std::string("curve: fit\ngeometry: ") + geometry + "\ncontrol_period: 0.5\nsample_count: 41\n");
+    const std::string saved = testing::TempDir() + "fitted_bspline.yaml";
+    std::remove(saved.c_str());
+    const CliRun fit = run(options + " --waypoints " + recording + " --save-bspline " + saved);
+    ASSERT_EQ(fit.status, 0) << fit.err;
+    EXPECT_NE(fit.err.find("residual_linear: "), std::string::npos) << fit.err;
+    EXPECT_NE(fit.err.find("residual_angular: "), std::string::npos) << fit.err;
+    EXPECT_NE(fit.err.find("control_poses: 9"), std::string::npos) << fit.err;  // ⌈3 / 0.5⌉ + 3
+    const double residual = std::stod(fit.err.substr(fit.err.find("residual_linear: ") + 17));
+    EXPECT_GT(residual, 0.0008);  // the noise: 1 mm per axis in x, y, z
+    EXPECT_LT(residual, 0.0025);
+    const std::string text = slurp(saved);
+    ASSERT_NE(text.find("curve: bspline"), std::string::npos) << text;
+    EXPECT_NE(text.find(std::string("geometry: ") + geometry), std::string::npos) << text;
+    // The saved request with the same sampling replays the fitted samples.
+    const std::string replay = writeTemp("fit_replay.yaml", text + "sample_count: 41\n");
+    const CliRun again = run(replay);
+    ASSERT_EQ(again.status, 0) << again.err;
+    std::string header_a, header_b;
+    const auto a = parseCsv(fit.out, &header_a);
+    const auto b = parseCsv(again.out, &header_b);
+    ASSERT_EQ(a.size(), 41u);
+    ASSERT_EQ(b.size(), a.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < 8; ++j)
+        worst = std::max(worst, std::abs(a[i][j] - b[i][j]));
+    EXPECT_LT(worst, 1e-12) << geometry;
+  }
+  // Refusals: another curve, the sphere; nothing written.
+  const std::string saved = testing::TempDir() + "not_written.yaml";
+  std::remove(saved.c_str());
+  const std::string interpolating = writeTemp("fit_other.yaml", "curve: interpolating\n");
+  const CliRun other = run(interpolating + " --waypoints " + recording + " --save-bspline " + saved);
+  EXPECT_EQ(other.status, 2);
+  EXPECT_NE(other.err.find("--save-bspline: writes the B-spline of curve 'fit'"), std::string::npos) << other.err;
+  EXPECT_FALSE(exists(saved));
+  const CliRun sphere = run(interpolating + " --space sphere --save-bspline " + saved);
+  EXPECT_EQ(sphere.status, 2);
+  EXPECT_FALSE(exists(saved));
+}
+
+// 10⁵ recorded poses through the CLI: accepted by the default limits (waypoints and work) and
+// fitted; the time is printed, not asserted (docs/performance.md gives the measurement).
+TEST(CliFit, HundredThousandPosesFromCsv)
+{
+  std::string csv = "t,x,y,z,qx,qy,qz,qw\n";
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  auto cell = [&](double v) { return std::string(number, se3_interpolation::cli::formatNumber(number, v)); };
+  std::mt19937 rng(13);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  for (int i = 0; i < 100000; ++i)
+  {
+    const double t = 0.01 * i;
+    const se3_interpolation::Quaternion<double> q = se3_interpolation::so3Exp(Eigen::Vector3d(0.5 * std::sin(0.25 * t), 0.0, 0.3 * std::cos(0.1 * t)));
+    csv += cell(t) + "," + cell(0.3 * std::sin(0.3 * t) + noise(rng)) + "," + cell(0.2 * std::cos(0.5 * t) + noise(rng)) +
+           "," + cell(noise(rng)) + "," + cell(q.x()) + "," + cell(q.y()) + "," + cell(q.z()) + "," + cell(q.w()) + "\n";
+  }
+  const std::string recording = writeTemp("fit_large.csv", csv);
+  const std::string options = writeTemp("fit_large.yaml", "curve: fit\nsample_count: 1000\n");
+  const auto start = std::chrono::steady_clock::now();
+  const CliRun fit = run(options + " --waypoints " + recording);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "[ timing   ] 10^5 poses fitted through se3_interpolate in " << seconds << " s\n";
+  ASSERT_EQ(fit.status, 0) << fit.err;
+  EXPECT_NE(fit.err.find("control_poses: 4003"), std::string::npos) << fit.err;  // ⌈999.99 / 0.25⌉ + 3
+}
