@@ -22,7 +22,7 @@ SE3_APT_PACKAGES=(
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev doxygen
   catkin-lint libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
-  librosbag-storage-dev
+  librosbag-storage-dev python3-scipy
 )
 
 # Prints the first local TCP port from 11398 to 11497 that is free to bind (the ROS master of a
