@@ -53,7 +53,7 @@ TEST(NameTable, EveryTableRoundTrips)
 TEST(NameTable, UnknownNamesAreRefusedByFieldWithTheKnownNames)
 {
   EXPECT_EQ(errorOf("bspine", "~curve"), "~curve: unknown value 'bspine' (expected one of: piecewise_geodesic, bezier, "
-                                         "bspline, interpolating, hermite, blended)");
+                                         "bspline, interpolating, hermite, blended, fit)");
   // Names are case-sensitive and not trimmed.
   EXPECT_NE(errorOf("Bezier", "curve"), "");
   EXPECT_NE(errorOf(" bezier", "curve"), "");
