@@ -292,7 +292,10 @@ bool JerkSolver::addPlateaus(const TimingProfile& b)
       while (!low.empty() && b.u[low.back()] >= b.u[i])
         low.pop_back();
       low.push_back(i);
-      while (b.t[window + 1] <= b.t[i] - tau)
+      // The window never passes i (which both deques hold): with a τ that is not positive, or
+      // intervals of zero duration, it ran off the profile (a sphere request found by fuzz_sphere,
+      // test/fuzz/corpus_sphere/jerk_window_overrun).
+      while (window < i && b.t[window + 1] <= b.t[i] - tau)
       {
         if (high.front() == window)
           high.pop_front();
