@@ -2,7 +2,7 @@
 // 100 Hz recording (bench/recording.h) of N = 10³ … 10⁵ poses, knots every 0.25 s, in both
 // geometries; at 10⁴ poses also with smoothing and with the Huber loss. The normal equations are
 // banded and Levenberg–Marquardt's steps do not grow with N, so the cost is linear (BigO, and the
-// `poses` counter: poses fitted per second). Target (issue 30): at most 100 ms per 10⁴ poses in
+// `poses` counter: poses fitted per second). Target: at most 100 ms per 10⁴ poses in
 // the default fit (double geodesic, squared loss, no smoothing).
 #include <benchmark/benchmark.h>
 

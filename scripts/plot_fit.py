@@ -25,7 +25,7 @@ Runs with Debian's /usr/bin/python3 (the shebang): run it as scripts/plot_fit.py
 from pyenv or a virtualenv may lack matplotlib.
 """
 import argparse
-import csv
+import importlib.util
 import math
 import os
 import subprocess
@@ -42,6 +42,13 @@ except ImportError as e:
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+# The CSV reader, the figures' reader and the rotation vectors with their branches are
+# plot_trajectory.py's (installed beside this script).
+_spec = importlib.util.spec_from_file_location(
+    "plot_trajectory", os.path.join(os.path.dirname(os.path.abspath(__file__)), "plot_trajectory.py"))
+plot_trajectory = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plot_trajectory)
+
 POSE = ["t", "x", "y", "z", "qx", "qy", "qz", "qw"]
 COLOURS = ["tab:red", "tab:green", "tab:blue"]
 
@@ -49,48 +56,7 @@ COLOURS = ["tab:red", "tab:green", "tab:blue"]
 def read_poses(path):
     """The columns t,x,y,z,qx,qy,qz,qw of a CSV, by name, as lists of floats."""
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        raise ValueError("%s: no rows" % path)
-    missing = [c for c in POSE if c not in rows[0]]
-    if missing:
-        raise ValueError("%s: missing columns %s (expected t,x,y,z,qx,qy,qz,qw)" % (path, missing))
-    try:
-        return {c: [float(r[c]) for r in rows] for c in POSE}
-    except (TypeError, ValueError):
-        raise ValueError("%s: a value is not a number" % path)
-
-
-def rotation_vector(q):
-    """Principal rotation vector (angle in [0, pi]) of the unit quaternion q = (x, y, z, w); q and
-    -q give the same vector."""
-    x, y, z, w = q
-    if w < 0:
-        x, y, z, w = -x, -y, -z, -w
-    n = math.sqrt(x * x + y * y + z * z)
-    if n < 1e-15:
-        return (2 * x, 2 * y, 2 * z)
-    angle = 2 * math.atan2(n, w)
-    return (angle * x / n, angle * y / n, angle * z / n)
-
-
-def nearest_branch(r, ref):
-    """Of the vectors (angle + 2 pi k) axis equivalent to the rotation vector r, the one nearest
-    to ref (the k for which angle + 2 pi k is nearest to ref . axis)."""
-    angle = math.sqrt(sum(c * c for c in r))
-    if angle < 1e-12:
-        return list(r)
-    axis = [c / angle for c in r]
-    k = round((sum(a * p for a, p in zip(axis, ref)) - angle) / (2 * math.pi))
-    return [(angle + 2 * math.pi * k) * a for a in axis]
-
-
-def unwrap(vectors):
-    """Rotation vectors made continuous: each on the branch nearest to the previous one."""
-    out = []
-    for r in vectors:
-        out.append(list(r) if not out else nearest_branch(r, out[-1]))
-    return out
+        return plot_trajectory.read_columns(f, path, POSE, "t,x,y,z,qx,qy,qz,qw")
 
 
 def quaternions(d):
@@ -156,16 +122,6 @@ def residuals(recording, at):
     return lin, ang
 
 
-def read_figures(path):
-    figures = {}
-    with open(path) as f:
-        for line in f:
-            if ": " in line:
-                k, v = line.split(": ", 1)
-                figures[k.strip()] = v.strip()
-    return figures
-
-
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("recording", help="the recorded poses, CSV t,x,y,z,qx,qy,qz,qw")
@@ -192,14 +148,15 @@ def main(argv):
         else:
             raise ValueError("%s has no sample at some recording times: sample the fit at them (sample_period a "
                              "divisor of the recording's period) or give --request REQUEST.yaml" % args.fitted)
-        figures = read_figures(args.figures) if args.figures else {}
+        figures = plot_trajectory.read_figures(args.figures) if args.figures else {}
     except (OSError, ValueError, RuntimeError) as e:
         sys.exit("plot_fit: error: %s" % e)
 
     lin, ang = residuals(rec, at)
-    rv_fit = unwrap([rotation_vector(q) for q in quaternions(fit)])
-    rv_at = unwrap([rotation_vector(q) for q in quaternions(at)])
-    rv_rec = [nearest_branch(rotation_vector(q), ref) for q, ref in zip(quaternions(rec), rv_at)]
+    rotation_vector = plot_trajectory.rotation_vector
+    rv_fit = plot_trajectory.unwrap([rotation_vector(q) for q in quaternions(fit)])
+    rv_at = plot_trajectory.unwrap([rotation_vector(q) for q in quaternions(at)])
+    rv_rec = [plot_trajectory.nearest_branch(rotation_vector(q), ref) for q, ref in zip(quaternions(rec), rv_at)]
 
     fig, axes = plt.subplots(3, 1, figsize=(12, 10), sharex=True,
                              gridspec_kw={"height_ratios": [1, 1, 0.9]})
@@ -230,11 +187,11 @@ def main(argv):
     title = args.title or "curve fit of %s (%d poses)" % (os.path.basename(args.recording), len(rec["t"]))
     parts = []
     if "residual_linear" in figures:
-        parts.append("residual_linear %.2f mm" % (1000 * float(figures["residual_linear"])))
+        parts.append("residual_linear %.2f mm" % (1000 * figures["residual_linear"]))
     if "residual_angular" in figures:
-        parts.append("residual_angular %.3f deg" % math.degrees(float(figures["residual_angular"])))
+        parts.append("residual_angular %.3f deg" % math.degrees(figures["residual_angular"]))
     if "control_poses" in figures:
-        parts.append("control_poses %s" % figures["control_poses"])
+        parts.append("control_poses %d" % figures["control_poses"])
     fig.suptitle(title + ("\n" + ", ".join(parts) + " (RMS over the recording)" if parts else ""))
     fig.tight_layout()
     fig.savefig(args.png, dpi=100)

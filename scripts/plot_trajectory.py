@@ -46,17 +46,23 @@ COLUMNS = ["t", "x", "y", "z", "qx", "qy", "qz", "qw", "vx", "vy", "vz", "wx", "
            "ax", "ay", "az", "alx", "aly", "alz"]
 
 
-def read_csv(stream, name):
+def read_columns(stream, name, columns, expected):
+    """The named columns of a CSV (found by name, in any order) as lists of floats; `expected`
+    says what the file should be in the error of a missing column."""
     rows = list(csv.DictReader(stream))
     if not rows:
         raise ValueError("%s: no samples" % name)
-    missing = [c for c in COLUMNS if c not in rows[0]]
+    missing = [c for c in columns if c not in rows[0]]
     if missing:
-        raise ValueError("%s: missing columns %s (expected se3_interpolate's pose CSV)" % (name, missing))
+        raise ValueError("%s: missing columns %s (expected %s)" % (name, missing, expected))
     try:
-        return {c: [float(r[c]) for r in rows] for c in COLUMNS}
+        return {c: [float(r[c]) for r in rows] for c in columns}
     except (TypeError, ValueError):
         raise ValueError("%s: a value is not a number" % name)
+
+
+def read_csv(stream, name):
+    return read_columns(stream, name, COLUMNS, "se3_interpolate's pose CSV")
 
 
 def read_figures(path):
@@ -105,31 +111,30 @@ def rotation_vector(q):
     return (angle * x / n, angle * y / n, angle * z / n)
 
 
+def nearest_branch(r, ref):
+    """Of the rotation vectors equivalent to r = angle * axis, (angle + 2 pi k) * axis, the one
+    nearest to ref: the integer k for which angle + 2 pi k is nearest to ref . axis
+    (|(angle + 2 pi k) axis - ref|^2 is a parabola in angle + 2 pi k with its minimum there). At a
+    whole number of turns (angle 0) the axis is ref's."""
+    angle = math.sqrt(sum(c * c for c in r))
+    if angle < 1e-12:
+        prev = math.sqrt(sum(c * c for c in ref))
+        if prev < 1e-12:
+            return r
+        k = round(prev / (2 * math.pi))
+        return [2 * math.pi * k * c / prev for c in ref]
+    axis = [c / angle for c in r]
+    along = sum(a * p for a, p in zip(axis, ref))
+    k = round((along - angle) / (2 * math.pi))
+    return [(angle + 2 * math.pi * k) * a for a in axis]
+
+
 def unwrap(vectors):
-    """Rotation vectors made continuous: each r = angle * axis is replaced by the equivalent
-    (angle + 2 pi k) * axis nearest to the previous sample's vector p, i.e. the integer k for
-    which angle + 2 pi k is nearest to p . axis (|(angle + 2 pi k) axis - p|^2 is a parabola in
-    angle + 2 pi k with its minimum there). At a whole number of turns (angle 0) the previous
-    axis is kept."""
+    """Rotation vectors made continuous: each on the branch nearest to the previous sample's
+    vector (nearest_branch)."""
     out = []
     for r in vectors:
-        angle = math.sqrt(sum(c * c for c in r))
-        if not out:
-            out.append(r)
-            continue
-        if angle < 1e-12:
-            # A whole number of turns: the axis is the previous one's, the count k the nearest.
-            prev = math.sqrt(sum(c * c for c in out[-1]))
-            if prev < 1e-12:
-                out.append(r)
-                continue
-            k = round(prev / (2 * math.pi))
-            out.append([2 * math.pi * k * c / prev for c in out[-1]])
-            continue
-        axis = [c / angle for c in r]
-        along = sum(a * p for a, p in zip(axis, out[-1]))
-        k = round((along - angle) / (2 * math.pi))
-        out.append([(angle + 2 * math.pi * k) * a for a in axis])
+        out.append(r if not out else nearest_branch(r, out[-1]))
     return out
 
 

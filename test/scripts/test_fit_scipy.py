@@ -2,7 +2,7 @@
 """curve fit against an independent implementation: in the double geodesic the fit's translation is
 linear least squares, so with smoothing 0 the control positions se3_interpolate saves
 (--save-bspline) must be the coefficients of scipy.interpolate.make_lsq_spline on the same knots
-(issue 30: to 1e-9), for every degree, uneven times (steps from 1 ms to 1 s) and rotations that do
+(to 1e-9), for every degree, uneven times (steps from 1 ms to 1 s) and rotations that do
 not enter the translation. Run by rostest (test/scripts/fit_scipy.test)."""
 import math
 import os

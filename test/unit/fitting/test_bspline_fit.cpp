@@ -1,7 +1,7 @@
 // The least-squares B-spline fit (fitting/bspline_fit.h) against references independent of it:
 // the classical least-squares spline solved densely from a Cox–de Boor basis written here,
 // stationarity of the objective by finite differences, a known smooth truth under noise (the
-// quality targets of issue 30), outliers, quaternion signs, the smoothing's monotonicity, and
+// quality targets of docs/curves.md), outliers, quaternion signs, the smoothing's monotonicity, and
 // every refusal.
 #include <gtest/gtest.h>
 
@@ -332,7 +332,7 @@ TEST(BSplineFit, TheFitIsStationary)
   expectStationary<ScrewSe3>(o, 6);
 }
 
-// ---- Quality on a noisy recording of a known truth (issue 30, item 3) ------------------------
+// ---- Quality on a noisy recording of a known truth -------------------------------------------
 
 TEST(BSplineFit, NoiseIsReducedDoubleGeodesic)
 {
