@@ -13,6 +13,7 @@
 #include "se3_interpolation/curves/bspline.h"
 #include "se3_interpolation/fitting/bspline_fit.h"
 #include "se3_interpolation/planner/curve_family.h"
+#include "se3_interpolation/planner/families/bspline.h"
 
 namespace se3_interpolation
 {
@@ -64,12 +65,8 @@ struct FitFamily : CurveFamilyDefaults
   static double pieces(const WorkShape& shape) { return std::max(1.0, shape.fit_intervals); }
 
   /// @param shape the request's shape
-  /// @return de Boor's m (m + 1) / 2 geodesic steps
-  static double evaluationCost(const WorkShape& shape)
-  {
-    const double m = static_cast<double>(shape.degree);
-    return std::max(1.0, m * (m + 1.0) / 2.0);
-  }
+  /// @return de Boor's geodesic steps: the fitted curve is a `bspline`
+  static double evaluationCost(const WorkShape& shape) { return BsplineFamily::evaluationCost(shape); }
 
   /// The fit's own work (besides the curve's figures, timing and samples), in work units:
   /// per waypoint, Levenberg–Marquardt's de Boor evaluations with their Jacobians and trials
@@ -90,7 +87,10 @@ struct FitFamily : CurveFamilyDefaults
     return per_waypoint * static_cast<double>(shape.waypoints) + per_interval * shape.fit_intervals;
   }
 
-  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 5.65e-08, 1.03e-07, 1.69e-07, 2.56e-07 }; }
+  /// @param shape the request's shape
+  /// @return the `bspline` family's calibration: the fitted curve is one, and the fit's own work
+  ///         (constructionUnits) is counted in its units
+  static SecondsPerUnit secondsPerUnit(const WorkShape& shape) { return BsplineFamily::secondsPerUnit(shape); }
 
   /// @param shape the request's shape
   /// @param name the family's name
