@@ -28,6 +28,8 @@ skipped=$(echo "$line" | sed -nE 's/.* ([0-9]+) skipped.*/\1/p')
 total=${total:-0}; errors=${errors:-0}; failures=${failures:-0}; skipped=${skipped:-0}
 failed=$((errors + failures))
 passed=$((total - failed - skipped))
+# Which cases failed, and why (catkin_test_results prints only the counts per report).
+[ "$failed" -eq 0 ] || /usr/bin/python3 "$SE3_ROOT/scripts/print_test_failures.py" build/test_results || true
 echo "catkin tests done at ${SECONDS} s"
 # rviz on the demo config under Xvfb: a screenshot that is not blank counts as one more test.
 mkdir -p "$SE3_WS/artifacts"

@@ -1,5 +1,6 @@
 #include "se3_interpolation/execution/goal_execution.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -96,6 +97,11 @@ GoalStart checkGoalStart(const GoalTrajectory& goal, Nanoseconds stamp, Nanoseco
 GoalSupervisor::GoalSupervisor(const GoalTolerances& tolerances, Nanoseconds end, const Pose<double>& last)
   : tolerances_(tolerances), end_(end), last_(last)
 {
+}
+
+Nanoseconds measurementInstant(Nanoseconds stamp, Nanoseconds now)
+{
+  return std::min(now, std::max(stamp, now - toNanoseconds(kMaxMeasurementAge)));
 }
 
 GoalProgress GoalSupervisor::update(Nanoseconds now, const Pose<double>& desired,

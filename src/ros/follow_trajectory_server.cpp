@@ -279,14 +279,15 @@ void FollowTrajectoryServer::onCancel(GoalHandle handle)
   active_.reset();
 }
 
-std::optional<Pose<double>> FollowTrajectoryServer::measured(const std::string& frame,
-                                                             const NodeParameters& params) const
+std::optional<FollowTrajectoryServer::Measurement> FollowTrajectoryServer::measured(const std::string& frame,
+                                                                                   const NodeParameters& params) const
 {
   if (params.actual_frame.empty())
     return std::nullopt;
   try
   {
-    return fromMsg(tf_.lookupTransform(frame, params.actual_frame, ros::Time(0)).transform);
+    const geometry_msgs::TransformStamped latest = tf_.lookupTransform(frame, params.actual_frame, ros::Time(0));
+    return Measurement{ fromMsg(latest.transform), nanosecondsOf(latest.header.stamp) };
   }
   catch (const tf2::TransformException& e)
   {
@@ -308,8 +309,15 @@ void FollowTrajectoryServer::feedbackCallback(const ros::TimerEvent& /*event*/)
   const std::optional<PlaybackState> shown = playback_.at(now);
   // Before its start instant the goal is not shown yet (a splice ahead): the setpoint is what plays.
   const TrajectorySample desired = shown ? shown->sample : TrajectorySample();
-  const std::optional<Pose<double>> actual = measured(active_->frame_id, params);
-  const GoalProgress progress = active_->supervisor.update(now, desired.pose, actual);
+  const std::optional<Measurement> measurement = measured(active_->frame_id, params);
+  const std::optional<Pose<double>> actual =
+      measurement ? std::optional<Pose<double>>(measurement->pose) : std::nullopt;
+  // The measurement against the setpoint of its own instant (goal_execution.h, measurementInstant).
+  Pose<double> reference = desired.pose;
+  if (measurement)
+    if (const std::optional<PlaybackState> then = playback_.at(measurementInstant(measurement->stamp, now)))
+      reference = then->sample.pose;
+  const GoalProgress progress = active_->supervisor.update(now, reference, actual);
 
   FollowTrajectoryFeedback feedback;
   feedback.header.stamp = now_time;

@@ -8,7 +8,12 @@ outcome of the action's tolerances:
   "follow"       the measured frame is the commanded pose (a perfect controller)
   "freeze"       the measured frame stays where it is (a stalled arm)
   "offset D"     the commanded pose shifted by D m along the frame's x axis (a biased arm)
-It broadcasts at ~rate Hz (default 100) once a command has arrived.
+It broadcasts at ~rate Hz (default 100) once a command has arrived. Following (and biased), the
+arm is where it was commanded when it was commanded: its transform carries the command's stamp, as
+a driver stamps a measurement with the instant it was taken, so that this process running late (a
+loaded machine) delays the measurement without moving it off the path; a command already broadcast
+is not broadcast again (TF would drop the repeated stamp). Frozen, it is stamped now: a live
+driver of a stalled arm.
 """
 import threading
 
@@ -26,6 +31,7 @@ class SimulatedArm:
         self.offset = 0.0
         self.command = None
         self.held = None
+        self.broadcast_stamp = None
         self.broadcaster = tf2_ros.TransformBroadcaster()
         rospy.Subscriber("command", PoseStamped, self.on_command, queue_size=10)
         rospy.Subscriber("~mode", String, self.on_mode, queue_size=10)
@@ -45,12 +51,15 @@ class SimulatedArm:
 
     def broadcast(self, _event):
         with self.lock:
-            shown = self.held if self.mode == "freeze" else self.command
+            frozen = self.mode == "freeze"
+            shown = self.held if frozen else self.command
             offset = self.offset
-        if shown is None:
-            return
+            if shown is None or (not frozen and shown.header.stamp == self.broadcast_stamp):
+                return
+            stamp = rospy.Time.now() if frozen else shown.header.stamp
+            self.broadcast_stamp = stamp
         t = TransformStamped()
-        t.header.stamp = rospy.Time.now()
+        t.header.stamp = stamp
         t.header.frame_id = shown.header.frame_id
         t.child_frame_id = self.frame
         t.transform.translation.x = shown.pose.position.x + offset

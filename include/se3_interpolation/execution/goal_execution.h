@@ -73,6 +73,17 @@ GoalStart checkGoalStart(const GoalTrajectory& goal, Nanoseconds stamp, Nanoseco
                          const std::function<std::optional<PlaybackState>(Nanoseconds)>& shown_at,
                          double rest_linear, double rest_angular);
 
+/// A measurement is compared with the setpoint of its own instant (its stamp), so that the
+/// latency between the measuring and the check (a driver's publication, TF, the feedback timer)
+/// is not counted as a deviation; one older than this (s) counts as taken this long ago, so that
+/// a measured frame that stops arriving (a dead driver) still shows the setpoint moving away.
+/// 0.2 s: ten periods of a 50 Hz TF broadcaster, beyond the latency of a working one.
+constexpr double kMaxMeasurementAge = 0.2;
+
+/// The instant whose setpoint a measurement stamped `stamp` is compared with at `now`: the
+/// stamp, within [now − kMaxMeasurementAge, now] (a stamp ahead of `now`, a clock's skew, is now).
+Nanoseconds measurementInstant(Nanoseconds stamp, Nanoseconds now);
+
 /// How a running goal stands.
 enum class GoalProgress
 {

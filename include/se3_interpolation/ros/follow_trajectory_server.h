@@ -83,8 +83,15 @@ private:
   void start(GoalHandle handle);
   /// Brings the frame to rest from `now` and returns where it stops.
   Pose<double> stopFrame(Nanoseconds now, const NodeParameters& params);
-  /// The measured pose of ~actual_frame in `frame` (empty when ~actual_frame is empty or unknown).
-  std::optional<Pose<double>> measured(const std::string& frame, const NodeParameters& params) const;
+  /// A pose of ~actual_frame and the instant it was measured at (its TF stamp).
+  struct Measurement
+  {
+    Pose<double> pose;
+    Nanoseconds stamp = 0;
+  };
+  /// The latest measurement of ~actual_frame in `frame` (empty when ~actual_frame is empty or
+  /// unknown).
+  std::optional<Measurement> measured(const std::string& frame, const NodeParameters& params) const;
 
   Playback& playback_;
   const tf2_ros::Buffer& tf_;

@@ -205,6 +205,40 @@ TEST(GoalSupervisor, PathToleranceWhileMoving)
   EXPECT_NE(linear.message().find("path_tolerance_linear"), std::string::npos) << linear.message();
 }
 
+TEST(GoalSupervisor, MeasurementInstant)
+{
+  const Nanoseconds now = 100 * kSecond;
+  const Nanoseconds oldest = now - 200000000;  // kMaxMeasurementAge = 0.2 s before now
+  EXPECT_EQ(measurementInstant(now - 80000000, now), now - 80000000) << "a fresh measurement: its stamp";
+  EXPECT_EQ(measurementInstant(oldest, now), oldest);
+  EXPECT_EQ(measurementInstant(oldest - 1, now), oldest) << "older: as if 0.2 s old";
+  EXPECT_EQ(measurementInstant(0, now), oldest) << "a stamp of a driver that stopped long ago";
+  EXPECT_EQ(measurementInstant(now + kSecond, now), now) << "ahead of now (clock skew): now";
+}
+
+/// A measurement that arrives late (stamped 80 ms before the check) of an arm that is exactly on
+/// the path: compared with the setpoint of its stamp it is on the path; compared with the setpoint
+/// of the check's instant it would be several centimetres off, the failure the rule removes. A
+/// stalled arm (measured at the start, stamped now) is still seen off the path.
+TEST(GoalSupervisor, AMeasurementIsComparedAtItsOwnInstant)
+{
+  Playback playback;
+  playback.play(played().motion("map", "tool"), 0, 0);
+  GoalTolerances t;
+  t.path_linear = 0.01;
+  const Nanoseconds now = kSecond;  // mid-way, at the peak speed (15/16 m/s: a quintic from rest to rest)
+  const Nanoseconds stamp = now - 80000000;
+  const Pose<double> measured = playback.at(stamp)->sample.pose;
+  const Pose<double> setpoint_now = playback.at(now)->sample.pose;
+  ASSERT_GT(poseError(setpoint_now, measured).linear, 0.03) << "the reference moves between the two instants";
+  GoalSupervisor s(t, 2 * kSecond, poseAt(1, 0, 0, 1.0));
+  EXPECT_EQ(s.update(now, playback.at(measurementInstant(stamp, now))->sample.pose, measured), GoalProgress::kRunning);
+  EXPECT_LT(s.error().linear, 1e-12);
+  GoalSupervisor stalled(t, 2 * kSecond, poseAt(1, 0, 0, 1.0));
+  EXPECT_EQ(stalled.update(now, playback.at(measurementInstant(now, now))->sample.pose, poseAt(0, 0, 0)),
+            GoalProgress::kPathToleranceViolated);
+}
+
 TEST(GoalSupervisor, GoalToleranceAfterTheEnd)
 {
   GoalTolerances t;
