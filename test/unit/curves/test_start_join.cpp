@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include "se3_interpolation/curves/start_join.h"
@@ -541,6 +542,74 @@ TEST(StartJoin, OneWaypointFromAMovingStartUnderTimeOptimal)
         EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
       }
     }
+}
+
+/// Replanning as the action test's client does it: a jerk-limited time-optimal motion, then from
+/// the state of every 30 ms of it a new motion to another pose. Every accepted replan starts in
+/// that state and keeps the bounds on its samples; the refusals (the timing's corrections leave an
+/// excess, or its profile stalls) are counted and may not grow. Lengthening the joining segment
+/// when the timing on the first one does not converge (planner.cpp, kJoinRetries) took them from
+/// 27 to 15 of these 58 states (one, two, three and five doublings: 19, 16, 15, 15).
+TEST(StartJoin, ReplansFromEveryThirtyMillisecondsOfAJerkLimitedMotion)
+{
+  auto request = [](const std::vector<Pose<double>>& waypoints) {
+    TrajectoryRequest r;
+    r.waypoints = waypoints;
+    r.curve = "piecewise_geodesic";
+    r.timing = "time_optimal";
+    r.max_linear_velocity = 1.0;
+    r.max_angular_velocity = 2.0;
+    r.max_linear_acceleration = 2.0;
+    r.max_angular_acceleration = 4.0;
+    r.max_linear_jerk = 20.0;
+    r.max_angular_jerk = 40.0;
+    return r;
+  };
+  TrajectoryRequest first = request({ pose({ 0.0, 0.0, 0.3 }, 0.0, { 0, 0, 1 }), pose({ 1.2, -0.4, 0.6 }, -0.5, { 0, 0, 1 }) });
+  first.sample_period = 0.01;
+  const TrajectoryResult played = generate(first, test::unhurriedLimits());
+  ASSERT_GT(played.samples.size(), 150u);
+  std::size_t tried = 0, refused = 0;
+  for (std::size_t i = 10; i + 10 < played.samples.size(); i += 3)
+  {
+    const TrajectorySample& x = played.samples[i];
+    SCOPED_TRACE("replan at t = " + std::to_string(x.time));
+    TrajectoryRequest r = request({ pose({ 0.2, 0.8, 0.5 }, 1.0, { 0, 0, 1 }) });
+    r.sample_count = 400;
+    StartState s;
+    s.pose = x.pose;
+    s.velocity = x.velocity;
+    s.acceleration = x.acceleration;
+    r.start_state = s;
+    ++tried;
+    try
+    {
+      const TrajectoryResult out = generate(r, test::unhurriedLimits());
+      // (Central differences over 1 ms of a jerk that jumps by up to 40 m/s³: 40 · 1e-3 / 2.)
+      expectStartsIn(out, s, 0.02);
+      for (const TrajectorySample& y : out.samples)
+      {
+        EXPECT_LE(y.velocity.linear.norm(), 1.0 * (1.0 + 1e-6)) << y.time;
+        EXPECT_LE(y.velocity.angular.norm(), 2.0 * (1.0 + 1e-6)) << y.time;
+        EXPECT_LE(y.acceleration.linear.norm(), 2.0 * (1.0 + 1e-6)) << y.time;
+        EXPECT_LE(y.acceleration.angular.norm(), 4.0 * (1.0 + 1e-6)) << y.time;
+      }
+      EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-6);
+    }
+    catch (const LimitExceededError& e)
+    {
+      ADD_FAILURE() << e.what();
+    }
+    catch (const InterpolationError& e)
+    {
+      ++refused;
+      const std::string m = e.what();
+      EXPECT_TRUE(m.rfind("timing:", 0) == 0 || m.rfind("start_state:", 0) == 0) << m;
+    }
+  }
+  std::cout << refused << " of " << tried << " replans refused\n";
+  EXPECT_EQ(tried, 58u);
+  EXPECT_LE(refused, 15u);
 }
 
 // The joined curve evaluates the rest at t − offset, which rounds: at the joined curve's own
