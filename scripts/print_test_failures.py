@@ -1,7 +1,7 @@
-#!/usr/bin/env python3
 """Prints the failed test cases of JUnit XML reports with their messages.
 
-Usage: print_test_failures.py DIR [--lines N]
+Usage: python3 scripts/print_test_failures.py DIR [--lines N] (a CI tool: scripts/run_tests.sh runs
+it, it is not installed).
 
 catkin_test_results prints only counts per report; a CI log that ends in a failure then says
 which report failed but not which case or why. This walks DIR for *.xml reports (gtest, rosunit,

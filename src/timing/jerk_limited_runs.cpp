@@ -36,6 +36,17 @@ constexpr double kPathJerkShare = 0.5;
 constexpr double kShortSegment = 2.8284271247461903;
 /// Relative distance below which a breakpoint of the path counts as the moving start's s_a′.
 constexpr double kSameBreakpoint = 1e-12;
+/// Where the path nearly stands still (C′ → 0: a clamped end at rest, a cusp), the acceleration
+/// bounds do not limit s̈_T, and the first run accelerates the path parameter almost without
+/// limit; a window later the motion is where C′ is not small, and the window's term C′ s⃛ =
+/// C′ (s̈_T(t) − s̈_T(t − τ)) / τ is then far beyond the jerk bound (a clamped interpolating spline
+/// was stretched 265 times by the final check). So |s̈_T| at a grid point is capped at what the
+/// acceleration bounds allow where the motion passes within a window of it, A / max |C′| over the
+/// base times [t_i − τ, t_i + τ], wherever that max is more than this factor above the point's own
+/// |C′| (elsewhere the point's own bound A / |C′| is as tight, and nothing changes). Only when the
+/// final check of the run without the caps asks for a stretch above kStationaryStretch
+/// (jerk_limited.cpp): the caps cost a run, and on most paths they change little.
+constexpr double kStationaryGrowth = 2.0;
 
 /// The path as the underlying timing sees it: starting at `start` (the moving start's s_a′), and
 /// with stops where C″ jumps as well as at velocity corners.
@@ -107,6 +118,7 @@ void JerkSolver::run(const RateBounds& b)
   // The first run evaluates the path's third-order jets at its grid points and caps the speed
   // for the path's share of the jerk there (pathSpeedCap); the later runs reuse them.
   grid_.clear();
+  u_cap_.clear();
   jets_.clear();
   path_caps_.clear();
   {
@@ -139,6 +151,8 @@ void JerkSolver::run(const RateBounds& b)
     cap_[i] = path_caps_[i] * path_caps_[i];
   evaluateSpeeds();
   o.local_limits = [this](double s) { return localLimit(s); };
+  if (cap_stationary_ && capStationaryPoints(base))
+    rerun(&underlying, o, &base);
   // Short segments: lower the acceleration (and the window) by f.
   findSegments(base);
   bool short_segments = false;
@@ -165,6 +179,55 @@ void JerkSolver::run(const RateBounds& b)
   buildProfile(std::move(base));
 }
 
+bool JerkSolver::capStationaryPoints(const TimingProfile& base)
+{
+  const std::size_t n = grid_.size();
+  u_cap_.assign(n, kInf);
+  bool capped = false;
+  for (int c = 0; c < 2; ++c)
+  {
+    if (!(moves_[c] && under_.jerk[c] > 0.0 && under_.acceleration[c] > 0.0))
+      continue;
+    // The largest |C′| over the base times [t_i − τ, t_i + τ] within the segment of i (the motion
+    // rests at the stops between segments, x = 0, and each segment has its own windows): a
+    // sliding maximum (a deque of indices with decreasing |C′|), both ends moving forward with i.
+    std::deque<std::size_t> window;
+    std::size_t ahead = 0, segment_end = 0;
+    const auto speed = [&](std::size_t j) { return std::sqrt(jets_[j][c].bb); };
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+      if (i == segment_end)
+      {
+        // A stop (or the start): the next segment's window starts empty, up to its last point.
+        window.clear();
+        ahead = i;
+        segment_end = i + 1;
+        while (segment_end + 1 < n && base.x[segment_end] != 0.0)
+          ++segment_end;
+        segment_end = std::min(segment_end, n - 1);
+      }
+      // (A stop's jet is its right side's, the next segment's: it is in that segment's window.)
+      const std::size_t last = segment_end + 1 == n ? segment_end : segment_end - 1;
+      while (ahead <= last && base.t[ahead] <= base.t[i] + tau_)
+      {
+        while (!window.empty() && speed(window.back()) <= speed(ahead))
+          window.pop_back();
+        window.push_back(ahead++);
+      }
+      while (base.t[window.front()] < base.t[i] - tau_)
+        window.pop_front();
+      const double largest = speed(window.front());
+      if (largest > kStationaryGrowth * speed(i))
+      {
+        u_cap_[i] = std::min(u_cap_[i], under_.acceleration[c] / largest);
+        capped = true;
+      }
+    }
+  }
+  return capped;
+}
+
 void JerkSolver::rerun(time_optimal_detail::TimeOptimalSolver* underlying, const TimeOptimalOptions& o,
                        TimingProfile* base)
 {
@@ -186,6 +249,7 @@ LocalLimit JerkSolver::localLimit(double s) const
   const std::size_t i = static_cast<std::size_t>(it - grid_.begin());
   l.acceleration_factor = factor_[i];
   l.speed_cap = std::sqrt(cap_[i]);
+  l.path_acceleration_cap = u_cap_.empty() ? kInf : u_cap_[i];
   return l;
 }
 

@@ -140,6 +140,10 @@ private:
   /// and the stretch k they need. Returns k.
   double verify();
 
+  /// Caps |s̈_T| where the path nearly stands still (file comment of jerk_limited_runs.cpp, at
+  /// kStationaryGrowth) from the first run's times; returns whether any cap was set.
+  bool capStationaryPoints(const TimingProfile& base);
+
   /// Runs the motion slower by k and sets the figures.
   void applyStretch(double k);
 
@@ -154,6 +158,8 @@ private:
   std::vector<double> grid_;  ///< the underlying grid
   std::vector<double> factor_;  ///< its acceleration factor at each grid point
   std::vector<double> cap_;     ///< its cap on x at each grid point
+  std::vector<double> u_cap_;   ///< its cap on |s̈_T| at each grid point (capStationaryPoints)
+  bool cap_stationary_ = false;  ///< whether run() caps |s̈_T| where the path nearly stands still
   std::vector<double> jerk_s_;  ///< J_s at each grid point
   std::vector<PathJet3> jets_;  ///< the path's third-order jets at the grid points
   std::vector<double> path_caps_;  ///< pathSpeedCap at the grid points

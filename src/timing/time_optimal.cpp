@@ -67,6 +67,7 @@ TimingProfile TimeOptimalSolver::resolve(const TimeOptimalOptions& options)
   recovery_end_ = 0;
   start_exceeds_ = false;
   speed_cap_.clear();
+  u_cap_.clear();
   k_.clear();
   evaluateGrid(options);
   return solve();
@@ -239,11 +240,13 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
   if (options.local_limits)
   {
     speed_cap_.assign(n, kInf);
+    u_cap_.assign(n, kInf);
     for (std::size_t i = 0; i < n; ++i)
     {
       const LocalLimit l = options.local_limits(profile_.s[i]);
       factor_[i][2] = factor_[i][3] = l.acceleration_factor;
       speed_cap_[i] = l.speed_cap * l.speed_cap;
+      u_cap_[i] = l.path_acceleration_cap;
     }
   }
   // The largest |C′| of each channel: the scale of "moves".

@@ -82,6 +82,8 @@ TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::siz
   const double d = delta(i);
   k.two_delta = 2.0 * d;
   k.next = next;
+  if (!u_cap_.empty())
+    k.u_cap = std::min(u_cap_[i], u_cap_[i + 1]);
   const PathJet& a = right_[i].jet;
   const PathJet& b = left_[i + 1].jet;
   for (int c = 0; c < 2; ++c)
@@ -101,8 +103,8 @@ TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::siz
 Interval TimeOptimalSolver::controlInterval(const ControlConstants& k, double x)
 {
   Interval u;
-  u.lo = -x / k.two_delta;
-  u.hi = (k.next - x) / k.two_delta;
+  u.lo = std::max(-x / k.two_delta, -k.u_cap);
+  u.hi = std::min((k.next - x) / k.two_delta, k.u_cap);
   for (int j = 0; j < k.ellipses; ++j)
   {
     const std::array<double, 5>& e = k.ellipse[j];

@@ -145,6 +145,7 @@ private:
   {
     double two_delta = 0.0;
     double next = 0.0;
+    double u_cap = kInf;  ///< the caller's cap on |u| on the interval (LocalLimit::path_acceleration_cap)
     int ellipses = 0;
     std::array<std::array<double, 5>, 4> ellipse{};
   };
@@ -258,6 +259,7 @@ private:
   std::vector<bool> corner_;
   std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
   std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
+  std::vector<double> u_cap_;      ///< the caller's cap on |u| at each grid point (empty: none)
   std::vector<double> k_;        ///< upper ends of the controllable sets
 };
 

@@ -128,6 +128,10 @@ struct LocalLimit
 {
   double acceleration_factor = 1.0;                              ///< in (0, 1], on both channels
   double speed_cap = std::numeric_limits<double>::infinity();  ///< largest ṡ (∞: none)
+  /// Largest |s̈| on the intervals next to this point (∞: none). Where the path stands still
+  /// (C′ = 0, a clamped end at rest) the acceleration bounds do not limit s̈; the jerk-limited
+  /// timing bounds it by what they allow where the motion is a window later.
+  double path_acceleration_cap = std::numeric_limits<double>::infinity();
 };
 
 /// The path as the timing sees it: the channels' derivatives w.r.t. the path parameter.
