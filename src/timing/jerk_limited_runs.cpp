@@ -151,10 +151,10 @@ void JerkSolver::run(const RateBounds& b)
     cap_[i] = path_caps_[i] * path_caps_[i];
   evaluateSpeeds();
   o.local_limits = [this](double s) { return localLimit(s); };
+  findSegments(base);
   if (cap_stationary_ && capStationaryPoints(base))
     rerun(&underlying, o, &base);
   // Short segments: lower the acceleration (and the window) by f.
-  findSegments(base);
   bool short_segments = false;
   for (std::size_t k = 0; k < seg_first_.size(); ++k)
   {
@@ -188,40 +188,34 @@ bool JerkSolver::capStationaryPoints(const TimingProfile& base)
   {
     if (!(moves_[c] && under_.jerk[c] > 0.0 && under_.acceleration[c] > 0.0))
       continue;
-    // The largest |C′| over the base times [t_i − τ, t_i + τ] within the segment of i (the motion
-    // rests at the stops between segments, x = 0, and each segment has its own windows): a
-    // sliding maximum (a deque of indices with decreasing |C′|), both ends moving forward with i.
-    std::deque<std::size_t> window;
-    std::size_t ahead = 0, segment_end = 0;
     const auto speed = [&](std::size_t j) { return std::sqrt(jets_[j][c].bb); };
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < seg_first_.size(); ++k)
     {
-      checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-      if (i == segment_end)
+      // The largest |C′| over the base times [t_i − τ, t_i + τ] within the segment of i (each has
+      // its own windows): a sliding maximum (a deque of indices with decreasing |C′|), both ends
+      // moving forward with i. An interior stop's jet is its right side's, the next segment's: it
+      // belongs to that segment.
+      const std::size_t first = seg_first_[k];
+      const std::size_t last = k + 1 < seg_first_.size() ? seg_last_[k] - 1 : seg_last_[k];
+      std::deque<std::size_t> window;
+      std::size_t ahead = first;
+      for (std::size_t i = first; i <= last; ++i)
       {
-        // A stop (or the start): the next segment's window starts empty, up to its last point.
-        window.clear();
-        ahead = i;
-        segment_end = i + 1;
-        while (segment_end + 1 < n && base.x[segment_end] != 0.0)
-          ++segment_end;
-        segment_end = std::min(segment_end, n - 1);
-      }
-      // (A stop's jet is its right side's, the next segment's: it is in that segment's window.)
-      const std::size_t last = segment_end + 1 == n ? segment_end : segment_end - 1;
-      while (ahead <= last && base.t[ahead] <= base.t[i] + tau_)
-      {
-        while (!window.empty() && speed(window.back()) <= speed(ahead))
-          window.pop_back();
-        window.push_back(ahead++);
-      }
-      while (base.t[window.front()] < base.t[i] - tau_)
-        window.pop_front();
-      const double largest = speed(window.front());
-      if (largest > kStationaryGrowth * speed(i))
-      {
-        u_cap_[i] = std::min(u_cap_[i], under_.acceleration[c] / largest);
-        capped = true;
+        checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
+        while (ahead <= last && base.t[ahead] <= base.t[i] + tau_)
+        {
+          while (!window.empty() && speed(window.back()) <= speed(ahead))
+            window.pop_back();
+          window.push_back(ahead++);
+        }
+        while (base.t[window.front()] < base.t[i] - tau_)
+          window.pop_front();
+        const double largest = speed(window.front());
+        if (largest > kStationaryGrowth * speed(i))
+        {
+          u_cap_[i] = std::min(u_cap_[i], under_.acceleration[c] / largest);
+          capped = true;
+        }
       }
     }
   }

@@ -141,7 +141,8 @@ private:
   double verify();
 
   /// Caps |s̈_T| where the path nearly stands still (file comment of jerk_limited_runs.cpp, at
-  /// kStationaryGrowth) from the first run's times; returns whether any cap was set.
+  /// kStationaryGrowth) from the first run's times and segments (findSegments); returns whether
+  /// any cap was set.
   bool capStationaryPoints(const TimingProfile& base);
 
   /// Runs the motion slower by k and sets the figures.
