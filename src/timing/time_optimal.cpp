@@ -76,6 +76,7 @@ TimingProfile TimeOptimalSolver::resolve(const TimeOptimalOptions& options)
 TimingProfile TimeOptimalSolver::solve()
 {
   const bool fixed_start = start_x_ > 0.0 || hold_start_;
+  check_quarters_ = start_x_ > 0.0;
   const int passes = fixed_start ? kFixedStartPasses : kLocalPasses;
   for (int pass = 0;; ++pass)
   {

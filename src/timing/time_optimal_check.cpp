@@ -53,6 +53,28 @@ Rates TimeOptimalSolver::needsAtMiddle(std::size_t i) const
   return needs(middle_[i], 0.5 * (profile_.x[i] + profile_.x[i + 1]), profile_.u[i]);
 }
 
+const PathJet& TimeOptimalSolver::quarterJet(std::size_t i, int k) const
+{
+  if (has_quarter_.size() != middle_.size())
+  {
+    has_quarter_.assign(middle_.size(), false);
+    quarter_.resize(2 * middle_.size());
+  }
+  if (!has_quarter_[i])
+  {
+    quarter_[2 * i] = path_.jet(profile_.s[i] + 0.25 * delta(i), Side::kRight);
+    quarter_[2 * i + 1] = path_.jet(profile_.s[i] + 0.75 * delta(i), Side::kRight);
+    has_quarter_[i] = true;
+  }
+  return quarter_[2 * i + k];
+}
+
+Rates TimeOptimalSolver::needsAtQuarter(std::size_t i, int k) const
+{
+  const double lambda = k == 0 ? 0.25 : 0.75;
+  return needs(quarterJet(i, k), profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]), profile_.u[i]);
+}
+
 void TimeOptimalSolver::tighten(std::size_t i, int q, double r, double margin)
 {
   const double f = (q < 2 ? 1.0 / r : 1.0 / (r * r)) * (1.0 - margin);
@@ -65,65 +87,90 @@ bool TimeOptimalSolver::tightenWhereTheMiddlesExceed()
   bool tightened = false;
   for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
   {
-    const Rates r = needsAtMiddle(i);
+    const IntervalNeeds f = intervalNeeds(i, 1.0);
     for (int q = 0; q < 4; ++q)
-      if (r[q] > 1.0 + kLocalTolerance)
+    {
+      double r = f.at[2][q];
+      if (f.quarters)
+        r = std::max({ r, f.at[1][q], f.at[3][q] });
+      if (r > 1.0 + kLocalTolerance)
       {
-        tighten(i, q, r[q], 0.0);
+        tighten(i, q, r, 0.0);
         tightened = true;
       }
+    }
   }
   return tightened;
 }
 
-TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds() const
+TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i, double near, double* worst) const
 {
-  const std::size_t n = profile_.s.size();
-  IntervalNeeds f{ std::vector<Rates>(n - 1), std::vector<Rates>(n - 1), std::vector<Rates>(n - 1) };
-  for (std::size_t i = 0; i + 1 < n; ++i)
+  IntervalNeeds f;
+  f.at[0] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
+  f.at[2] = needsAtMiddle(i);
+  f.at[4] = needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]);
+  double top = 0.0;
+  for (int q = 0; q < 4; ++q)
+    top = std::max({ top, f.at[0][q], f.at[2][q], f.at[4][q] });
+  if (worst != nullptr)
+    near = std::max(near, *worst = std::max(*worst, top));
+  if (check_quarters_ && top >= kQuarterFloor * near)
   {
-    checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-    f.start[i] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
-    f.end[i] = needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]);
-    f.middle[i] = needsAtMiddle(i);
+    f.quarters = true;
+    f.at[1] = needsAtQuarter(i, 0);
+    f.at[3] = needsAtQuarter(i, 1);
+    if (worst != nullptr)
+      for (int q = 0; q < 4; ++q)
+        *worst = std::max({ *worst, f.at[1][q], f.at[3][q] });
   }
   return f;
 }
 
+bool TimeOptimalSolver::mayPeakInside(const IntervalNeeds& f, int q, double threshold)
+{
+  if (!f.quarters)
+    return detail::parabolaPeaksInside(f.at[0][q], f.at[2][q], f.at[4][q], threshold);
+  return detail::parabolaPeaksInside(f.at[0][q], f.at[1][q], f.at[2][q], threshold) ||
+         detail::parabolaPeaksInside(f.at[2][q], f.at[3][q], f.at[4][q], threshold);
+}
+
 double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
 {
-  const double f0 = f.start[i][q], fm = f.middle[i][q], f1 = f.end[i][q];
-  *searched = detail::parabolaPeaksInside(f0, fm, f1, threshold);
-  return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
+  if (!f.quarters)
+  {
+    const double f0 = f.at[0][q], fm = f.at[2][q], f1 = f.at[4][q];
+    *searched = detail::parabolaPeaksInside(f0, fm, f1, threshold);
+    return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
+  }
+  const std::array<double, 5> at{ f.at[0][q], f.at[1][q], f.at[2][q], f.at[3][q], f.at[4][q] };
+  return detail::localMaxOfQuarters([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, at, threshold,
+                                    searched);
 }
 
 void TimeOptimalSolver::verifyAndStretch()
 {
   const std::size_t n = profile_.s.size();
-  // The needs at the ends and middle of every interval; kept only for the intervals whose parabola
-  // reaches the threshold of the worst need so far: the worst only grows, so no other interval is
-  // searched below (and an unsearched interval's peak, the largest of its three needs, is at most
-  // the worst). The same intervals are searched, in the same order, as with every interval's needs
-  // held.
+  // The needs at the ends, middle (and quarters) of every interval; kept only for the intervals
+  // where a parabola through them reaches the threshold of the worst need so far: the worst only
+  // grows, so no other interval is searched below (and an unsearched interval's peak, the largest
+  // of its checked needs, is at most the worst). The same intervals are searched, in the same
+  // order, as with every interval's needs held.
   struct Candidate
   {
     std::size_t i;
-    Rates f0, fm, f1;
+    IntervalNeeds f;
   };
   std::vector<Candidate> candidates;
   double worst = 0.0;
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-    Candidate c{ i, needs(right_[i].raw, profile_.x[i], profile_.u[i]), needsAtMiddle(i),
-                 needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]) };
-    for (int q = 0; q < 4; ++q)
-      worst = std::max({ worst, c.f0[q], c.fm[q], c.f1[q] });
+    const IntervalNeeds f = intervalNeeds(i, 0.0, &worst);
     const double so_far = worst * (1.0 - kRefineMargin);
     for (int q = 0; q < 4; ++q)
-      if (detail::parabolaPeaksInside(c.f0[q], c.fm[q], c.f1[q], so_far))
+      if (mayPeakInside(f, q, so_far))
       {
-        candidates.push_back(c);
+        candidates.push_back({ i, f });
         break;
       }
   }
@@ -136,9 +183,10 @@ void TimeOptimalSolver::verifyAndStretch()
     checkDeadlineEvery(count++, kIntervalsPerSearchDeadlineCheck, kPhase);
     for (int q = 0; q < 4; ++q)
     {
-      if (!detail::parabolaPeaksInside(c.f0[q], c.fm[q], c.f1[q], threshold))
+      if (!mayPeakInside(c.f, q, threshold))
         continue;
-      const double p = localMax(c.i, q, c.f0[q], c.fm[q], c.f1[q]);
+      bool was_searched = false;
+      const double p = peak(c.f, c.i, q, threshold, &was_searched);
       searched[q] = std::max(searched[q], p);
       refined = std::max(refined, p);
     }
@@ -162,12 +210,12 @@ void TimeOptimalSolver::verifyAndStretch()
 
 std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)
 {
-  const IntervalNeeds f = intervalNeeds();
   double worst = 0.0;
   bool tightened = false;
   for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
   {
     checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    const IntervalNeeds f = intervalNeeds(i, 1.0);
     for (int q = 0; q < 4; ++q)
     {
       bool was_searched = false;
@@ -263,29 +311,26 @@ void TimeOptimalSolver::figures(const Rates& searched, double k)
       p.acceleration_energy[c] += w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
     }
   }
-  // Where the parabola through an interval's ends and middle rises above the peak so far (within
+  // Where a parabola through an interval's checked points rises above the peak so far (within
   // kRefineMargin), the peak is searched on the exact rates: every figure is a value the motion
   // takes, within ~1e-7 of its true peak.
   std::array<double, 4> peak{ p.max_speed[0], p.max_speed[1], p.max_acceleration[0], p.max_acceleration[1] };
   for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
   {
     const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
+    const bool quarters = i < has_quarter_.size() && has_quarter_[i];
     const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
     const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
     const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
-    for (int q = 0; q < 4; ++q)
+    std::array<double, 4> qa{}, qb{};
+    if (quarters)
     {
-      if (!detail::parabolaPeaksInside(a[q], m[q], b[q], peak[q] * (1.0 - kRefineMargin)))
-        continue;
-      peak[q] = std::max(peak[q], detail::localMaxOf(
-                                      [this, i, q](double lambda) {
-                                        const TimingProfile& pr = profile_;
-                                        const double x = pr.x[i] + lambda * (pr.x[i + 1] - pr.x[i]);
-                                        return magnitudes(path_.jet(pr.s[i] + lambda * delta(i), Side::kRight), x,
-                                                          pr.u[i])[q];
-                                      },
-                                      a[q], m[q], b[q]));
+      qa = magnitudes(quarter_[2 * i], p.x[i] + 0.25 * (p.x[i + 1] - p.x[i]), p.u[i]);
+      qb = magnitudes(quarter_[2 * i + 1], p.x[i] + 0.75 * (p.x[i + 1] - p.x[i]), p.u[i]);
     }
+    for (int q = 0; q < 4; ++q)
+      peak[q] = std::max(peak[q], magnitudePeak(p, i, q, { a[q], qa[q], m[q], qb[q], b[q] }, quarters,
+                                                peak[q] * (1.0 - kRefineMargin)));
   }
   p.max_speed = { peak[0], peak[1] };
   p.max_acceleration = { peak[2], peak[3] };
@@ -302,6 +347,23 @@ void TimeOptimalSolver::figures(const Rates& searched, double k)
 double TimeOptimalSolver::localMax(std::size_t i, int q, double f0, double fm, double f1) const
 {
   return detail::localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
+}
+
+double TimeOptimalSolver::magnitudePeak(const TimingProfile& p, std::size_t i, int q, const std::array<double, 5>& at,
+                                        bool quarters, double threshold) const
+{
+  const auto value = [this, &p, i, q](double lambda) {
+    const double x = p.x[i] + lambda * (p.x[i + 1] - p.x[i]);
+    return magnitudes(path_.jet(p.s[i] + lambda * delta(i), Side::kRight), x, p.u[i])[q];
+  };
+  if (quarters)
+  {
+    bool searched = false;
+    return detail::localMaxOfQuarters(value, at, threshold, &searched);
+  }
+  if (!detail::parabolaPeaksInside(at[0], at[2], at[4], threshold))
+    return std::max({ at[0], at[2], at[4] });
+  return detail::localMaxOf(value, at[0], at[2], at[4]);
 }
 
 }  // namespace time_optimal_detail

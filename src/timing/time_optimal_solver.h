@@ -31,6 +31,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// times), so that the final uniform stretch only absorbs what is left (typically < 1e-3).
 constexpr int kLocalPasses = 4;
 constexpr double kLocalTolerance = 1e-4;
+/// A motion that starts moving (which no stretch may correct) is also checked at the quarters of
+/// every interval where a need at its ends or middle comes within this fraction of its bound: on
+/// the request-space grid's moving and over-the-bound starts, rates rose above a bound between the
+/// three points and fell back before the middle by up to 3 % (a rate at its bound at a grid point,
+/// rising into the interval: the parabola through its ends and middle then peaks at the end). Not
+/// from rest: there the two jets more per interval would cost a third of the timing's time
+/// (bench_time_optimal, N = 1000: 81 → 107 ms), and the uniform stretch absorbs what is found.
+constexpr double kQuarterFloor = 0.9;
 /// A motion that starts moving cannot be stretched uniformly (that would change its start
 /// velocity): its local passes continue, at most kFixedStartPasses in all, until every checked rate
 /// is within kFixedStartTolerance of its bound; from the fifth pass on each tightening carries a
@@ -186,6 +194,13 @@ private:
 
   Rates needsAtMiddle(std::size_t i) const;
 
+  /// The path's jet at λ = ¼ (k = 0) or ¾ (k = 1) of interval i, evaluated on first use and kept
+  /// (the grid does not change; the reruns of a reusable solver share them).
+  const PathJet& quarterJet(std::size_t i, int k) const;
+
+  /// The needs at λ = ¼ (k = 0) or ¾ (k = 1) of interval i.
+  Rates needsAtQuarter(std::size_t i, int k) const;
+
   /// Tightens quantity q at both ends of interval i so that its need r (> 1) would come down to
   /// 1 − margin: velocities scale with the bound, accelerations' needs with its square root.
   void tighten(std::size_t i, int q, double r, double margin);
@@ -195,17 +210,27 @@ private:
   /// recovery from a start the bounds cannot hold is left as it is.
   bool tightenWhereTheMiddlesExceed();
 
-  /// The needs at both ends and the middle of every interval.
+  /// The needs of one interval at λ = 0, ¼, ½, ¾, 1 (at the quarters only where `quarters`).
   struct IntervalNeeds
   {
-    std::vector<Rates> start, middle, end;
+    std::array<Rates, 5> at{};
+    bool quarters = false;
   };
 
-  IntervalNeeds intervalNeeds() const;
+  /// The needs of interval i at its ends and middle, and, for a motion that starts moving
+  /// (check_quarters_), at its quarters where one of those comes within kQuarterFloor of `near`
+  /// (a rate near its bound may rise above it between the three points and fall back before the
+  /// middle: the parabola through them cannot see that). The largest need seen so far is raised
+  /// to the interval's (`*worst`, when given).
+  IntervalNeeds intervalNeeds(std::size_t i, double near, double* worst = nullptr) const;
 
-  /// The peak of need q on interval i: the largest of its ends and middle, or, where the parabola
-  /// through the three peaks inside at or above `threshold`, the maximum found by localMax on the
-  /// exact rates.
+  /// Whether need q of an interval may peak inside it at or above `threshold` (the parabola
+  /// through its ends and middle, or through either half's three points, peaks inside).
+  static bool mayPeakInside(const IntervalNeeds& f, int q, double threshold);
+
+  /// The peak of need q on interval i: the largest of its checked points, or, where a parabola
+  /// through them peaks inside at or above `threshold` (mayPeakInside), the maximum found by
+  /// localMax on the exact rates.
   double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const;
 
   /// The final check of a motion from rest: the peaks of every interval, then the uniform
@@ -238,10 +263,17 @@ private:
   /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
   double localMax(std::size_t i, int q, double f0, double fm, double f1) const;
 
+  /// Largest |v| or |a| (q, as magnitudes()) on interval i of profile `p`, from its values at the
+  /// ends and middle (and the quarters, where quarterJet has them), searched where a parabola
+  /// through them peaks inside at or above `threshold`.
+  double magnitudePeak(const TimingProfile& p, std::size_t i, int q, const std::array<double, 5>& at, bool quarters,
+                       double threshold) const;
+
   const PathModel& path_;
   RateBounds bounds_;
   double start_x_;   ///< the requested ṡ² at s_0 (0: from rest)
   bool hold_start_;  ///< s̈ = 0 on the first interval
+  bool check_quarters_ = false;  ///< the checks read the quarters too (intervalNeeds)
   std::array<bool, 2> moves_{};
   std::array<double, 2> floor_{};
   std::array<double, 2> refine_floor_{};  ///< |C′|² below which a channel counts as still (refinement)
@@ -256,6 +288,9 @@ private:
   std::vector<PointData> right_;
   std::vector<PointData> left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
+  /// At λ = ¼ and ¾ of interval i (entries 2i, 2i + 1), where has_quarter_[i] (quarterJet).
+  mutable std::vector<PathJet> quarter_;
+  mutable std::vector<bool> has_quarter_;
   std::vector<bool> corner_;
   std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
   std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)

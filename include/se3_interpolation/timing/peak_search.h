@@ -1,6 +1,7 @@
 // timing/: the interior-maximum search shared by the timings' final checks (time_optimal_check.cpp,
 // jerk_limited_check.cpp): a rate checked at the two ends and the middle of an interval is searched
-// inside it where the parabola through the three values peaks inside.
+// inside it where the parabola through the three values peaks inside; checked also at the quarters,
+// each half is searched where the parabola through its three values peaks inside it.
 #pragma once
 
 #include <algorithm>
@@ -76,6 +77,27 @@ double localMaxOf(F value, double f0, double fm, double f1)
     }
     if (moved < kLocalMaxTolerance)
       break;
+  }
+  return best;
+}
+/// The largest value of `value(λ)` on [0, 1] from its values at 0, ¼, ½, ¾, 1 (f): each half whose
+/// parabola (through its ends and middle) peaks inside it at or above `threshold` is searched by
+/// localMaxOf; otherwise the largest of the five. `*searched` says whether a half was searched.
+/// Five points see what three cannot: a rate at its bound at an end of the interval that rises
+/// before it falls to the middle (the parabola through 0, ½, 1 then peaks at the end).
+template <class F>
+double localMaxOfQuarters(F value, const std::array<double, 5>& f, double threshold, bool* searched)
+{
+  double best = std::max({ f[0], f[1], f[2], f[3], f[4] });
+  *searched = false;
+  for (int half = 0; half < 2; ++half)
+  {
+    const double a = f[2 * half], m = f[2 * half + 1], b = f[2 * half + 2];
+    if (!parabolaPeaksInside(a, m, b, threshold))
+      continue;
+    *searched = true;
+    const double from = 0.5 * half;
+    best = std::max(best, localMaxOf([&value, from](double lambda) { return value(from + 0.5 * lambda); }, a, m, b));
   }
   return best;
 }
