@@ -69,9 +69,11 @@ private:
     std::lock_guard<std::mutex> lock(mutex_);
     log_.push_back(m);
   }
-  ros::Subscriber sub_;
   std::mutex mutex_;
   std::vector<se3_interpolation::GenerationStatus> log_;
+  /// Last: constructed after and destroyed before what its callback uses (the spinner thread may
+  /// run the callback as soon as it subscribes: at once for a latched message).
+  ros::Subscriber sub_;
 };
 
 trajectory_msgs::MultiDOFJointTrajectory g_trajectory;

@@ -70,9 +70,11 @@ public:
   }
 
 private:
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;
   std::vector<std::string> lines_;
+  /// Last: constructed after and destroyed before what its callback uses (the spinner thread may
+  /// run the callback as soon as it subscribes: at once for a latched message).
+  ros::Subscriber sub_;
 };
 
 /// The node's process id, asked over its XML-RPC slave API (0 if it cannot be reached).

@@ -154,8 +154,10 @@ public:
   const ros::Subscriber& subscriber() const { return sub_; }
 
 private:
-  ros::Subscriber sub_;
   std::vector<rosgraph_msgs::Log> log_;
+  /// Last: constructed after and destroyed before what its callback uses (the spinner thread may
+  /// run the callback as soon as it subscribes: at once for a latched message).
+  ros::Subscriber sub_;
 };
 
 void waitForNodes()

@@ -59,9 +59,11 @@ private:
     log_.push_back(m);
   }
 
-  ros::Subscriber sub_;
   std::mutex mutex_;
   std::vector<se3_interpolation::GenerationStatus> log_;
+  /// Last: constructed after and destroyed before what its callback uses (the spinner thread may
+  /// run the callback as soon as it subscribes: at once for a latched message).
+  ros::Subscriber sub_;
 };
 
 bool waitForPublisher(const StatusLog& log)
