@@ -6,6 +6,8 @@
 #     bench_time_optimal (time-optimal and jerk-limited timing of the interpolating spline, N = 100 … 3000);
 #     bench_cli_output (se3_interpolate's CSV of 10⁵ samples against iostreams, and the planner
 #     on that request);
+#     bench_toppra (the time-optimal timing against TOPP-RA, N = 10 … 10⁴) when
+#     SE3_BENCH_TOPPRA_DIR is given;
 #  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
 #     the committed bench/instruction_counts.txt.
 # The benchmarks are built without catkin with g++ into $SE3_WS/bench.
@@ -18,6 +20,9 @@
 #              SE3_BENCH_SOPHUS_DIR, SE3_BENCH_MANIF_DIR, SE3_BENCH_BASALT_DIR  local copies of the
 #                                   optional peers (bench/bench_peers.h; scripts/common.sh,
 #                                   se3_bench_peer_setup); unset: left out, nothing else changes
+#              SE3_BENCH_TOPPRA_DIR  a local TOPP-RA checkout (bench/bench_toppra.cpp): its C++
+#                                   library (cpp/) is built once into $SE3_WS/bench/toppra with
+#                                   Eigen only; unset: bench_toppra is left out
 # Timings are noisy on a loaded machine; the instruction counts are not.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -79,6 +84,31 @@ echo
 echo "== bench_cli_output"
 "$OUT/bench_cli_output" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
   --benchmark_display_aggregates_only=true
+
+if [ -n "${SE3_BENCH_TOPPRA_DIR:-}" ]; then
+  [ -f "$SE3_BENCH_TOPPRA_DIR/cpp/CMakeLists.txt" ] ||
+    { echo "SE3_BENCH_TOPPRA_DIR=$SE3_BENCH_TOPPRA_DIR has no cpp/CMakeLists.txt" >&2; exit 2; }
+  # TOPP-RA's own CMake build of its C++ library, as CMakeLists.txt's external project does.
+  toppra_prefix="$OUT/toppra"
+  if [ ! -f "$toppra_prefix/lib/libtoppra.a" ]; then
+    echo "building TOPP-RA from $SE3_BENCH_TOPPRA_DIR/cpp into $toppra_prefix" >&2
+    if ! { cmake -S "$SE3_BENCH_TOPPRA_DIR/cpp" -B "$toppra_prefix/build" -DCMAKE_BUILD_TYPE=Release \
+             -DCMAKE_INSTALL_PREFIX="$toppra_prefix" -DCMAKE_CXX_COMPILER="$(command -v "$CXX")" \
+             -DBUILD_SHARED_LIBS=OFF -DBUILD_TESTS=OFF -DPYTHON_BINDINGS=OFF -DBUILD_WITH_PINOCCHIO=OFF \
+             -DBUILD_WITH_qpOASES=OFF -DBUILD_WITH_GLPK=OFF -DINSTALL_DOCUMENTATION=OFF \
+             -DTOPPRA_WARN_ON=OFF >/dev/null &&
+           cmake --build "$toppra_prefix/build" --target install >/dev/null; }; then
+      echo "TOPP-RA's build failed (see $toppra_prefix/build)" >&2
+      exit 2
+    fi
+  fi
+  echo
+  echo "== bench_toppra (TOPP-RA $(git -C "$SE3_BENCH_TOPPRA_DIR" describe --tags --always 2>/dev/null ||
+    cat "$SE3_BENCH_TOPPRA_DIR/VERSION" 2>/dev/null))"
+  build bench_toppra -isystem "$toppra_prefix/include" "$toppra_prefix/lib/libtoppra.a"
+  "$OUT/bench_toppra" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+    --benchmark_display_aggregates_only=true
+fi
 
 echo
 echo "== instruction counts"
