@@ -136,15 +136,9 @@ bool TimeOptimalSolver::mayPeakInside(const IntervalNeeds& f, int q, double thre
 
 double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
 {
-  if (!f.quarters)
-  {
-    const double f0 = f.at[0][q], fm = f.at[2][q], f1 = f.at[4][q];
-    *searched = detail::parabolaPeaksInside(f0, fm, f1, threshold);
-    return *searched ? localMax(i, q, f0, fm, f1) : std::max({ f0, fm, f1 });
-  }
   const std::array<double, 5> at{ f.at[0][q], f.at[1][q], f.at[2][q], f.at[3][q], f.at[4][q] };
-  return detail::localMaxOfQuarters([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, at, threshold,
-                                    searched);
+  return detail::localMaxOfChecked([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, at, f.quarters,
+                                   threshold, searched);
 }
 
 void TimeOptimalSolver::verifyAndStretch()
@@ -344,11 +338,6 @@ void TimeOptimalSolver::figures(const Rates& searched, double k)
   }
 }
 
-double TimeOptimalSolver::localMax(std::size_t i, int q, double f0, double fm, double f1) const
-{
-  return detail::localMaxOf([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, f0, fm, f1);
-}
-
 double TimeOptimalSolver::magnitudePeak(const TimingProfile& p, std::size_t i, int q, const std::array<double, 5>& at,
                                         bool quarters, double threshold) const
 {
@@ -356,14 +345,8 @@ double TimeOptimalSolver::magnitudePeak(const TimingProfile& p, std::size_t i, i
     const double x = p.x[i] + lambda * (p.x[i + 1] - p.x[i]);
     return magnitudes(path_.jet(p.s[i] + lambda * delta(i), Side::kRight), x, p.u[i])[q];
   };
-  if (quarters)
-  {
-    bool searched = false;
-    return detail::localMaxOfQuarters(value, at, threshold, &searched);
-  }
-  if (!detail::parabolaPeaksInside(at[0], at[2], at[4], threshold))
-    return std::max({ at[0], at[2], at[4] });
-  return detail::localMaxOf(value, at[0], at[2], at[4]);
+  bool searched = false;
+  return detail::localMaxOfChecked(value, at, quarters, threshold, &searched);
 }
 
 }  // namespace time_optimal_detail

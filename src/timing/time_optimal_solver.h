@@ -230,7 +230,7 @@ private:
 
   /// The peak of need q on interval i: the largest of its checked points, or, where a parabola
   /// through them peaks inside at or above `threshold` (mayPeakInside), the maximum found by
-  /// localMax on the exact rates.
+  /// detail::localMaxOfChecked on the exact rates.
   double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const;
 
   /// The final check of a motion from rest: the peaks of every interval, then the uniform
@@ -258,10 +258,6 @@ private:
 
   /// figures(searched, k), or keeps its arguments for finishFigures (deferFigures).
   void setFigures(const Rates& searched, double k);
-
-  /// The largest need q inside interval i: successive parabolic interpolation from the three
-  /// known values (superlinear for a smooth maximum), golden-section steps when a parabola fails.
-  double localMax(std::size_t i, int q, double f0, double fm, double f1) const;
 
   /// Largest |v| or |a| (q, as magnitudes()) on interval i of profile `p`, from its values at the
   /// ends and middle (and the quarters, where quarterJet has them), searched where a parabola

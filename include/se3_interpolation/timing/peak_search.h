@@ -101,6 +101,18 @@ double localMaxOfQuarters(F value, const std::array<double, 5>& f, double thresh
   }
   return best;
 }
+/// The largest value of `value(λ)` on [0, 1] from its values `at` λ = 0, ¼, ½, ¾, 1, of which the
+/// quarters are read only where `quarters`: localMaxOfQuarters, or from the ends and middle alone
+/// localMaxOf where the parabola through them peaks inside at or above `threshold` (else the
+/// largest of the three). `*searched` says whether anything was searched.
+template <class F>
+double localMaxOfChecked(F value, const std::array<double, 5>& at, bool quarters, double threshold, bool* searched)
+{
+  if (quarters)
+    return localMaxOfQuarters(value, at, threshold, searched);
+  *searched = parabolaPeaksInside(at[0], at[2], at[4], threshold);
+  return *searched ? localMaxOf(value, at[0], at[2], at[4]) : std::max({ at[0], at[2], at[4] });
+}
 }  // namespace detail
 }  // namespace timing
 }  // namespace se3_interpolation
