@@ -34,6 +34,8 @@ public:
   bool expired() const { return Clock::now() > end_; }
   bool before(const Deadline& other) const { return end_ < other.end_; }
   double limitSeconds() const { return limit_seconds_; }
+  /// Moves the end `by` later (ScopedDeadlinePause).
+  void postpone(Clock::duration by) { end_ += by; }
 
 private:
   Clock::time_point end_;
@@ -42,9 +44,9 @@ private:
 
 namespace detail
 {
-inline const Deadline*& currentDeadline()
+inline Deadline*& currentDeadline()
 {
-  thread_local const Deadline* deadline = nullptr;
+  thread_local Deadline* deadline = nullptr;
   return deadline;
 }
 }  // namespace detail
@@ -54,7 +56,7 @@ inline const Deadline*& currentDeadline()
 class ScopedDeadline
 {
 public:
-  explicit ScopedDeadline(const Deadline& deadline) : previous_(detail::currentDeadline())
+  explicit ScopedDeadline(Deadline& deadline) : previous_(detail::currentDeadline())
   {
     if (previous_ == nullptr || deadline.before(*previous_))
       detail::currentDeadline() = &deadline;
@@ -64,7 +66,31 @@ public:
   ScopedDeadline& operator=(const ScopedDeadline&) = delete;
 
 private:
-  const Deadline* previous_;
+  Deadline* previous_;
+};
+
+/// Suspends the current thread's deadline for its lifetime and then postpones it by that time:
+/// for the caller's own work inside a request (generate()'s sample sink, where the CLI formats and
+/// writes its output and waits for a slow reader), which is not the request's.
+class ScopedDeadlinePause
+{
+public:
+  ScopedDeadlinePause() : paused_(detail::currentDeadline()), start_(Deadline::Clock::now())
+  {
+    detail::currentDeadline() = nullptr;
+  }
+  ~ScopedDeadlinePause()
+  {
+    detail::currentDeadline() = paused_;
+    if (paused_ != nullptr)
+      paused_->postpone(Deadline::Clock::now() - start_);
+  }
+  ScopedDeadlinePause(const ScopedDeadlinePause&) = delete;
+  ScopedDeadlinePause& operator=(const ScopedDeadlinePause&) = delete;
+
+private:
+  Deadline* paused_;
+  Deadline::Clock::time_point start_;
 };
 
 /// Throws LimitExceededError naming `phase` when the current thread's deadline has passed; does

@@ -53,6 +53,10 @@ constexpr int kUsageError = 2;
 /// per input byte, so this bounds the parse to well under 1 GB.
 constexpr std::size_t kMaxRequestBytes = 8u << 20;
 
+/// The piece the request file is read in (64 KiB: a few reads for a typical request; the whole
+/// limit allocated and cleared up front took 2000 page faults, a sixth of a large run's time).
+constexpr std::size_t kRequestReadChars = 64u << 10;
+
 /// The waypoints a request may have here: a recording of 10⁶ poses (about 100 MB of CSV, under 100
 /// MB of memory); the node's ~max_waypoints (default 20000) bounds its buffer and messages instead.
 constexpr std::size_t kCliMaxWaypoints = 1000000;
@@ -314,17 +318,19 @@ void writeAtomically(const std::string& path, const Producer& produce)
   }
 }
 
-/// The request file's text, refused above kMaxRequestBytes before anything is parsed.
+/// The request file's text, refused above kMaxRequestBytes before anything is parsed. Read in
+/// pieces of kRequestReadChars, so that the text takes the memory of the file, not of the limit.
 std::string readRequestFile(const std::string& path)
 {
   std::ifstream f(path, std::ios::binary);
   if (!f)
     throw std::invalid_argument("cannot read request file '" + path + "'");
-  std::string text(kMaxRequestBytes + 1, '\0');
-  f.read(&text[0], static_cast<std::streamsize>(text.size()));
+  std::string text;
+  char piece[kRequestReadChars];
+  while (text.size() <= kMaxRequestBytes && f.read(piece, sizeof piece).gcount() > 0)
+    text.append(piece, static_cast<std::size_t>(f.gcount()));
   if (f.bad())
     throw std::invalid_argument("cannot read request file '" + path + "'");
-  text.resize(static_cast<std::size_t>(f.gcount()));
   if (text.size() > kMaxRequestBytes)
     throw std::invalid_argument("request file '" + path + "' is larger than " + std::to_string(kMaxRequestBytes) +
                                 " bytes (the limit of se3_interpolate's input)");
@@ -354,40 +360,56 @@ int main(int argc, char** argv)
       else
         writeAtomically(args.output, csv);
     };
+    namespace se3 = se3_interpolation;
     if (args.space == "sphere")
     {
-      const se3_interpolation::SphereResult result =
-          se3_interpolation::generate(se3_interpolation::cli::sphereRequestFromYaml(root), args.limits);
-      printSphereFigures(result);
-      output([&result](const se3_interpolation::cli::CsvSink& sink) {
-        se3_interpolation::cli::writeSphereCsv(result, sink);
+      const se3::SphereRequest request = se3::cli::sphereRequestFromYaml(root);
+      se3::SphereResult result;
+      output([&](const se3::cli::CsvSink& sink) {
+        se3::cli::CsvWriter<se3::SphereSample> writer =
+            se3::cli::sphereCsvWriter(request.waypoints.empty() ? 0 : request.waypoints.front().size(), sink);
+        result = se3::generate(request, args.limits, se3::SampleSink<se3::SphereSpace>([&writer](
+                                                         const se3::SphereSample* first, std::size_t count) {
+                                 writer.add(first, count);
+                               }));
+        writer.finish();
       });
+      printSphereFigures(result);
     }
     else
     {
       recorded = readRecorded(args);
-      const se3_interpolation::TrajectoryRequest request =
-          recorded ? se3_interpolation::cli::requestFromYaml(root, recorded->waypoints, recorded->times,
-                                                              recorded->source)
-                   : se3_interpolation::cli::requestFromYaml(root);
-      if (!args.save_bspline.empty() && request.curve != se3_interpolation::FitFamily::kName)
-        throw std::invalid_argument("--save-bspline: writes the B-spline of curve 'fit'; the request's curve is '" +
-                                    request.curve + "'");
-      const se3_interpolation::TrajectoryResult result = se3_interpolation::generate(request, args.limits);
+      const se3::TrajectoryRequest request =
+          recorded ? se3::cli::requestFromYaml(root, recorded->waypoints, recorded->times, recorded->source)
+                   : se3::cli::requestFromYaml(root);
+      se3::TrajectoryResult result;
+      if (args.save_bspline.empty())
+        // The samples go to the output as they are computed (planner.h, SampleSink).
+        output([&](const se3::cli::CsvSink& sink) {
+          se3::cli::CsvWriter<se3::TrajectorySample> writer = se3::cli::poseCsvWriter(sink);
+          result = se3::generate(request, args.limits, se3::SampleSink<se3::PoseSpace>([&writer](
+                                                           const se3::TrajectorySample* first, std::size_t count) {
+                                   writer.add(first, count);
+                                 }));
+          writer.finish();
+        });
+      else
+      {
+        // The fitted B-spline first, then the samples: neither is written if the fit fails.
+        if (request.curve != se3::FitFamily::kName)
+          throw std::invalid_argument("--save-bspline: writes the B-spline of curve 'fit'; the request's curve is '" +
+                                      request.curve + "'");
+        result = se3::generate(request, args.limits);
+        const std::string geometry =
+            se3::toString(se3::parseName(request.geometry, "geometry", se3::RequestDefaults::kGeometry));
+        const std::string text = bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'");
+        writeAtomically(args.save_bspline,
+                        [&text](const se3::cli::CsvSink& sink) { sink(text.data(), text.size()); });
+        output([&result](const se3::cli::CsvSink& sink) { se3::cli::writePoseCsv(result, sink); });
+      }
       if (recorded)
         printRecordedFrame(*recorded);
       printFigures(result);
-      if (!args.save_bspline.empty())
-      {
-        const std::string geometry = se3_interpolation::toString(
-            se3_interpolation::parseName(request.geometry, "geometry", se3_interpolation::RequestDefaults::kGeometry));
-        const std::string text =
-            bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'");
-        writeAtomically(args.save_bspline, [&text](const se3_interpolation::cli::CsvSink& sink) {
-          sink(text.data(), text.size());
-        });
-      }
-      output([&result](const se3_interpolation::cli::CsvSink& sink) { se3_interpolation::cli::writePoseCsv(result, sink); });
     }
     return 0;
   }

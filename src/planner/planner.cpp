@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -75,6 +77,14 @@ bool allFinite(const SphereSample& s)
 
 /// Samples taken between two checks of the request's deadline (deadline.h).
 constexpr std::size_t kSamplesPerDeadlineCheck = 1024;
+
+/// Hands `block` to `sink` outside the request's deadline (the caller's work is not the request's).
+template <class Sample>
+void handOn(const std::function<void(const Sample*, std::size_t)>& sink, const std::vector<Sample>& block)
+{
+  const ScopedDeadlinePause pause;
+  sink(block.data(), block.size());
+}
 
 /// The bounds' field names for an error about the span they stretch the motion to.
 template <class Space>
@@ -478,7 +488,7 @@ void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveF
 }
 
 template <class Space, class G>
-BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits)
+BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits, const SampleSink<Space>* sink)
 {
   const std::vector<double> times = waypointTimes(r);
   // Bounded work: refused from the fields alone, before the curve is built or measured.
@@ -546,31 +556,54 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
   // Again with the final sample count (a stretch lengthens a sample_period's sampling).
   requireWorkWithin(estimateWork(shape, static_cast<double>(ts.size())), shape, limits);
-  out.samples.reserve(ts.size());
+  // Without a sink every sample is kept in out.samples; with one they go to it a block at a time.
+  std::vector<typename Space::Sample> block;
+  block.reserve(sink ? std::min(ts.size(), kSamplesPerBlock) : ts.size());
+  std::optional<typename Space::Sample> handed_on;  // the last sample of the blocks handed on
   for (std::size_t i = 0; i < ts.size(); ++i)
   {
     checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "sampling");
+    if (sink && block.size() == kSamplesPerBlock)
+    {
+      handed_on = block.back();
+      handOn(*sink, block);
+      block.clear();
+    }
     // The first sample from the left: the state the motion starts from (a time-optimal motion
     // from rest starts its acceleration there; timing/time_optimal.h, pathParameter).
-    out.samples.push_back(sampleAt(*curve, ts[i], i > 0 ? &out.samples.back() : nullptr,
-                                   i == 0 && ts[0] == curve->startTime() ? Side::kLeft : Side::kRight));
-    if (!allFinite(out.samples.back()))
+    const typename Space::Sample* previous = !block.empty() ? &block.back() : handed_on ? &*handed_on : nullptr;
+    block.push_back(sampleAt(*curve, ts[i], previous,
+                             i == 0 && ts[0] == curve->startTime() ? Side::kLeft : Side::kRight));
+    if (!allFinite(block.back()))
       throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
                                " s (the input is too close to a singular configuration)");
   }
+  if (!sink)
+    out.samples = std::move(block);
+  else if (!block.empty())
+    handOn(*sink, block);
   return out;
 }
 
-TrajectoryResult dispatch(const ValidatedRequest& r, const PlannerLimits& limits)
+TrajectoryResult dispatch(const ValidatedRequest& r, const PlannerLimits& limits, const SampleSink<PoseSpace>* sink)
 {
   if (r.geometry == GeometryType::kScrew)
-    return run<PoseSpace, ScrewSe3>(r, limits);
-  return run<PoseSpace, DoubleGeodesicSe3>(r, limits);
+    return run<PoseSpace, ScrewSe3>(r, limits, sink);
+  return run<PoseSpace, DoubleGeodesicSe3>(r, limits, sink);
 }
 
-SphereResult dispatch(const ValidatedSphereRequest& r, const PlannerLimits& limits)
+SphereResult dispatch(const ValidatedSphereRequest& r, const PlannerLimits& limits, const SampleSink<SphereSpace>* sink)
 {
-  return run<SphereSpace, Sphere>(r, limits);
+  return run<SphereSpace, Sphere>(r, limits, sink);
+}
+
+template <class Space>
+BasicResult<Space> generateWith(const BasicRequest<Space>& request, const PlannerLimits& limits,
+                                const SampleSink<Space>* sink)
+{
+  Deadline deadline(std::max(kDeadlineFactor * limits.max_work_seconds, kMinDeadlineSeconds), limits.max_work_seconds);
+  const ScopedDeadline scope(deadline);
+  return dispatch(validateRequest(request, limits), limits, sink);
 }
 }  // namespace
 
@@ -609,15 +642,22 @@ std::vector<double> waypointTimes(const BasicValidatedRequest<Space>& r)
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits)
 {
-  const Deadline deadline(std::max(kDeadlineFactor * limits.max_work_seconds, kMinDeadlineSeconds),
-                          limits.max_work_seconds);
-  const ScopedDeadline scope(deadline);
-  return dispatch(validateRequest(request, limits), limits);
+  return generateWith<Space>(request, limits, nullptr);
+}
+
+template <class Space>
+BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits,
+                            const SampleSink<Space>& sink)
+{
+  return generateWith<Space>(request, limits, &sink);
 }
 
 template std::vector<double> waypointTimes<PoseSpace>(const ValidatedRequest&);
 template std::vector<double> waypointTimes<SphereSpace>(const ValidatedSphereRequest&);
 template TrajectoryResult generate<PoseSpace>(const TrajectoryRequest&, const PlannerLimits&);
 template SphereResult generate<SphereSpace>(const SphereRequest&, const PlannerLimits&);
+template TrajectoryResult generate<PoseSpace>(const TrajectoryRequest&, const PlannerLimits&,
+                                              const SampleSink<PoseSpace>&);
+template SphereResult generate<SphereSpace>(const SphereRequest&, const PlannerLimits&, const SampleSink<SphereSpace>&);
 
 }  // namespace se3_interpolation

@@ -8,9 +8,11 @@
 // so the CPU time at which it passes is at most the wall time).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <ctime>
 #include <random>
 #include <string>
+#include <thread>
 
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/planner/planner.h"
@@ -61,7 +63,7 @@ std::pair<std::string, double> underDeadline(F f)
   const double start = threadSeconds();
   std::string message;
   {
-    const Deadline deadline(kDeadline, kDeadline);
+    Deadline deadline(kDeadline, kDeadline);
     const ScopedDeadline scope(deadline);
     try
     {
@@ -79,20 +81,20 @@ std::pair<std::string, double> underDeadline(F f)
 TEST(Deadline, NothingIsCheckedWithoutOne)
 {
   EXPECT_NO_THROW(checkDeadline("phase"));
-  const Deadline past(-1.0, 1.0);
+  Deadline past(-1.0, 1.0);
   {
     const ScopedDeadline scope(past);
     EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
     {
       // A later deadline inside an earlier one keeps the earlier (a request inside a caller's).
-      const Deadline future(100.0, 100.0);
+      Deadline future(100.0, 100.0);
       const ScopedDeadline inner(future);
       EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
     }
     EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
   }
   EXPECT_NO_THROW(checkDeadline("phase"));
-  const Deadline later(100.0, 100.0);
+  Deadline later(100.0, 100.0);
   const ScopedDeadline outer(later);
   EXPECT_NO_THROW(checkDeadline("phase"));
   {
@@ -102,9 +104,30 @@ TEST(Deadline, NothingIsCheckedWithoutOne)
   EXPECT_NO_THROW(checkDeadline("phase"));
 }
 
+TEST(Deadline, APauseSuspendsItAndPostponesItByItsLength)
+{
+  // 0.2 s of limit; 0.3 s spent in the caller's work between two checks.
+  const auto caller = [] { std::this_thread::sleep_for(std::chrono::milliseconds(300)); };
+  {
+    Deadline deadline(0.2, 0.2);
+    const ScopedDeadline scope(deadline);
+    caller();
+    EXPECT_THROW(checkDeadline("phase"), LimitExceededError);
+  }
+  Deadline deadline(0.2, 0.2);
+  const ScopedDeadline scope(deadline);
+  {
+    const ScopedDeadlinePause pause;
+    caller();
+    // Nothing is checked inside the pause: the caller's work is not the request's.
+    EXPECT_NO_THROW(checkDeadline("phase"));
+  }
+  EXPECT_NO_THROW(checkDeadline("phase"));
+}
+
 TEST(Deadline, MessageNamesThePhaseAndTheLimit)
 {
-  const Deadline past(-1.0, 0.25);
+  Deadline past(-1.0, 0.25);
   const ScopedDeadline scope(past);
   try
   {

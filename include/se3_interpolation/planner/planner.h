@@ -28,10 +28,22 @@
 //    `rotation_scale`, `blend_radius` and the max_linear_* bounds are refused when set.
 #pragma once
 
+#include <cstddef>
+#include <functional>
+
 #include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
+/// The most samples generate() hands to a SampleSink at once (a few hundred kB of poses).
+constexpr std::size_t kSamplesPerBlock = 2048;
+
+/// Receives generate()'s samples instead of BasicResult::samples: consecutive blocks of at most
+/// kSamplesPerBlock, in time order, on the calling thread, each valid only during the call (the
+/// memory is reused for the next). Its time does not count against the request's work limit.
+template <class Space>
+using SampleSink = std::function<void(const typename Space::Sample* first, std::size_t count)>;
+
 /// Validates, builds the curve, applies the bounds and samples it (Space: PoseSpace or
 /// SphereSpace): the whole of a `~generate` call or a CLI run, without ROS.
 /// @param request the request, field for field as in srv/GenerateTrajectory.srv (empty strings and
@@ -45,6 +57,16 @@ namespace se3_interpolation
 ///         ran past its deadline
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits);
+
+/// generate(), handing the samples to `sink` as they are computed instead of keeping them: a large
+/// output (the CLI's 10⁵ samples) then needs a block's memory, not all of it (16 MB of fresh memory
+/// at 160 bytes a pose sample). The result is the same with `samples` empty. Every error that
+/// validation, the work estimate, the curve or the timing finds is thrown before the first block;
+/// only a sample that is not finite, or the deadline passing while sampling, is thrown after some.
+/// @throws what generate() throws, and what `sink` throws
+template <class Space>
+BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits,
+                            const SampleSink<Space>& sink);
 
 /// Waypoint times: the explicit ones, else spaced by the parameterisation (docs/timing.md): chord
 /// steps are √(|Δp|² + (ρ Δθ)²) for poses and the great-circle angle on the sphere.

@@ -45,6 +45,46 @@ TEST(Planner, InterpolatingAndHermiteRequestsPassTheirWaypoints)
     }
 }
 
+TEST(Planner, ASampleSinkGetsTheSamplesGenerateKeepsInBlocksAndNothingBeforeAnError)
+{
+  // Several turns about z: the quaternion's sign follows from sample to sample across the blocks.
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  std::vector<Pose<double>> x;
+  for (int i = 0; i < 9; ++i)
+    x.emplace_back(so3Exp<double>(Eigen::Vector3d(2.5 * i * z)), Eigen::Vector3d(0.3 * i, std::sin(i), 0.0));
+  for (const char* geometry : { "screw", "double_geodesic" })
+  {
+    TrajectoryRequest r = requestThrough(x, "interpolating");
+    r.geometry = geometry;
+    r.sample_count = 3 * kSamplesPerBlock + 17;
+    const TrajectoryResult kept = generate(r, test::unhurriedLimits());
+    std::vector<TrajectorySample> streamed;
+    std::vector<std::size_t> blocks;
+    const TrajectoryResult out =
+        generate(r, test::unhurriedLimits(), SampleSink<PoseSpace>([&](const TrajectorySample* first, std::size_t n) {
+                   blocks.push_back(n);
+                   streamed.insert(streamed.end(), first, first + n);
+                 }));
+    EXPECT_TRUE(out.samples.empty());
+    EXPECT_EQ(out.duration, kept.duration);
+    EXPECT_EQ(blocks, (std::vector<std::size_t>{ kSamplesPerBlock, kSamplesPerBlock, kSamplesPerBlock, 17 }));
+    ASSERT_EQ(streamed.size(), kept.samples.size()) << geometry;
+    for (std::size_t i = 0; i < streamed.size(); ++i)
+    {
+      ASSERT_EQ(streamed[i].time, kept.samples[i].time) << geometry << " " << i;
+      ASSERT_EQ(streamed[i].pose.q.coeffs(), kept.samples[i].pose.q.coeffs()) << geometry << " " << i;
+      ASSERT_EQ(streamed[i].pose.p, kept.samples[i].pose.p) << geometry << " " << i;
+      ASSERT_EQ(streamed[i].acceleration.angular, kept.samples[i].acceleration.angular) << geometry << " " << i;
+    }
+    r.max_linear_velocity = -1.0;
+    bool called = false;
+    EXPECT_THROW(generate(r, test::unhurriedLimits(),
+                          SampleSink<PoseSpace>([&](const TrajectorySample*, std::size_t) { called = true; })),
+                 InvalidInputError);
+    EXPECT_FALSE(called);
+  }
+}
+
 TEST(Planner, RequestTwistsReachTheCurve)
 {
   std::mt19937 rng(171);
