@@ -69,6 +69,12 @@ TEST(Planner, ASampleSinkGetsTheSamplesGenerateKeepsInBlocksAndNothingBeforeAnEr
     EXPECT_EQ(out.duration, kept.duration);
     EXPECT_EQ(blocks, (std::vector<std::size_t>{ kSamplesPerBlock, kSamplesPerBlock, kSamplesPerBlock, 17 }));
     ASSERT_EQ(streamed.size(), kept.samples.size()) << geometry;
+    // A block that starts with w < 0 takes its sign from the block before (alone, it would start
+    // with w >= 0, the sign nearest the identity): the continuity across blocks is exercised.
+    bool sign_carried = false;
+    for (std::size_t b = kSamplesPerBlock; b < kept.samples.size(); b += kSamplesPerBlock)
+      sign_carried = sign_carried || kept.samples[b].pose.q.w() < 0.0;
+    EXPECT_TRUE(sign_carried) << geometry;
     for (std::size_t i = 0; i < streamed.size(); ++i)
     {
       ASSERT_EQ(streamed[i].time, kept.samples[i].time) << geometry << " " << i;
