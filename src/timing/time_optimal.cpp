@@ -238,6 +238,8 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
 {
   const std::size_t n = profile_.s.size();
   factor_.assign(n, Rates{ 1.0, 1.0, 1.0, 1.0 });
+  changed_.assign(n, 0);
+  first_change_ = first_step_ = 0;
   if (options.local_limits)
   {
     speed_cap_.assign(n, kInf);

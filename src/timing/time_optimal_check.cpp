@@ -80,14 +80,17 @@ void TimeOptimalSolver::tighten(std::size_t i, int q, double r, double margin)
   const double f = (q < 2 ? 1.0 / r : 1.0 / (r * r)) * (1.0 - margin);
   factor_[i][q] *= f;
   factor_[i + 1][q] *= f;
+  changed_[i] = changed_[i + 1] = 1;
 }
 
 bool TimeOptimalSolver::tightenWhereTheMiddlesExceed()
 {
   bool tightened = false;
-  for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
+  // The intervals before the forward pass's first recomputed step have the motion they had when an
+  // earlier round found their middles within the bounds.
+  for (std::size_t i = std::max(checkedFrom(), first_step_); i + 1 < profile_.s.size(); ++i)
   {
-    const IntervalNeeds f = intervalNeeds(i, 1.0);
+    const IntervalNeeds f = intervalNeeds(i);
     for (int q = 0; q < 4; ++q)
     {
       double r = f.at[2][q];
@@ -103,7 +106,7 @@ bool TimeOptimalSolver::tightenWhereTheMiddlesExceed()
   return tightened;
 }
 
-TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i, double near, double* worst) const
+TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i) const
 {
   IntervalNeeds f;
   f.at[0] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
@@ -112,26 +115,13 @@ TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i,
   double top = 0.0;
   for (int q = 0; q < 4; ++q)
     top = std::max({ top, f.at[0][q], f.at[2][q], f.at[4][q] });
-  if (worst != nullptr)
-    near = std::max(near, *worst = std::max(*worst, top));
-  if (check_quarters_ && top >= kQuarterFloor * near)
+  if (check_quarters_ && top >= kQuarterFloor)
   {
     f.quarters = true;
     f.at[1] = needsAtQuarter(i, 0);
     f.at[3] = needsAtQuarter(i, 1);
-    if (worst != nullptr)
-      for (int q = 0; q < 4; ++q)
-        *worst = std::max({ *worst, f.at[1][q], f.at[3][q] });
   }
   return f;
-}
-
-bool TimeOptimalSolver::mayPeakInside(const IntervalNeeds& f, int q, double threshold)
-{
-  if (!f.quarters)
-    return detail::parabolaPeaksInside(f.at[0][q], f.at[2][q], f.at[4][q], threshold);
-  return detail::parabolaPeaksInside(f.at[0][q], f.at[1][q], f.at[2][q], threshold) ||
-         detail::parabolaPeaksInside(f.at[2][q], f.at[3][q], f.at[4][q], threshold);
 }
 
 double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
@@ -141,51 +131,86 @@ double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, dou
                                    threshold, searched);
 }
 
+Rates TimeOptimalSolver::levels(const PathJet& j, double x, double u) const
+{
+  Rates r = magnitudes(j, x, u);
+  for (int c = 0; c < 2; ++c)
+  {
+    if (bounds_.velocity[c] > 0.0)
+      r[c] /= bounds_.velocity[c];
+    if (bounds_.acceleration[c] > 0.0)
+      r[2 + c] = std::sqrt(r[2 + c] / bounds_.acceleration[c]);
+  }
+  return r;
+}
+
+double TimeOptimalSolver::magnitudeOfLevel(int q, double level) const
+{
+  const int c = q % 2;
+  if (q < 2)
+    return bounds_.velocity[c] > 0.0 ? level * bounds_.velocity[c] : level;
+  return bounds_.acceleration[c] > 0.0 ? level * level * bounds_.acceleration[c] : level;
+}
+
 void TimeOptimalSolver::verifyAndStretch()
 {
   const std::size_t n = profile_.s.size();
-  // The needs at the ends, middle (and quarters) of every interval; kept only for the intervals
-  // where a parabola through them reaches the threshold of the worst need so far: the worst only
-  // grows, so no other interval is searched below (and an unsearched interval's peak, the largest
-  // of its checked needs, is at most the worst). The same intervals are searched, in the same
-  // order, as with every interval's needs held.
+  const std::vector<double>& x = profile_.x;
+  const std::vector<double>& u = profile_.u;
+  // Every rate's levels at the ends and middle of every interval; an interval is kept where the
+  // parabola through a rate's three levels peaks inside at or above that rate's largest level so
+  // far (within kRefineMargin). The largest only grows, so no interval left out is searched below
+  // (and an unsearched interval's peak, the largest of its checked levels, is at most the largest).
+  // One search per rate serves both the stretch (the bounded rates' needs) and the figures (every
+  // rate's peak: the stretch scales a rate without moving its peak, x and u alike by 1/k²).
   struct Candidate
   {
     std::size_t i;
-    IntervalNeeds f;
+    std::array<Rates, 3> at;
   };
   std::vector<Candidate> candidates;
-  double worst = 0.0;
+  Rates top{};
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-    const IntervalNeeds f = intervalNeeds(i, 0.0, &worst);
-    const double so_far = worst * (1.0 - kRefineMargin);
+    const std::array<Rates, 3> at{ levels(right_[i].raw, x[i], u[i]), levels(middle_[i], 0.5 * (x[i] + x[i + 1]), u[i]),
+                                   levels(left_[i + 1].raw, x[i + 1], u[i]) };
+    bool keep = false;
     for (int q = 0; q < 4; ++q)
-      if (mayPeakInside(f, q, so_far))
-      {
-        candidates.push_back({ i, f });
-        break;
-      }
+    {
+      top[q] = std::max({ top[q], at[0][q], at[1][q], at[2][q] });
+      keep = keep || detail::parabolaPeaksInside(at[0][q], at[1][q], at[2][q], top[q] * (1.0 - kRefineMargin));
+    }
+    if (keep)
+      candidates.push_back({ i, at });
   }
-  const double threshold = worst * (1.0 - kRefineMargin);
-  double refined = worst;
-  Rates searched{};
+  Rates peak = top;
   std::size_t count = 0;
   for (const Candidate& c : candidates)
   {
     checkDeadlineEvery(count++, kIntervalsPerSearchDeadlineCheck, kPhase);
     for (int q = 0; q < 4; ++q)
     {
-      if (!mayPeakInside(c.f, q, threshold))
+      const std::array<Rates, 3>& at = c.at;
+      if (!detail::parabolaPeaksInside(at[0][q], at[1][q], at[2][q], top[q] * (1.0 - kRefineMargin)))
         continue;
-      bool was_searched = false;
-      const double p = peak(c.f, c.i, q, threshold, &was_searched);
-      searched[q] = std::max(searched[q], p);
-      refined = std::max(refined, p);
+      const std::size_t i = c.i;
+      const auto level = [this, i, q](double lambda) {
+        const double xl = profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]);
+        return levels(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), xl, profile_.u[i])[q];
+      };
+      peak[q] = std::max(peak[q], detail::localMaxOf(level, at[0][q], at[1][q], at[2][q]));
     }
   }
-  const double k = std::max(1.0, refined);
+  double worst = 0.0;
+  for (int c = 0; c < 2; ++c)
+  {
+    if (bounds_.velocity[c] > 0.0)
+      worst = std::max(worst, peak[c]);
+    if (bounds_.acceleration[c] > 0.0)
+      worst = std::max(worst, peak[2 + c]);
+  }
+  const double k = std::max(1.0, worst);
   profile_.stretch = k;
   if (k > 1.0)
   {
@@ -199,7 +224,7 @@ void TimeOptimalSolver::verifyAndStretch()
       ui /= k * k;
     profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
   }
-  setFigures(searched, k);
+  setFigures(peak, k, true);
 }
 
 std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)
@@ -209,7 +234,7 @@ std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_mar
   for (std::size_t i = checkedFrom(); i + 1 < profile_.s.size(); ++i)
   {
     checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
-    const IntervalNeeds f = intervalNeeds(i, 1.0);
+    const IntervalNeeds f = intervalNeeds(i);
     for (int q = 0; q < 4; ++q)
     {
       bool was_searched = false;
@@ -257,15 +282,16 @@ std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, 
   return m;
 }
 
-void TimeOptimalSolver::setFigures(const Rates& searched, double k)
+void TimeOptimalSolver::setFigures(const Rates& searched, double k, bool complete)
 {
   if (!defer_figures_)
   {
-    figures(searched, k);
+    figures(searched, k, complete);
     return;
   }
   deferred_searched_ = searched;
   deferred_k_ = k;
+  deferred_complete_ = complete;
 }
 
 void TimeOptimalSolver::finishFigures(TimingProfile* p)
@@ -273,11 +299,11 @@ void TimeOptimalSolver::finishFigures(TimingProfile* p)
   // figures() reads the result through profile_ (with the grid's cached jets, which every solve
   // shares).
   profile_ = std::move(*p);
-  figures(deferred_searched_, deferred_k_);
+  figures(deferred_searched_, deferred_k_, deferred_complete_);
   *p = std::move(profile_);
 }
 
-void TimeOptimalSolver::figures(const Rates& searched, double k)
+void TimeOptimalSolver::figures(const Rates& searched, double k, bool complete)
 {
   TimingProfile& p = profile_;
   p.max_speed = { 0.0, 0.0 };
@@ -307,9 +333,9 @@ void TimeOptimalSolver::figures(const Rates& searched, double k)
   }
   // Where a parabola through an interval's checked points rises above the peak so far (within
   // kRefineMargin), the peak is searched on the exact rates: every figure is a value the motion
-  // takes, within ~1e-7 of its true peak.
+  // takes, within ~1e-7 of its true peak. The check of a motion from rest has searched them all.
   std::array<double, 4> peak{ p.max_speed[0], p.max_speed[1], p.max_acceleration[0], p.max_acceleration[1] };
-  for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
+  for (std::size_t i = 0; !complete && i + 1 < p.s.size(); ++i)
   {
     const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
     const bool quarters = i < has_quarter_.size() && has_quarter_[i];
@@ -326,15 +352,10 @@ void TimeOptimalSolver::figures(const Rates& searched, double k)
       peak[q] = std::max(peak[q], magnitudePeak(p, i, q, { a[q], qa[q], m[q], qb[q], b[q] }, quarters,
                                                 peak[q] * (1.0 - kRefineMargin)));
   }
-  p.max_speed = { peak[0], peak[1] };
-  p.max_acceleration = { peak[2], peak[3] };
   for (int c = 0; c < 2; ++c)
   {
-    if (bounds_.velocity[c] > 0.0)
-      p.max_speed[c] = std::max(p.max_speed[c], searched[c] * bounds_.velocity[c] / k);
-    if (bounds_.acceleration[c] > 0.0)
-      p.max_acceleration[c] =
-          std::max(p.max_acceleration[c], searched[2 + c] * searched[2 + c] * bounds_.acceleration[c] / (k * k));
+    p.max_speed[c] = std::max(peak[c], magnitudeOfLevel(c, searched[c]) / k);
+    p.max_acceleration[c] = std::max(peak[2 + c], magnitudeOfLevel(2 + c, searched[2 + c]) / (k * k));
   }
 }
 

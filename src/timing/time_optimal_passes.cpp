@@ -21,6 +21,8 @@ namespace
 /// Bisection of the controllable sets' upper ends: relative width (rounding level of x).
 constexpr double kBisectionTolerance = 1e-12;
 constexpr int kBisectionSteps = 200;
+/// Half the relative width of the bracket the backward pass tries around brakingLimit's estimate.
+constexpr double kBracketHalfWidth = 1e-10;
 /// The acceleration bounds' margin while braking out of a start the bounds cannot hold.
 constexpr double kRecoveryMargin = 1e-4;
 
@@ -49,7 +51,11 @@ void intersectEllipse(double alpha, double beta, double aa, double cross, double
 
 void TimeOptimalSolver::updateCaps()
 {
+  const bool all = k_.empty();
   for (std::size_t i = 0; i < profile_.s.size(); ++i)
+  {
+    if (!all && !changed_[i])
+      continue;
     for (PointData* p : { &right_[i], &left_[i] })
     {
       p->x_max = speed_cap_.empty() ? kInf : speed_cap_[i];
@@ -69,6 +75,7 @@ void TimeOptimalSolver::updateCaps()
         }
       }
     }
+  }
 }
 
 Interval TimeOptimalSolver::controls(std::size_t i, double x, double next) const
@@ -115,6 +122,31 @@ Interval TimeOptimalSolver::controlInterval(const ControlConstants& k, double x)
   return u;
 }
 
+double TimeOptimalSolver::brakingLimit(const ControlConstants& k)
+{
+  // With r = √(α A² − cross x²) the ellipse's lowest control is u = (−x β − r)/α, and
+  // x + 2Δ u = next reads x c − next = m r, c = 1 − 2Δβ/α, m = 2Δ/α: squared, the quadratic
+  // (c² + m² cross) x² − 2 c next x + next² − m² α A² = 0, of which the larger root with x c ≥ next.
+  double limit = kInf;
+  for (int j = 0; j < k.ellipses; ++j)
+  {
+    const std::array<double, 5>& e = k.ellipse[j];
+    const double alpha = e[0], beta = e[1], cross = e[3], a2 = e[4];
+    if (!(alpha > 0.0))
+      continue;
+    const double m = k.two_delta / alpha;
+    const double c = 1.0 - m * beta;
+    const double quadratic = c * c + m * m * cross;
+    const double discriminant = m * m * (c * c * alpha * a2 - cross * k.next * k.next + m * m * cross * alpha * a2);
+    if (!(quadratic > 0.0) || !(discriminant >= 0.0))
+      continue;
+    const double root = (c * k.next + std::sqrt(discriminant)) / quadratic;
+    if (root * c >= k.next)
+      limit = std::min(limit, root);
+  }
+  return limit;
+}
+
 bool TimeOptimalSolver::admissible(const ControlConstants& k, double x)
 {
   return !controlInterval(k, x).isEmpty();
@@ -124,14 +156,23 @@ void TimeOptimalSolver::backward()
 {
   const std::size_t n = profile_.s.size();
   // Tightening only shrinks the sets: a later pass starts from the previous one's.
-  const std::vector<double> previous = k_.empty() ? std::vector<double>(n, kInf) : k_;
+  const bool all = k_.empty();
+  const std::vector<double> previous = all ? std::vector<double>(n, kInf) : k_;
   k_.assign(n, 0.0);
+  first_change_ = all ? 0 : n - 1;
   for (std::size_t i = n - 1; i-- > 0;)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
     // K_0 = {0} for a start at rest; a moving start needs the whole controllable set at s_0.
     if (corner_[i] || (i == 0 && !(start_x_ > 0.0)))
       continue;
+    if (!all && !changed_[i] && !changed_[i + 1] && k_[i + 1] == previous[i + 1])
+    {
+      // The same constraints and next set as in the pass that found previous[i], which is admissible
+      // for them (or 0) and within x_max: the computation below would return it again.
+      k_[i] = previous[i];
+      continue;
+    }
     const double next = nextLimit(i);
     const ControlConstants constants = controlConstants(i, next);
     auto admissible = [&](double x) { return TimeOptimalSolver::admissible(constants, x); };
@@ -154,6 +195,25 @@ void TimeOptimalSolver::backward()
                                 formatNumber(profile_.s[i]) + " s (set max_linear_velocity or max_angular_velocity)");
     }
     double lo = 0.0;
+    // Usually braking at an acceleration bound decides k_i: a bracket of relative width 2e-10 around
+    // where it does (brakingLimit) leaves the bisection 8 steps instead of 40. Where that bracket
+    // does not hold (another constraint decides), the bisection runs on what it did establish.
+    const double guess = std::min(brakingLimit(constants), hi);
+    if (guess > 0.0 && std::isfinite(guess))
+    {
+      const double below = guess * (1.0 - kBracketHalfWidth);
+      const double above = guess * (1.0 + kBracketHalfWidth);
+      if (admissible(below))
+      {
+        lo = below;
+        if (above < hi && !admissible(above))
+          hi = above;
+      }
+      else
+      {
+        hi = below;
+      }
+    }
     for (int step = 0; step < kBisectionSteps && hi - lo > kBisectionTolerance * hi; ++step)
     {
       const double mid = 0.5 * (lo + hi);
@@ -161,6 +221,11 @@ void TimeOptimalSolver::backward()
     }
     k_[i] = lo;
   }
+  if (!all)
+    for (std::size_t i = 0; i < n && i < first_change_; ++i)
+      if (changed_[i] || k_[i] != previous[i])
+        first_change_ = i;
+  std::fill(changed_.begin(), changed_.end(), 0);
 }
 
 void TimeOptimalSolver::forward()
@@ -169,13 +234,20 @@ void TimeOptimalSolver::forward()
   std::vector<double>& x = profile_.x;
   std::vector<double>& u = profile_.u;
   std::vector<double>& t = profile_.t;
-  x.assign(n, 0.0);
-  u.assign(n - 1, 0.0);
-  t.assign(n, profile_.s.front());
-  x[0] = start_x_;
-  recovery_end_ = 0;
-  profile_.recovery_excess = 0.0;
-  for (std::size_t i = 0; i + 1 < n; ++i)
+  // Step i reads x_i and the data of points i and i + 1: after a pass without a recovery, the steps
+  // before the first changed point's are those of the previous pass (the same x, u and t).
+  const bool again = x.size() == n && recovery_end_ == 0 && profile_.recovery_excess == 0.0;
+  first_step_ = again && first_change_ > 0 ? first_change_ - 1 : 0;
+  if (first_step_ == 0)
+  {
+    x.assign(n, 0.0);
+    u.assign(n - 1, 0.0);
+    t.assign(n, profile_.s.front());
+    x[0] = start_x_;
+    recovery_end_ = 0;
+    profile_.recovery_excess = 0.0;
+  }
+  for (std::size_t i = first_step_; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
     const double d = delta(i);
@@ -205,8 +277,11 @@ void TimeOptimalSolver::forward()
         // Braking at the acceleration bounds, which hold at the interval's ends: a margin for
         // its interior, which no later pass checks.
         for (std::size_t j : { i, i + 1 })
+        {
           for (int c = 2; c < 4; ++c)
             factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
+          changed_[j] = 1;
+        }
         const Interval free = controls(i, x[i], kInf);
         if (free.isEmpty())
         {

@@ -134,7 +134,8 @@ private:
   double velocityBound(std::size_t i, int c) const { return bounds_.velocity[c] * factor_[i][c]; }
   double accelerationBound(std::size_t i, int c) const { return bounds_.acceleration[c] * factor_[i][2 + c]; }
 
-  /// x_max of both sides of every point with the current local factors.
+  /// x_max of both sides of every point with the current local factors (after the first pass: of
+  /// the points whose factors changed).
   void updateCaps();
 
   double delta(std::size_t i) const { return profile_.s[i + 1] - profile_.s[i]; }
@@ -163,6 +164,11 @@ private:
   /// The admissible controls at x from the constants, the ellipses intersected in order; stops as
   /// soon as the interval is empty (it only shrinks).
   static Interval controlInterval(const ControlConstants& k, double x);
+
+  /// The largest x from which braking at each acceleration ellipse's lowest control still reaches
+  /// x_{i+1} ≤ next (the smallest over the ellipses; ∞ where none limits): where the acceleration
+  /// bounds decide the controllable set's upper end, that end. An estimate the caller verifies.
+  static double brakingLimit(const ControlConstants& k);
 
   /// Whether controls(i, x, next) is non-empty, from its constants.
   static bool admissible(const ControlConstants& k, double x);
@@ -218,23 +224,27 @@ private:
   };
 
   /// The needs of interval i at its ends and middle, and, for a motion that starts moving
-  /// (check_quarters_), at its quarters where one of those comes within kQuarterFloor of `near`
+  /// (check_quarters_), at its quarters where one of those comes within kQuarterFloor of its bound
   /// (a rate near its bound may rise above it between the three points and fall back before the
-  /// middle: the parabola through them cannot see that). The largest need seen so far is raised
-  /// to the interval's (`*worst`, when given).
-  IntervalNeeds intervalNeeds(std::size_t i, double near, double* worst = nullptr) const;
-
-  /// Whether need q of an interval may peak inside it at or above `threshold` (the parabola
-  /// through its ends and middle, or through either half's three points, peaks inside).
-  static bool mayPeakInside(const IntervalNeeds& f, int q, double threshold);
+  /// middle: the parabola through them cannot see that).
+  IntervalNeeds intervalNeeds(std::size_t i) const;
 
   /// The peak of need q on interval i: the largest of its checked points, or, where a parabola
-  /// through them peaks inside at or above `threshold` (mayPeakInside), the maximum found by
-  /// detail::localMaxOfChecked on the exact rates.
+  /// through them (or through either half's three, with the quarters) peaks inside at or above
+  /// `threshold`, the maximum found by detail::localMaxOfChecked on the exact rates.
   double peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const;
 
-  /// The final check of a motion from rest: the peaks of every interval, then the uniform
-  /// stretch k ≥ 1 that brings the worst within its bound.
+  /// A rate's level: its need (needs()) where it is bounded, its magnitude (magnitudes()) where
+  /// not; monotone in the rate, so that one search of a level finds the rate's peak for both the
+  /// check and the figures.
+  Rates levels(const PathJet& j, double x, double u) const;
+
+  /// The magnitude (|v| or |a|, q as magnitudes()) whose level is `level`.
+  double magnitudeOfLevel(int q, double level) const;
+
+  /// The final check of a motion from rest: the peak level of every rate on every interval, then
+  /// the uniform stretch k ≥ 1 that brings the worst need within its bound; the peaks, scaled by
+  /// the stretch, are the figures' maxima.
   void verifyAndStretch();
 
   /// The peaks of the intervals after the recovery, searched where they come within
@@ -253,11 +263,12 @@ private:
   static std::array<double, 4> magnitudes(const PathJet& j, double x, double u);
 
   /// The timed motion's figures (TimingProfile::max_speed, …) from the cached jets; `searched`:
-  /// the largest needs found inside intervals, before the stretch k.
-  void figures(const Rates& searched, double k);
+  /// the largest levels (levels()) found inside intervals, before the stretch k. `complete`: they
+  /// are every rate's peak on the whole motion (verifyAndStretch), which no further search raises.
+  void figures(const Rates& searched, double k, bool complete);
 
-  /// figures(searched, k), or keeps its arguments for finishFigures (deferFigures).
-  void setFigures(const Rates& searched, double k);
+  /// figures(searched, k, complete), or keeps its arguments for finishFigures (deferFigures).
+  void setFigures(const Rates& searched, double k, bool complete = false);
 
   /// Largest |v| or |a| (q, as magnitudes()) on interval i of profile `p`, from its values at the
   /// ends and middle (and the quarters, where quarterJet has them), searched where a parabola
@@ -281,6 +292,7 @@ private:
   bool defer_figures_ = false;
   Rates deferred_searched_{};  ///< figures()'s arguments of the last solve when deferred
   double deferred_k_ = 1.0;
+  bool deferred_complete_ = false;
   std::vector<PointData> right_;
   std::vector<PointData> left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
@@ -292,6 +304,13 @@ private:
   std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
   std::vector<double> u_cap_;      ///< the caller's cap on |u| at each grid point (empty: none)
   std::vector<double> k_;        ///< upper ends of the controllable sets
+  /// The passes after the first recompute only what a tightening changed: the points whose local
+  /// factors changed since the last backward pass (tighten, the recovery), the first point whose
+  /// controllable set or factors changed in it, and the forward pass's first recomputed step (the
+  /// steps before it are the previous pass's).
+  std::vector<char> changed_;
+  std::size_t first_change_ = 0;
+  std::size_t first_step_ = 0;
 };
 
 }  // namespace time_optimal_detail

@@ -10,15 +10,33 @@
 #include <cmath>
 #include <vector>
 
+#include <type_traits>
+
+#include "se3_interpolation/curves/chart_cubic.h"
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/geometry/geometry.h"
 
 namespace se3_interpolation
 {
+/// Whether the geometry G gives the kinematics of its exp in closed form (G::expKinematics, as
+/// DoubleGeodesicSe3 does).
+template <class G, class = void>
+struct HasExpKinematics : std::false_type
+{
+};
+template <class G>
+struct HasExpKinematics<G, std::void_t<decltype(&G::expKinematics)>> : std::true_type
+{
+};
+
 /// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint).
 template <class G>
 Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
+  // The C² spline's pieces in a geometry whose exp has closed-form kinematics: without the jets.
+  if constexpr (HasExpKinematics<G>::value)
+    if (const auto* chart = dynamic_cast<const ChartCubicSpline<G>*>(&curve))
+      return chart->kinematics(t, side);
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }
 

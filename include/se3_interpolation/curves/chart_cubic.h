@@ -197,6 +197,24 @@ public:
     return G::exp(G::template cast<S>(points_[i]), p);
   }
 
+  /// The kinematics at t in closed form, where the geometry gives them for its exp (G::expKinematics):
+  /// the cubic's tangent and its two time derivatives (the Hermite basis differentiated, d/dt =
+  /// (1/h) d/du) mapped through them. Equal to kinematicsFromJet(jet(t)) to rounding (tested).
+  Kinematics kinematics(double t, Side side) const
+  {
+    const std::size_t i = findInterval(times_, t, side);
+    const double h = times_[i + 1] - times_[i];
+    const double u = (t - times_[i]) / h;
+    const Tangent s = start_rates_[i] * h;
+    const Tangent e = end_rates_[i] * h;
+    const Tangent& l = logs_[i];
+    const double one_minus = 1.0 - u;
+    const Tangent v = s * (u * one_minus * one_minus) + l * (u * u * (3.0 - 2.0 * u)) + e * (u * u * (u - 1.0));
+    const Tangent dv = (s * (1.0 - 4.0 * u + 3.0 * u * u) + l * (6.0 * u * one_minus) + e * (u * (3.0 * u - 2.0))) / h;
+    const Tangent ddv = (s * (6.0 * u - 4.0) + l * (6.0 - 12.0 * u) + e * (6.0 * u - 2.0)) / (h * h);
+    return G::expKinematics(points_[i], v, dv, ddv);
+  }
+
   double startTime() const override { return times_.front(); }
   double endTime() const override { return times_.back(); }
   std::vector<double> breakpoints() const override { return times_; }

@@ -44,6 +44,38 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
     return Point<Jet<2>>(detail::rotationLineJet(q, omega, alpha),
                          detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(), alpha));
   }
+  /// The kinematics (world frame) of t ↦ exp(a, v(t)) from the tangent v and its first two time
+  /// derivatives v̇, v̈, in closed form: p = p_a + Δp, ṗ = Δṗ, p̈ = Δp̈; R = R_a Exp(φ), whose spatial
+  /// angular velocity is ω = R_a V(φ) φ̇ (V the left Jacobian of SO(3), lie_groups.h's screwV:
+  /// d/dt Exp(φ) Exp(φ)ᵀ = [V(φ) φ̇]×). With V(φ) w = w + A φ × w + B φ × (φ × w) and x = |φ|²,
+  ///   ω̇ = R_a (φ̈ + Ȧ φ × φ̇ + A φ × φ̈ + Ḃ φ × (φ × φ̇) + B (φ̇ × (φ × φ̇) + φ × (φ × φ̈))),
+  /// Ȧ = A′(x) ẋ, Ḃ = B′(x) ẋ, ẋ = 2 φ · φ̇ (detail::screwCoefficients). What the second-order
+  /// jet of exp and kinematicsFromJet give (tested to rounding), without the quaternion jets'
+  /// products: the time-optimal timing's path jets at every grid point.
+  static Kinematics expKinematics(const Point<double>& a, const Tangent<double>& v, const Tangent<double>& dv,
+                                  const Tangent<double>& ddv)
+  {
+    const Vector3<double> phi = v.head<3>();
+    const Vector3<double> dphi = dv.head<3>();
+    const Vector3<double> ddphi = ddv.head<3>();
+    const detail::ScrewCoefficients coefficients = detail::screwCoefficients(phi.squaredNorm());
+    const double dx = 2.0 * phi.dot(dphi);
+    const Vector3<double> wv = phi.cross(dphi);
+    const Vector3<double> wwv = phi.cross(wv);
+    const Vector3<double> wa = phi.cross(ddphi);
+    Kinematics out;
+    const double k = coefficients.sin_half_over_theta;
+    out.pose.q = a.q * Quaternion<double>(coefficients.cos_half, k * phi.x(), k * phi.y(), k * phi.z());
+    out.pose.p = a.p + v.tail<3>();
+    const Eigen::Matrix3d r_a = a.q.toRotationMatrix();
+    out.velocity.angular = r_a * Vector3<double>(dphi + coefficients.a * wv + coefficients.b * wwv);
+    const Vector3<double> dw = ddphi + (coefficients.da * dx) * wv + coefficients.a * wa +
+                               (coefficients.db * dx) * wwv + coefficients.b * (dphi.cross(wv) + phi.cross(wa));
+    out.acceleration.angular = r_a * dw;
+    out.velocity.linear = dv.tail<3>();
+    out.acceleration.linear = ddv.tail<3>();
+    return out;
+  }
 };
 
 template <>

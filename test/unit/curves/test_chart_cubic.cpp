@@ -1,10 +1,12 @@
 // curves/chart_cubic.h: the transition derivatives of the chart cubics against the right Jacobian
-// and finite differences of the chart.
+// and finite differences of the chart; the closed-form kinematics of a double-geodesic chart cubic
+// against its second-order jets.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
 #include <random>
 
+#include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/chart_cubic.h"
 #include "spline_test_utils.h"
 #include "test_utils.h"
@@ -42,5 +44,63 @@ TEST(ChartCubic, TransitionDerivativesAreTheRightJacobianAndTheSecondDerivativeO
     const Eigen::Vector3d u = test::randomUnitVector<3>(rng);
     const Eigen::Vector3d dq = (d.quadraticForm(w + 1e-4 * u) - d.quadraticForm(w - 1e-4 * u)) / 2e-4;
     EXPECT_LT((d.quadraticJacobian(w) * u - dq).norm(), 1e-8 * (1.0 + dq.norm()));
+  }
+}
+
+TEST(ChartCubic, ClosedFormKinematicsAreTheSecondOrderJetsOnes)
+{
+  // ChartCubicSpline<DoubleGeodesicSe3>::kinematics (DoubleGeodesicSe3::expKinematics) against
+  // kinematicsFromJet of the same spline's second-order jet, which evaluates exp in Taylor
+  // arithmetic: every piece, both sides of every breakpoint and random interior times; segment
+  // rotations of angle 0, 1e-9, 1e-4, at the series switch (0.2), 1, 3 and π − 1e-9; end rates from
+  // 0 to large (chart vectors beyond π inside a segment); times with ratios up to 10³.
+  std::mt19937 rng(2026);
+  const std::vector<double> angles{ 0.0, 1e-9, 1e-4, 0.2, 1.0, 3.0, 3.14159265358979323846 - 1e-9 };
+  for (int trial = 0; trial < 6; ++trial)
+  {
+    const std::size_t n = angles.size() + 1;
+    std::vector<Pose<double>> points{ test::randomPose(rng) };
+    std::vector<double> times{ 0.0 };
+    std::vector<Vector6<double>> logs, starts, ends;
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      const double angle = angles[(i + static_cast<std::size_t>(trial)) % angles.size()];
+      points.push_back(points.back() *
+                       Pose<double>(so3Exp<double>(Eigen::Vector3d(angle * test::randomUnitVector<3>(rng))),
+                                    Eigen::Vector3d(test::randomUnitVector<3>(rng))));
+      times.push_back(times.back() + std::pow(10.0, std::uniform_real_distribution<double>(-1.5, 1.5)(rng)));
+      logs.push_back(DoubleGeodesicSe3::log(points[i], points[i + 1]));
+      const double scale = trial == 0 ? 0.0 : 0.5 * trial;
+      const Twist s = randomTwist(rng, scale), e = randomTwist(rng, scale);
+      starts.push_back((Vector6<double>() << s.angular, s.linear).finished());
+      ends.push_back((Vector6<double>() << e.angular, e.linear).finished());
+    }
+    const ChartCubicSpline<DoubleGeodesicSe3> spline(points, times, logs, starts, ends);
+    std::vector<std::pair<double, Side>> at;
+    for (std::size_t i = 0; i < n; ++i)
+      for (Side side : { Side::kLeft, Side::kRight })
+        at.emplace_back(times[i], side);
+    for (int k = 0; k < 40; ++k)
+      at.emplace_back(std::uniform_real_distribution<double>(times.front(), times.back())(rng), Side::kRight);
+    for (const auto& [t, side] : at)
+    {
+      const Kinematics closed = spline.kinematics(t, side);
+      const Kinematics jets = kinematicsFromJet(spline.jet(Jet<2>::variable(t), side));
+      const auto near = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+        return (a - b).norm() <= 1e-12 * (1.0 + b.norm());
+      };
+      EXPECT_TRUE(near(closed.velocity.linear, jets.velocity.linear)) << "t = " << t;
+      EXPECT_TRUE(near(closed.acceleration.linear, jets.acceleration.linear)) << "t = " << t;
+      EXPECT_TRUE(near(closed.velocity.angular, jets.velocity.angular))
+          << "t = " << t << ": " << closed.velocity.angular.transpose() << " vs " << jets.velocity.angular.transpose();
+      EXPECT_TRUE(near(closed.acceleration.angular, jets.acceleration.angular))
+          << "t = " << t << ": " << closed.acceleration.angular.transpose() << " vs "
+          << jets.acceleration.angular.transpose();
+      EXPECT_TRUE(near(closed.pose.p, jets.pose.p)) << "t = " << t;
+      EXPECT_LT(closed.pose.q.angularDistance(jets.pose.q), 1e-12) << "t = " << t;
+      // kinematicsAt takes the closed form for this curve (the timings' path jets).
+      const Kinematics dispatched = kinematicsAt<DoubleGeodesicSe3>(spline, t, side);
+      EXPECT_EQ(dispatched.acceleration.angular, closed.acceleration.angular);
+    }
   }
 }

@@ -232,3 +232,47 @@ TEST(So3Slerp, ExactlyPiIsNotUnique)
   const Quaternion<double> b = a * Quaternion<double>(0.0, 0.0, 1.0, 0.0);
   EXPECT_THROW(so3Slerp(a, b, 0.5), NonUniqueGeodesicError);
 }
+
+TEST(ScrewCoefficients, RatesAreTheDerivativesOfAAndBOnBothSidesOfTheSeriesSwitch)
+{
+  // dA/dx and dB/dx (x = θ²) against references written here in long double: the θ-derivatives of
+  // A = (1 − cos θ)/θ² and B = (θ − sin θ)/θ³ divided by dx/dθ = 2θ where they do not cancel
+  // (θ ≥ 1.5), their Taylor series summed to 20 terms below; at angle 0, across the switch at
+  // θ² = 1, up to θ = π − 1e-9 and beyond (the chart cubic's tangents may exceed π).
+  const auto reference = [](long double x, long double* da, long double* db) {
+    if (x >= 2.25L)
+    {
+      const long double t = std::sqrt(x);
+      *da = (t * std::sin(t) - 2.0L * (1.0L - std::cos(t))) / (2.0L * x * x);
+      *db = ((1.0L - std::cos(t)) * t - 3.0L * (t - std::sin(t))) / (2.0L * x * x * t);
+      return;
+    }
+    *da = *db = 0.0L;
+    long double factorial = 2.0L;  // (2k + 2)! at k = 0
+    long double power = 1.0L;      // x^(k − 1) at k = 1
+    for (int k = 1; k < 20; ++k)
+    {
+      factorial *= (2.0L * k + 1.0L) * (2.0L * k + 2.0L);
+      const long double sign = k % 2 == 0 ? 1.0L : -1.0L;
+      *da += sign * k * power / factorial;
+      *db += sign * k * power / (factorial * (2.0L * k + 3.0L));
+      power *= x;
+    }
+  };
+  std::vector<double> xs{ 0.0, 1e-18, 1e-8, 1e-4, 0.01, 0.02, 0.04, 0.1, 0.5, 1.0 - 1e-12, 1.0, 1.0 + 1e-12, 1.5, 4.0 };
+  const double pi = 3.14159265358979323846;
+  xs.push_back((pi - 1e-9) * (pi - 1e-9));
+  xs.push_back(30.0);
+  std::mt19937 rng(7);
+  for (int i = 0; i < 40; ++i)
+    xs.push_back(std::uniform_real_distribution<double>(0.0, 12.0)(rng));
+  for (const double x : xs)
+  {
+    const detail::ScrewCoefficients coefficients = detail::screwCoefficients(x);
+    const double da = coefficients.da, db = coefficients.db;
+    long double ra, rb;
+    reference(x, &ra, &rb);
+    EXPECT_NEAR(da, static_cast<double>(ra), 3e-14 * std::abs(static_cast<double>(ra))) << "x = " << x;
+    EXPECT_NEAR(db, static_cast<double>(rb), 3e-14 * std::abs(static_cast<double>(rb))) << "x = " << x;
+  }
+}
