@@ -18,6 +18,12 @@ namespace detail
 /// value is then exact to ~(1e-7)² relative.
 constexpr int kLocalMaxSteps = 12;
 constexpr double kLocalMaxTolerance = 1e-7;
+/// It also stops, after its first step, where the parabola through its bracket promises less than
+/// this (relative) above the best value found: the value is what the search is for, and near a
+/// smooth maximum the parabola's error is far below its promise. (The time-optimal timing's final
+/// check on a 1000-waypoint line: 50 000 path jets in its searches before this rule, 4 200
+/// after, the same duration and figures to 12 digits.)
+constexpr double kLocalMaxValueTolerance = 1e-13;
 
 /// Whether the parabola through (0, f0), (½, fm), (1, f1), f0 + c1 λ + c2 λ², has a maximum
 /// inside the interval at or above `threshold` (where a rate could rise above the checked points).
@@ -46,6 +52,16 @@ double localMaxOf(F value, double f0, double fm, double f1)
     const double d2 = (l[1] - l[2]) * (f[1] - f[0]);
     const double den = 2.0 * (d1 - d2);
     double next = den != 0.0 ? l[1] - ((l[1] - l[0]) * d1 - (l[1] - l[2]) * d2) / den : -1.0;
+    if (step > 0 && next > l[0] && next < l[2])
+    {
+      // The parabola's value at its vertex (Newton's form through the bracket): where it promises
+      // less than kLocalMaxValueTolerance above the best, the maximum is found to that.
+      const double a1 = (f[1] - f[0]) / (l[1] - l[0]);
+      const double a2 = ((f[2] - f[1]) / (l[2] - l[1]) - a1) / (l[2] - l[0]);
+      const double promised = f[0] + (next - l[0]) * (a1 + a2 * (next - l[1]));
+      if (promised - best <= kLocalMaxValueTolerance * std::abs(best))
+        break;
+    }
     if (!(next > l[0] && next < l[2]) || next == l[1])
       next = l[2] - l[1] > l[1] - l[0] ? l[1] + 0.381966 * (l[2] - l[1]) : l[1] - 0.381966 * (l[1] - l[0]);
     const double fn = value(next);
