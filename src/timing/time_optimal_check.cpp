@@ -28,24 +28,21 @@ constexpr double kRefineMargin = 1e-3;
 
 Rates TimeOptimalSolver::needs(const PathJet& j, double x, double u) const
 {
-  Rates r{};
+  Rates r = levels(j, x, u);
   for (int c = 0; c < 2; ++c)
   {
-    if (bounds_.velocity[c] > 0.0)
-      r[c] = std::sqrt(j[c].bb * x) / bounds_.velocity[c];
-    if (bounds_.acceleration[c] > 0.0)
-    {
-      const double a2 = j[c].aa * x * x + 2.0 * j[c].ab * x * u + j[c].bb * u * u;
-      r[2 + c] = std::sqrt(std::sqrt(std::max(0.0, a2)) / bounds_.acceleration[c]);
-    }
+    if (!(bounds_.velocity[c] > 0.0))
+      r[c] = 0.0;
+    if (!(bounds_.acceleration[c] > 0.0))
+      r[2 + c] = 0.0;
   }
   return r;
 }
 
-Rates TimeOptimalSolver::needsAt(std::size_t i, double lambda) const
+Rates TimeOptimalSolver::levelsAt(std::size_t i, double lambda) const
 {
   const double x = profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]);
-  return needs(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), x, profile_.u[i]);
+  return levels(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), x, profile_.u[i]);
 }
 
 Rates TimeOptimalSolver::needsAtMiddle(std::size_t i) const
@@ -127,7 +124,7 @@ TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i)
 double TimeOptimalSolver::peak(const IntervalNeeds& f, std::size_t i, int q, double threshold, bool* searched) const
 {
   const std::array<double, 5> at{ f.at[0][q], f.at[1][q], f.at[2][q], f.at[3][q], f.at[4][q] };
-  return detail::localMaxOfChecked([this, i, q](double lambda) { return needsAt(i, lambda)[q]; }, at, f.quarters,
+  return detail::localMaxOfChecked([this, i, q](double lambda) { return levelsAt(i, lambda)[q]; }, at, f.quarters,
                                    threshold, searched);
 }
 
@@ -195,10 +192,7 @@ void TimeOptimalSolver::verifyAndStretch()
       if (!detail::parabolaPeaksInside(at[0][q], at[1][q], at[2][q], top[q] * (1.0 - kRefineMargin)))
         continue;
       const std::size_t i = c.i;
-      const auto level = [this, i, q](double lambda) {
-        const double xl = profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]);
-        return levels(path_.jet(profile_.s[i] + lambda * delta(i), Side::kRight), xl, profile_.u[i])[q];
-      };
+      const auto level = [this, i, q](double lambda) { return levelsAt(i, lambda)[q]; };
       peak[q] = std::max(peak[q], detail::localMaxOf(level, at[0][q], at[1][q], at[2][q]));
     }
   }

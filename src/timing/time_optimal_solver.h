@@ -192,11 +192,9 @@ private:
   double leastAccelerationControl(std::size_t i, double x, double d) const;
 
   // The final dense check, the tightening and the figures (time_optimal_check.cpp).
-  /// The stretch each bounded rate would need at a point: |v|/v_max, √(|a|/a_max).
+  /// The stretch each bounded rate would need at a point: |v|/v_max, √(|a|/a_max) (its level);
+  /// 0 for the unbounded.
   Rates needs(const PathJet& j, double x, double u) const;
-
-  /// The needs at s_i + λ Δ_i (x is linear in s on the interval, u constant).
-  Rates needsAt(std::size_t i, double lambda) const;
 
   Rates needsAtMiddle(std::size_t i) const;
 
@@ -238,6 +236,10 @@ private:
   /// not; monotone in the rate, so that one search of a level finds the rate's peak for both the
   /// check and the figures.
   Rates levels(const PathJet& j, double x, double u) const;
+
+  /// The levels at s_i + λ Δ_i, from the path's jet there (x is linear in s on the interval, u
+  /// constant): what the peak searches evaluate.
+  Rates levelsAt(std::size_t i, double lambda) const;
 
   /// The magnitude (|v| or |a|, q as magnitudes()) whose level is `level`.
   double magnitudeOfLevel(int q, double level) const;
