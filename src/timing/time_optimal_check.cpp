@@ -87,20 +87,28 @@ bool TimeOptimalSolver::tightenWhereTheMiddlesExceed()
   // earlier round found their middles within the bounds.
   for (std::size_t i = std::max(checkedFrom(), first_step_); i + 1 < profile_.s.size(); ++i)
   {
-    const IntervalNeeds f = intervalNeeds(i);
+    const Rates inside = needsInside(i);
     for (int q = 0; q < 4; ++q)
-    {
-      double r = f.at[2][q];
-      if (f.quarters)
-        r = std::max({ r, f.at[1][q], f.at[3][q] });
-      if (r > 1.0 + kLocalTolerance)
+      if (inside[q] > 1.0 + kLocalTolerance)
       {
-        tighten(i, q, r, 0.0);
+        tighten(i, q, inside[q], 0.0);
         tightened = true;
       }
-    }
   }
   return tightened;
+}
+
+Rates TimeOptimalSolver::needsInside(std::size_t i) const
+{
+  // (Without the quarters the ends' needs decide nothing here: the middle's alone.)
+  if (!check_quarters_)
+    return needsAtMiddle(i);
+  const IntervalNeeds f = intervalNeeds(i);
+  Rates r = f.at[2];
+  if (f.quarters)
+    for (int q = 0; q < 4; ++q)
+      r[q] = std::max({ r[q], f.at[1][q], f.at[3][q] });
+  return r;
 }
 
 TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i) const
@@ -165,13 +173,23 @@ void TimeOptimalSolver::verifyAndStretch()
     std::size_t i;
     std::array<Rates, 3> at;
   };
+  // The acceleration energy comes from the same levels, as the figures would take it (its
+  // magnitudes at the three points).
   std::vector<Candidate> candidates;
   Rates top{};
+  Energy energy{};
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
     const std::array<Rates, 3> at{ levels(right_[i].raw, x[i], u[i]), levels(middle_[i], 0.5 * (x[i] + x[i + 1]), u[i]),
                                    levels(left_[i + 1].raw, x[i + 1], u[i]) };
+    const std::array<double, 3> w = energyWeights(profile_, i);
+    for (int c = 0; c < 2; ++c)
+    {
+      const int q = 2 + c;
+      energy[c] += energyOfInterval(w, magnitudeOfLevel(q, at[0][q]), magnitudeOfLevel(q, at[1][q]),
+                                    magnitudeOfLevel(q, at[2][q]));
+    }
     bool keep = false;
     for (int q = 0; q < 4; ++q)
     {
@@ -218,7 +236,7 @@ void TimeOptimalSolver::verifyAndStretch()
       ui /= k * k;
     profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
   }
-  setFigures(peak, k, true);
+  setFigures(peak, k, energy);
 }
 
 std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)
@@ -276,16 +294,16 @@ std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, 
   return m;
 }
 
-void TimeOptimalSolver::setFigures(const Rates& searched, double k, bool complete)
+void TimeOptimalSolver::setFigures(const Rates& searched, double k, const std::optional<Energy>& energy)
 {
   if (!defer_figures_)
   {
-    figures(searched, k, complete);
+    figures(searched, k, energy);
     return;
   }
   deferred_searched_ = searched;
   deferred_k_ = k;
-  deferred_complete_ = complete;
+  deferred_energy_ = energy;
 }
 
 void TimeOptimalSolver::finishFigures(TimingProfile* p)
@@ -293,13 +311,42 @@ void TimeOptimalSolver::finishFigures(TimingProfile* p)
   // figures() reads the result through profile_ (with the grid's cached jets, which every solve
   // shares).
   profile_ = std::move(*p);
-  figures(deferred_searched_, deferred_k_, deferred_complete_);
+  figures(deferred_searched_, deferred_k_, deferred_energy_);
   *p = std::move(profile_);
 }
 
-void TimeOptimalSolver::figures(const Rates& searched, double k, bool complete)
+std::array<double, 3> TimeOptimalSolver::energyWeights(const TimingProfile& p, std::size_t i) const
+{
+  // Nodes 0, τ_m (the time at the middle of the interval in s), h.
+  const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
+  const double h = p.t[i + 1] - p.t[i];
+  const double tm = delta(i) / (std::sqrt(p.x[i]) + std::sqrt(x_mid));
+  // The integral of the quadratic through (0, g0), (τ_m, g_m), (h, g1): Lagrange weights.
+  if (!(h > 0.0 && tm > 0.0 && tm < h))
+    return { 0.0, 0.0, 0.0 };
+  return { h * (3.0 * tm - h) / (6.0 * tm), h * h * h / (6.0 * tm * (h - tm)), h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) };
+}
+
+double TimeOptimalSolver::energyOfInterval(const std::array<double, 3>& w, double a, double m, double b)
+{
+  return w[0] * a * a + w[1] * m * m + w[2] * b * b;
+}
+
+void TimeOptimalSolver::figures(const Rates& searched, double k, const std::optional<Energy>& energy)
 {
   TimingProfile& p = profile_;
+  if (energy)
+  {
+    // The check of a motion from rest has every rate's peak and the energy before the stretch k:
+    // velocities scale by 1/k, accelerations by 1/k², times by k, so the energy by 1/k³.
+    for (int c = 0; c < 2; ++c)
+    {
+      p.max_speed[c] = magnitudeOfLevel(c, searched[c]) / k;
+      p.max_acceleration[c] = magnitudeOfLevel(2 + c, searched[2 + c]) / (k * k);
+      p.acceleration_energy[c] = (*energy)[c] / (k * k * k);
+    }
+    return;
+  }
   p.max_speed = { 0.0, 0.0 };
   p.max_acceleration = { 0.0, 0.0 };
   p.acceleration_energy = { 0.0, 0.0 };
@@ -310,26 +357,19 @@ void TimeOptimalSolver::figures(const Rates& searched, double k, bool complete)
     const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
     const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
     const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
-    // Nodes 0, τ_m (the time at the middle of the interval in s), h.
-    const double h = p.t[i + 1] - p.t[i];
-    const double tm = delta(i) / (std::sqrt(p.x[i]) + std::sqrt(x_mid));
-    // The integral of the quadratic through (0, g0), (τ_m, g_m), (h, g1): Lagrange weights.
-    const bool inside = h > 0.0 && tm > 0.0 && tm < h;
-    const double w0 = inside ? h * (3.0 * tm - h) / (6.0 * tm) : 0.0;
-    const double wm = inside ? h * h * h / (6.0 * tm * (h - tm)) : 0.0;
-    const double w1 = inside ? h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) : 0.0;
+    const std::array<double, 3> w = energyWeights(p, i);
     for (int c = 0; c < 2; ++c)
     {
       p.max_speed[c] = std::max({ p.max_speed[c], a[c], m[c], b[c] });
       p.max_acceleration[c] = std::max({ p.max_acceleration[c], a[2 + c], m[2 + c], b[2 + c] });
-      p.acceleration_energy[c] += w0 * a[2 + c] * a[2 + c] + wm * m[2 + c] * m[2 + c] + w1 * b[2 + c] * b[2 + c];
+      p.acceleration_energy[c] += energyOfInterval(w, a[2 + c], m[2 + c], b[2 + c]);
     }
   }
   // Where a parabola through an interval's checked points rises above the peak so far (within
   // kRefineMargin), the peak is searched on the exact rates: every figure is a value the motion
-  // takes, within ~1e-7 of its true peak. The check of a motion from rest has searched them all.
+  // takes, within ~1e-7 of its true peak.
   std::array<double, 4> peak{ p.max_speed[0], p.max_speed[1], p.max_acceleration[0], p.max_acceleration[1] };
-  for (std::size_t i = 0; !complete && i + 1 < p.s.size(); ++i)
+  for (std::size_t i = 0; i + 1 < p.s.size(); ++i)
   {
     const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
     const bool quarters = i < has_quarter_.size() && has_quarter_[i];

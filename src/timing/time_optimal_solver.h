@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -214,6 +215,10 @@ private:
   /// recovery from a start the bounds cannot hold is left as it is.
   bool tightenWhereTheMiddlesExceed();
 
+  /// The largest need of each rate inside interval i that tightenWhereTheMiddlesExceed reads: at
+  /// its middle, and at its quarters where intervalNeeds reads them.
+  Rates needsInside(std::size_t i) const;
+
   /// The needs of one interval at λ = 0, ¼, ½, ¾, 1 (at the quarters only where `quarters`).
   struct IntervalNeeds
   {
@@ -264,13 +269,25 @@ private:
   /// |v| and |a| of both channels at a point with (x, u).
   static std::array<double, 4> magnitudes(const PathJet& j, double x, double u);
 
-  /// The timed motion's figures (TimingProfile::max_speed, …) from the cached jets; `searched`:
-  /// the largest levels (levels()) found inside intervals, before the stretch k. `complete`: they
-  /// are every rate's peak on the whole motion (verifyAndStretch), which no further search raises.
-  void figures(const Rates& searched, double k, bool complete);
+  /// Each channel's acceleration energy ∫|a|² dt (TimingProfile::acceleration_energy).
+  using Energy = std::array<double, 2>;
 
-  /// figures(searched, k, complete), or keeps its arguments for finishFigures (deferFigures).
-  void setFigures(const Rates& searched, double k, bool complete = false);
+  /// The timed motion's figures (TimingProfile::max_speed, …) from the cached jets; `searched`:
+  /// the largest levels (levels()) found inside intervals, before the stretch k. With `energy`
+  /// (verifyAndStretch): `searched` are every rate's peaks on the whole motion, which no further
+  /// search raises, and `energy` the acceleration energy before the stretch.
+  void figures(const Rates& searched, double k, const std::optional<Energy>& energy);
+
+  /// figures(searched, k, energy), or keeps its arguments for finishFigures (deferFigures).
+  void setFigures(const Rates& searched, double k, const std::optional<Energy>& energy = std::nullopt);
+
+  /// The weights of interval i's acceleration energy in `p` at its ends and middle: the integral
+  /// over the interval's time of the quadratic through the values at times 0, τ_m (the middle in
+  /// s) and h.
+  std::array<double, 3> energyWeights(const TimingProfile& p, std::size_t i) const;
+
+  /// One channel's energy on an interval with weights `w` and |a| = a, m, b at its ends and middle.
+  static double energyOfInterval(const std::array<double, 3>& w, double a, double m, double b);
 
   /// Largest |v| or |a| (q, as magnitudes()) on interval i of profile `p`, from its values at the
   /// ends and middle (and the quarters, where quarterJet has them), searched where a parabola
@@ -294,7 +311,7 @@ private:
   bool defer_figures_ = false;
   Rates deferred_searched_{};  ///< figures()'s arguments of the last solve when deferred
   double deferred_k_ = 1.0;
-  bool deferred_complete_ = false;
+  std::optional<Energy> deferred_energy_;
   std::vector<PointData> right_;
   std::vector<PointData> left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)

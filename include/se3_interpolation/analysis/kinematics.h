@@ -18,8 +18,8 @@
 
 namespace se3_interpolation
 {
-/// Whether the geometry G gives the kinematics of its exp in closed form (G::expKinematics, as
-/// DoubleGeodesicSe3 does).
+/// Whether the geometry G gives the kinematics of its exp in closed form (G::expKinematics, and its
+/// rates alone, G::expRates, as DoubleGeodesicSe3 does).
 template <class G, class = void>
 struct HasExpKinematics : std::false_type
 {
@@ -29,13 +29,25 @@ struct HasExpKinematics<G, std::void_t<decltype(&G::expKinematics)>> : std::true
 {
 };
 
+/// `curve` as the C² spline whose kinematics are closed-form (its pieces in a geometry with
+/// HasExpKinematics), or null: what kinematicsAt asks of every curve, and what a caller that
+/// evaluates one curve many times asks once.
+template <class G>
+const ChartCubicSpline<G>* closedFormKinematicsSpline(const Curve<G>& curve)
+{
+  if constexpr (HasExpKinematics<G>::value)
+    return dynamic_cast<const ChartCubicSpline<G>*>(&curve);
+  else
+    return nullptr;
+}
+
 /// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint).
 template <class G>
 Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
   // The C² spline's pieces in a geometry whose exp has closed-form kinematics: without the jets.
   if constexpr (HasExpKinematics<G>::value)
-    if (const auto* chart = dynamic_cast<const ChartCubicSpline<G>*>(&curve))
+    if (const ChartCubicSpline<G>* chart = closedFormKinematicsSpline(curve))
       return chart->kinematics(t, side);
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }

@@ -202,17 +202,16 @@ public:
   /// (1/h) d/du) mapped through them. Equal to kinematicsFromJet(jet(t)) to rounding (tested).
   Kinematics kinematics(double t, Side side) const
   {
-    const std::size_t i = findInterval(times_, t, side);
-    const double h = times_[i + 1] - times_[i];
-    const double u = (t - times_[i]) / h;
-    const Tangent s = start_rates_[i] * h;
-    const Tangent e = end_rates_[i] * h;
-    const Tangent& l = logs_[i];
-    const double one_minus = 1.0 - u;
-    const Tangent v = s * (u * one_minus * one_minus) + l * (u * u * (3.0 - 2.0 * u)) + e * (u * u * (u - 1.0));
-    const Tangent dv = (s * (1.0 - 4.0 * u + 3.0 * u * u) + l * (6.0 * u * one_minus) + e * (u * (3.0 * u - 2.0))) / h;
-    const Tangent ddv = (s * (6.0 * u - 4.0) + l * (6.0 - 12.0 * u) + e * (6.0 * u - 2.0)) / (h * h);
-    return G::expKinematics(points_[i], v, dv, ddv);
+    const TangentJet j = tangentJet(t, side);
+    return G::expKinematics(points_[j.segment], j.v, j.dv, j.ddv);
+  }
+
+  /// The velocity and acceleration at t without the pose (G::expRates, in the frames it names):
+  /// kinematics()'s rates up to a rotation of each part.
+  MotionRates rates(double t, Side side) const
+  {
+    const TangentJet j = tangentJet(t, side);
+    return G::expRates(j.v, j.dv, j.ddv);
   }
 
   double startTime() const override { return times_.front(); }
@@ -239,6 +238,27 @@ public:
   const std::vector<Tangent>& logs() const { return logs_; }
 
 private:
+  /// The cubic of a segment in the tangent space at its start: its value and two time derivatives.
+  struct TangentJet
+  {
+    std::size_t segment;
+    Tangent v, dv, ddv;
+  };
+
+  TangentJet tangentJet(double t, Side side) const
+  {
+    const std::size_t i = findInterval(times_, t, side);
+    const double h = times_[i + 1] - times_[i];
+    const double u = (t - times_[i]) / h;
+    const Tangent s = start_rates_[i] * h;
+    const Tangent e = end_rates_[i] * h;
+    const Tangent& l = logs_[i];
+    const double one_minus = 1.0 - u;
+    return { i, s * (u * one_minus * one_minus) + l * (u * u * (3.0 - 2.0 * u)) + e * (u * u * (u - 1.0)),
+             (s * (1.0 - 4.0 * u + 3.0 * u * u) + l * (6.0 * u * one_minus) + e * (u * (3.0 * u - 2.0))) / h,
+             (s * (6.0 * u - 4.0) + l * (6.0 - 12.0 * u) + e * (6.0 * u - 2.0)) / (h * h) };
+  }
+
   std::vector<Point> points_;
   std::vector<double> times_;
   std::vector<Tangent> logs_;

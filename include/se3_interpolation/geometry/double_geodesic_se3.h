@@ -51,27 +51,48 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
   ///   ω̇ = R_a (φ̈ + Ȧ φ × φ̇ + A φ × φ̈ + Ḃ φ × (φ × φ̇) + B (φ̇ × (φ × φ̇) + φ × (φ × φ̈))),
   /// Ȧ = A′(x) ẋ, Ḃ = B′(x) ẋ, ẋ = 2 φ · φ̇ (detail::screwCoefficients). What the second-order
   /// jet of exp and kinematicsFromJet give (tested to rounding), without the quaternion jets'
-  /// products: the time-optimal timing's path jets at every grid point.
+  /// products (the time-optimal timing's path jets take the rates alone: expRates).
   static Kinematics expKinematics(const Point<double>& a, const Tangent<double>& v, const Tangent<double>& dv,
                                   const Tangent<double>& ddv)
   {
     const Vector3<double> phi = v.head<3>();
-    const Vector3<double> dphi = dv.head<3>();
-    const Vector3<double> ddphi = ddv.head<3>();
     const detail::ScrewCoefficients coefficients = detail::screwCoefficients(phi.squaredNorm());
-    const double dx = 2.0 * phi.dot(dphi);
-    const Vector3<double> wv = phi.cross(dphi);
-    const Vector3<double> wwv = phi.cross(wv);
-    const Vector3<double> wa = phi.cross(ddphi);
+    const MotionRates rates = expRates(coefficients, v, dv, ddv);
     Kinematics out;
     const double k = coefficients.sin_half_over_theta;
     out.pose.q = a.q * Quaternion<double>(coefficients.cos_half, k * phi.x(), k * phi.y(), k * phi.z());
     out.pose.p = a.p + v.tail<3>();
     const Eigen::Matrix3d r_a = a.q.toRotationMatrix();
-    out.velocity.angular = r_a * Vector3<double>(dphi + coefficients.a * wv + coefficients.b * wwv);
-    const Vector3<double> dw = ddphi + (coefficients.da * dx) * wv + coefficients.a * wa +
-                               (coefficients.db * dx) * wwv + coefficients.b * (dphi.cross(wv) + phi.cross(wa));
-    out.acceleration.angular = r_a * dw;
+    out.velocity.linear = rates.velocity.linear;
+    out.velocity.angular = r_a * rates.velocity.angular;
+    out.acceleration.linear = rates.acceleration.linear;
+    out.acceleration.angular = r_a * rates.acceleration.angular;
+    return out;
+  }
+  /// The rates of expKinematics without the pose: ṗ and p̈ in the world frame, and a_ω = V(φ) φ̇ and
+  /// its derivative, the angular velocity and acceleration in the frame of a (R_aᵀ ω, R_aᵀ ω̇). A
+  /// rotation keeps norms and inner products, so within each part they are those of
+  /// expKinematics: what the time-optimal timing's path jets read (|C′|, C′ · C″, |C″|).
+  static MotionRates expRates(const Tangent<double>& v, const Tangent<double>& dv, const Tangent<double>& ddv)
+  {
+    return expRates(detail::screwCoefficients(v.head<3>().squaredNorm()), v, dv, ddv);
+  }
+
+private:
+  static MotionRates expRates(const detail::ScrewCoefficients& coefficients, const Tangent<double>& v,
+                              const Tangent<double>& dv, const Tangent<double>& ddv)
+  {
+    const Vector3<double> phi = v.head<3>();
+    const Vector3<double> dphi = dv.head<3>();
+    const Vector3<double> ddphi = ddv.head<3>();
+    const double dx = 2.0 * phi.dot(dphi);
+    const Vector3<double> wv = phi.cross(dphi);
+    const Vector3<double> wwv = phi.cross(wv);
+    const Vector3<double> wa = phi.cross(ddphi);
+    MotionRates out;
+    out.velocity.angular = dphi + coefficients.a * wv + coefficients.b * wwv;
+    out.acceleration.angular = ddphi + (coefficients.da * dx) * wv + coefficients.a * wa + (coefficients.db * dx) * wwv +
+                               coefficients.b * (dphi.cross(wv) + phi.cross(wa));
     out.velocity.linear = dv.tail<3>();
     out.acceleration.linear = ddv.tail<3>();
     return out;

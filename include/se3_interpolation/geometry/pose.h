@@ -41,6 +41,14 @@ struct Kinematics
   Twist acceleration;
 };
 
+/// Velocity and acceleration of a pose curve at one instant without its pose: the parts of Twist,
+/// each in the frame that the function returning them names.
+struct MotionRates
+{
+  Twist velocity;
+  Twist acceleration;
+};
+
 /// The kinematics from the second-order jet of a pose (file comment): ṗ, p̈, ω = 2 vec(q̇ q*), ω̇ = 2 vec(q̈ q*)
 /// (the jet holds q̈/2 as its second coefficient, hence the factor 4).
 inline Kinematics kinematicsFromJet(const Pose<Jet<2>>& x)

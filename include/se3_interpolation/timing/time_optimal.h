@@ -231,13 +231,19 @@ struct TimingProfile
 TimingProfile timeOptimalProfile(const PathModel& path, const RateBounds& bounds,
                                  const TimeOptimalOptions& options = TimeOptimalOptions());
 
-/// The path derivatives of a pose curve (ScrewSe3, DoubleGeodesicSe3): C′ = (p′, ω_s).
+/// The path derivatives C′ = (p′, ω_s), C″ of a pose curve from its velocity and acceleration
+/// (each part in any frame: the inner products do not see a rotation).
+inline PathJet pathJet(const Twist& velocity, const Twist& acceleration)
+{
+  return { channelJet(velocity.linear, acceleration.linear), channelJet(velocity.angular, acceleration.angular) };
+}
+
+/// The path derivatives of a pose curve (ScrewSe3, DoubleGeodesicSe3).
 template <class G>
 PathJet pathJetAt(const Curve<G>& curve, double s, Side side)
 {
   const Kinematics k = kinematicsAt(curve, s, side);
-  return { channelJet(k.velocity.linear, k.acceleration.linear),
-           channelJet(k.velocity.angular, k.acceleration.angular) };
+  return pathJet(k.velocity, k.acceleration);
 }
 
 /// On S^m only the angular channel moves: (x′, D²x/ds²).
@@ -279,15 +285,30 @@ template <class G>
 class CurvePath final : public PathModel
 {
 public:
-  explicit CurvePath(std::shared_ptr<const Curve<G>> curve) : curve_(std::move(curve)) {}
+  explicit CurvePath(std::shared_ptr<const Curve<G>> curve)
+    : curve_(std::move(curve)), spline_(closedFormKinematicsSpline(*curve_))
+  {
+  }
   double start() const override { return curve_->startTime(); }
   double end() const override { return curve_->endTime(); }
   std::vector<double> breakpoints() const override { return curve_->breakpoints(); }
-  PathJet jet(double s, Side side) const override { return pathJetAt(*curve_, s, side); }
+  /// (A C² spline with closed-form kinematics gives its rates alone: the pose and the rotation of
+  /// the angular parts into the world frame change no inner product.)
+  PathJet jet(double s, Side side) const override
+  {
+    if constexpr (HasExpKinematics<G>::value)
+      if (spline_)
+      {
+        const MotionRates r = spline_->rates(s, side);
+        return pathJet(r.velocity, r.acceleration);
+      }
+    return pathJetAt(*curve_, s, side);
+  }
   bool isCorner(double s) const override { return velocityJumps(*curve_, s); }
 
 private:
   std::shared_ptr<const Curve<G>> curve_;
+  const ChartCubicSpline<G>* spline_;  ///< curve_ as closedFormKinematicsSpline sees it (or null)
 };
 
 /// The timed motion t ↦ C(s(t)) as a curve: sampling, figures and TF use it like any other.

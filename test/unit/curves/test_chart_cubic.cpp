@@ -1,6 +1,6 @@
 // curves/chart_cubic.h: the transition derivatives of the chart cubics against the right Jacobian
-// and finite differences of the chart; the closed-form kinematics of a double-geodesic chart cubic
-// against its second-order jets.
+// and finite differences of the chart; the closed-form kinematics of a double-geodesic chart cubic,
+// and the rates alone that the time-optimal timing's path jets take, against its second-order jets.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -8,6 +8,7 @@
 
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/chart_cubic.h"
+#include "se3_interpolation/timing/time_optimal.h"
 #include "spline_test_utils.h"
 #include "test_utils.h"
 
@@ -98,9 +99,36 @@ TEST(ChartCubic, ClosedFormKinematicsAreTheSecondOrderJetsOnes)
           << jets.acceleration.angular.transpose();
       EXPECT_TRUE(near(closed.pose.p, jets.pose.p)) << "t = " << t;
       EXPECT_LT(closed.pose.q.angularDistance(jets.pose.q), 1e-12) << "t = " << t;
-      // kinematicsAt takes the closed form for this curve (the timings' path jets).
+      // kinematicsAt takes the closed form for this curve.
       const Kinematics dispatched = kinematicsAt<DoubleGeodesicSe3>(spline, t, side);
       EXPECT_EQ(dispatched.acceleration.angular, closed.acceleration.angular);
+      // The rates alone (the angular parts in the segment start's frame) have the jets' norms and
+      // inner products within each part, and so do the time-optimal timing's path jets, which
+      // take them.
+      const MotionRates rates = spline.rates(t, side);
+      const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-12 * (1.0 + std::abs(b)); };
+      for (const auto& [r, j] : { std::pair<const Twist*, const Twist*>{ &rates.velocity, &jets.velocity },
+                                  { &rates.acceleration, &jets.acceleration } })
+      {
+        EXPECT_TRUE(same(r->linear.norm(), j->linear.norm())) << "t = " << t;
+        EXPECT_TRUE(same(r->angular.norm(), j->angular.norm())) << "t = " << t;
+      }
+      EXPECT_TRUE(same(rates.velocity.angular.dot(rates.acceleration.angular),
+                       jets.velocity.angular.dot(jets.acceleration.angular)))
+          << "t = " << t;
+      EXPECT_TRUE(same(rates.velocity.linear.dot(rates.acceleration.linear),
+                       jets.velocity.linear.dot(jets.acceleration.linear)))
+          << "t = " << t;
+      const timing::PathJet path = timing::CurvePath<DoubleGeodesicSe3>(
+                                       std::shared_ptr<const Curve<DoubleGeodesicSe3>>(&spline, [](const auto*) {}))
+                                       .jet(t, side);
+      const timing::PathJet reference = timing::pathJet(jets.velocity, jets.acceleration);
+      for (int c = 0; c < 2; ++c)
+      {
+        EXPECT_TRUE(same(path[c].bb, reference[c].bb)) << "t = " << t << " channel " << c;
+        EXPECT_TRUE(same(path[c].ab, reference[c].ab)) << "t = " << t << " channel " << c;
+        EXPECT_TRUE(same(path[c].aa, reference[c].aa)) << "t = " << t << " channel " << c;
+      }
     }
   }
 }
