@@ -131,18 +131,20 @@ void TimeOptimalSolver::refine(double sa, const PathJet& ja, double sb, const Pa
       needsSplit(ja, jm, jb, sb - sa))
   {
     refine(sa, ja, sm, jm, depth + 1);
-    addPoint(sm, jm, jm, false);
+    addPoint(sm, jm, nullptr, false);
     refine(sm, jm, sb, jb, depth + 1);
     return;
   }
   middle_.push_back(jm);
 }
 
-void TimeOptimalSolver::addPoint(double s, const PathJet& right, const PathJet& left, bool corner)
+void TimeOptimalSolver::addPoint(double s, const PathJet& right, const PathJet* left, bool corner)
 {
   profile_.s.push_back(s);
   right_.push_back(PointData{ right, right, kInf });
-  left_.push_back(PointData{ left, left, kInf });
+  left_of_.push_back(left ? static_cast<std::int64_t>(distinct_left_.size()) : kSameAsRight);
+  if (left)
+    distinct_left_.push_back(PointData{ *left, *left, kInf });
   corner_.push_back(corner);
 }
 
@@ -173,12 +175,14 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
     uniform += intervals(j);
   // The uniform grid's points and their jets first: the scale of each channel's |C′|. (Reserved:
   // the grid's vectors are large, and growing them costs copies and fresh pages.)
+  // (The left sides only at the pieces' inner ends, where they may differ: index and jet.)
   std::vector<double> s;
-  std::vector<PathJet> right, left;
+  std::vector<PathJet> right;
+  std::vector<std::pair<std::size_t, PathJet>> left;
   std::vector<bool> corner;
   s.reserve(uniform);
   right.reserve(uniform);
-  left.reserve(uniform);
+  left.reserve(pieces);
   corner.reserve(uniform);
   std::array<double, 2> largest{};
   for (std::size_t j = 0; j < pieces; ++j)
@@ -190,15 +194,18 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
     {
       s.push_back(b[j] + length * static_cast<double>(k) / static_cast<double>(m));
       right.push_back(path_.jet(s.back(), Side::kRight));
-      left.push_back(k == 0 && j > 0 ? path_.jet(s.back(), Side::kLeft) : right.back());
-      corner.push_back(k == 0 && j > 0 && path_.isCorner(s.back()));
       growLargest(right.back(), &largest);
-      growLargest(left.back(), &largest);
+      const bool inner_end = k == 0 && j > 0;
+      if (inner_end)
+      {
+        left.emplace_back(s.size() - 1, path_.jet(s.back(), Side::kLeft));
+        growLargest(left.back().second, &largest);
+      }
+      corner.push_back(inner_end && path_.isCorner(s.back()));
     }
   }
   s.push_back(b.back());
   right.push_back(path_.jet(b.back(), Side::kLeft));
-  left.push_back(right.back());
   corner.push_back(false);
   growLargest(right.back(), &largest);
   for (int c = 0; c < 2; ++c)
@@ -209,16 +216,28 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   const std::size_t room = 2 * n + 1;
   profile_.s.reserve(room);
   right_.reserve(room);
-  left_.reserve(room);
+  left_of_.reserve(room);
+  distinct_left_.reserve(left.size());
   corner_.reserve(room);
   middle_.reserve(room);
+  std::size_t next_left = 0;  // the first entry of `left` at or after the current point
+  const auto leftAt = [&](std::size_t i) -> const PathJet* {
+    return next_left < left.size() && left[next_left].first == i ? &left[next_left].second : nullptr;
+  };
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-    addPoint(s[i], right[i], left[i], corner[i]);
-    refine(s[i], right[i], s[i + 1], left[i + 1], 0);
+    if (const PathJet* l = leftAt(i))
+    {
+      addPoint(s[i], right[i], l, corner[i]);
+      ++next_left;
+    }
+    else
+      addPoint(s[i], right[i], nullptr, corner[i]);
+    const PathJet* l = leftAt(i + 1);
+    refine(s[i], right[i], s[i + 1], l ? *l : right[i + 1], 0);
   }
-  addPoint(s[n - 1], right[n - 1], left[n - 1], false);
+  addPoint(s[n - 1], right[n - 1], nullptr, false);
   if (hold_start_)
   {
     // The held first interval [s_0, s_0 + ε]: a new point after s_0, and new middles on both sides.
@@ -227,7 +246,7 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
     const PathJet j = path_.jet(held, Side::kRight);
     profile_.s.insert(profile_.s.begin() + 1, held);
     right_.insert(right_.begin() + 1, PointData{ j, j, kInf });
-    left_.insert(left_.begin() + 1, PointData{ j, j, kInf });
+    left_of_.insert(left_of_.begin() + 1, kSameAsRight);
     corner_.insert(corner_.begin() + 1, false);
     middle_[0] = path_.jet(0.5 * (held + profile_.s[2]), Side::kRight);
     middle_.insert(middle_.begin(), path_.jet(0.5 * (s0 + held), Side::kRight));
@@ -256,7 +275,7 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
   std::array<double, 2> largest{};
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < 2; ++c)
-      largest[c] = std::max({ largest[c], right_[i].raw[c].bb, left_[i].raw[c].bb });
+      largest[c] = std::max({ largest[c], right_[i].raw[c].bb, left(i).raw[c].bb });
   for (int c = 0; c < 2; ++c)
     largest[c] = std::sqrt(largest[c]);
   const double scale = std::max(largest[0], largest[1]);
@@ -276,7 +295,8 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
   for (std::size_t i = 0; i < n; ++i)
   {
     prepare(&right_[i], profile_.s[i]);
-    prepare(&left_[i], profile_.s[i]);
+    if (left_of_[i] != kSameAsRight)
+      prepare(&distinct_left_[static_cast<std::size_t>(left_of_[i])], profile_.s[i]);
   }
   // A start that itself exceeds a bound (its speed, or with hold_start its acceleration): the
   // recovery from it is exempt from the checks (it is what the bounds cannot hold).

@@ -116,7 +116,7 @@ TimeOptimalSolver::IntervalNeeds TimeOptimalSolver::intervalNeeds(std::size_t i)
   IntervalNeeds f;
   f.at[0] = needs(right_[i].raw, profile_.x[i], profile_.u[i]);
   f.at[2] = needsAtMiddle(i);
-  f.at[4] = needs(left_[i + 1].raw, profile_.x[i + 1], profile_.u[i]);
+  f.at[4] = needs(left(i + 1).raw, profile_.x[i + 1], profile_.u[i]);
   double top = 0.0;
   for (int q = 0; q < 4; ++q)
     top = std::max({ top, f.at[0][q], f.at[2][q], f.at[4][q] });
@@ -182,7 +182,7 @@ void TimeOptimalSolver::verifyAndStretch()
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
     const std::array<Rates, 3> at{ levels(right_[i].raw, x[i], u[i]), levels(middle_[i], 0.5 * (x[i] + x[i + 1]), u[i]),
-                                   levels(left_[i + 1].raw, x[i + 1], u[i]) };
+                                   levels(left(i + 1).raw, x[i + 1], u[i]) };
     const std::array<double, 3> w = energyWeights(profile_, i);
     for (int c = 0; c < 2; ++c)
     {
@@ -356,7 +356,7 @@ void TimeOptimalSolver::figures(const Rates& searched, double k, const std::opti
     const double x_mid = 0.5 * (p.x[i] + p.x[i + 1]);
     const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
     const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
-    const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
+    const std::array<double, 4> b = magnitudes(left(i + 1).raw, p.x[i + 1], p.u[i]);
     const std::array<double, 3> w = energyWeights(p, i);
     for (int c = 0; c < 2; ++c)
     {
@@ -375,7 +375,7 @@ void TimeOptimalSolver::figures(const Rates& searched, double k, const std::opti
     const bool quarters = i < has_quarter_.size() && has_quarter_[i];
     const std::array<double, 4> a = magnitudes(right_[i].raw, p.x[i], p.u[i]);
     const std::array<double, 4> m = magnitudes(middle_[i], x_mid, p.u[i]);
-    const std::array<double, 4> b = magnitudes(left_[i + 1].raw, p.x[i + 1], p.u[i]);
+    const std::array<double, 4> b = magnitudes(left(i + 1).raw, p.x[i + 1], p.u[i]);
     std::array<double, 4> qa{}, qb{};
     if (quarters)
     {

@@ -56,8 +56,10 @@ void TimeOptimalSolver::updateCaps()
   {
     if (!all && !changed_[i])
       continue;
-    for (PointData* p : { &right_[i], &left_[i] })
+    for (PointData* p : { &right_[i], left_of_[i] == kSameAsRight ? nullptr : &left(i) })
     {
+      if (!p)
+        continue;
       p->x_max = speed_cap_.empty() ? kInf : speed_cap_[i];
       for (int c = 0; c < 2; ++c)
       {
@@ -92,7 +94,7 @@ TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::siz
   if (!u_cap_.empty())
     k.u_cap = std::min(u_cap_[i], u_cap_[i + 1]);
   const PathJet& a = right_[i].jet;
-  const PathJet& b = left_[i + 1].jet;
+  const PathJet& b = left(i + 1).jet;
   for (int c = 0; c < 2; ++c)
   {
     if (!(bounds_.acceleration[c] > 0.0))

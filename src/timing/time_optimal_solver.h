@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -119,7 +120,9 @@ private:
   /// they make, halving where needsSplit says so.
   void refine(double sa, const PathJet& ja, double sb, const PathJet& jb, int depth);
 
-  void addPoint(double s, const PathJet& right, const PathJet& left, bool corner);
+  /// Appends grid point s with its right side's jet and its left side's where that differs (`left`
+  /// null: the same; only the pieces' inner ends have one).
+  void addPoint(double s, const PathJet& right, const PathJet* left, bool corner);
 
   /// The grid: max(intervals_per_piece, the piece's share of min_intervals) uniform intervals on
   /// every analytic piece, refined where the path's rates vary (refine), with the jets the passes
@@ -142,7 +145,7 @@ private:
   double delta(std::size_t i) const { return profile_.s[i + 1] - profile_.s[i]; }
 
   /// Upper end of x_{i+1}: the controllable set and the velocity bound seen from the left.
-  double nextLimit(std::size_t i) const { return std::min(k_[i + 1], left_[i + 1].x_max); }
+  double nextLimit(std::size_t i) const { return std::min(k_[i + 1], left(i + 1).x_max); }
 
   /// The admissible controls u_i for x_i = x with x_{i+1} ∈ [0, next] (its lower and upper ends
   /// are meaningful only when it is not empty).
@@ -312,8 +315,21 @@ private:
   Rates deferred_searched_{};  ///< figures()'s arguments of the last solve when deferred
   double deferred_k_ = 1.0;
   std::optional<Energy> deferred_energy_;
+  /// Grid point i from the right, and from the left: right_[i] itself where left_of_[i] is
+  /// kSameAsRight (all but the pieces' inner ends), else distinct_left_[left_of_[i]] (a few entries
+  /// instead of a second copy of the largest array of a long grid).
+  const PointData& left(std::size_t i) const
+  {
+    return left_of_[i] == kSameAsRight ? right_[i] : distinct_left_[static_cast<std::size_t>(left_of_[i])];
+  }
+  PointData& left(std::size_t i)
+  {
+    return left_of_[i] == kSameAsRight ? right_[i] : distinct_left_[static_cast<std::size_t>(left_of_[i])];
+  }
+  static constexpr std::int64_t kSameAsRight = -1;
   std::vector<PointData> right_;
-  std::vector<PointData> left_;
+  std::vector<std::int64_t> left_of_;
+  std::vector<PointData> distinct_left_;
   std::vector<PathJet> middle_;  ///< at the middle of each interval (in s)
   /// At λ = ¼ and ¾ of interval i (entries 2i, 2i + 1), where has_quarter_[i] (quarterJet).
   mutable std::vector<PathJet> quarter_;

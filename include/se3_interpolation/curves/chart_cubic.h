@@ -249,14 +249,17 @@ private:
   {
     const std::size_t i = findInterval(times_, t, side);
     const double h = times_[i + 1] - times_[i];
-    const double u = (t - times_[i]) / h;
-    const Tangent s = start_rates_[i] * h;
-    const Tangent e = end_rates_[i] * h;
+    const double inv_h = 1.0 / h;
+    const double u = (t - times_[i]) / h;  // (exactly 1 at the segment's end)
+    const Tangent& v0 = start_rates_[i];
+    const Tangent& v1 = end_rates_[i];
     const Tangent& l = logs_[i];
     const double one_minus = 1.0 - u;
-    return { i, s * (u * one_minus * one_minus) + l * (u * u * (3.0 - 2.0 * u)) + e * (u * u * (u - 1.0)),
-             (s * (1.0 - 4.0 * u + 3.0 * u * u) + l * (6.0 * u * one_minus) + e * (u * (3.0 * u - 2.0))) / h,
-             (s * (6.0 * u - 4.0) + l * (6.0 - 12.0 * u) + e * (6.0 * u - 2.0)) / (h * h) };
+    // The Hermite basis in u with the rates scaled by h, its u-derivatives divided by h and h²: the
+    // powers of h folded into the scalar weights.
+    return { i, v0 * (h * u * one_minus * one_minus) + l * (u * u * (3.0 - 2.0 * u)) + v1 * (h * u * u * (u - 1.0)),
+             v0 * (1.0 - 4.0 * u + 3.0 * u * u) + l * (6.0 * u * one_minus * inv_h) + v1 * (u * (3.0 * u - 2.0)),
+             v0 * ((6.0 * u - 4.0) * inv_h) + l * ((6.0 - 12.0 * u) * inv_h * inv_h) + v1 * ((6.0 * u - 2.0) * inv_h) };
   }
 
   std::vector<Point> points_;

@@ -73,8 +73,17 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
   /// its derivative, the angular velocity and acceleration in the frame of a (R_aᵀ ω, R_aᵀ ω̇). A
   /// rotation keeps norms and inner products, so within each part they are those of
   /// expKinematics: what the time-optimal timing's path jets read (|C′|, C′ · C″, |C″|).
+  /// (A rotation at rest, φ̇ = φ̈ = 0 exactly, as on a path of constant orientation, has ω = ω̇ = 0:
+  /// every term has one of them. Without the coefficients' trigonometry there.)
   static MotionRates expRates(const Tangent<double>& v, const Tangent<double>& dv, const Tangent<double>& ddv)
   {
+    if (dv.head<3>().isZero(0.0) && ddv.head<3>().isZero(0.0))
+    {
+      MotionRates still;
+      still.velocity.linear = dv.tail<3>();
+      still.acceleration.linear = ddv.tail<3>();
+      return still;
+    }
     return expRates(detail::screwCoefficients(v.head<3>().squaredNorm()), v, dv, ddv);
   }
 
