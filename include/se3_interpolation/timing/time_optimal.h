@@ -53,7 +53,8 @@
 //    go on, with a small margin, until every checked rate is within 1e-8 of its bound.
 // The passes after the first recompute only what a tightening changed (the controllable sets
 // upstream of a tightened point until they agree with the previous pass, the forward pass from the
-// first changed point), and each rate's peak search serves both the stretch and the figures.
+// first changed point), and each rate's peak search serves both the stretch and the figures (the
+// acceleration energy, too, comes from the final check's values at every interval's ends and middle).
 //
 // Grid size (TimeOptimalOptions): the discretisation of a bang-bang or cruise phase is exact for
 // constant s̈ (x linear in s), so the loss against the optimum comes from where the active
