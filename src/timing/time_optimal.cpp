@@ -227,15 +227,12 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   for (std::size_t i = 0; i + 1 < n; ++i)
   {
     checkDeadlineEvery(i, kPointsPerDeadlineCheck, kPhase);
-    if (const PathJet* l = leftAt(i))
-    {
-      addPoint(s[i], right[i], l, corner[i]);
+    const PathJet* here = leftAt(i);
+    addPoint(s[i], right[i], here, corner[i]);
+    if (here)
       ++next_left;
-    }
-    else
-      addPoint(s[i], right[i], nullptr, corner[i]);
-    const PathJet* l = leftAt(i + 1);
-    refine(s[i], right[i], s[i + 1], l ? *l : right[i + 1], 0);
+    const PathJet* next = leftAt(i + 1);
+    refine(s[i], right[i], s[i + 1], next ? *next : right[i + 1], 0);
   }
   addPoint(s[n - 1], right[n - 1], nullptr, false);
   if (hold_start_)
@@ -295,8 +292,8 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
   for (std::size_t i = 0; i < n; ++i)
   {
     prepare(&right_[i], profile_.s[i]);
-    if (left_of_[i] != kSameAsRight)
-      prepare(&distinct_left_[static_cast<std::size_t>(left_of_[i])], profile_.s[i]);
+    if (PointData* l = distinctLeft(i))
+      prepare(l, profile_.s[i]);
   }
   // A start that itself exceeds a bound (its speed, or with hold_start its acceleration): the
   // recovery from it is exempt from the checks (it is what the bounds cannot hold).

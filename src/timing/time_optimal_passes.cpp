@@ -56,7 +56,7 @@ void TimeOptimalSolver::updateCaps()
   {
     if (!all && !changed_[i])
       continue;
-    for (PointData* p : { &right_[i], left_of_[i] == kSameAsRight ? nullptr : &left(i) })
+    for (PointData* p : { &right_[i], distinctLeft(i) })
     {
       if (!p)
         continue;

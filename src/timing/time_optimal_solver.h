@@ -322,9 +322,10 @@ private:
   {
     return left_of_[i] == kSameAsRight ? right_[i] : distinct_left_[static_cast<std::size_t>(left_of_[i])];
   }
-  PointData& left(std::size_t i)
+  /// Grid point i's own left side, or null where it is right_[i].
+  PointData* distinctLeft(std::size_t i)
   {
-    return left_of_[i] == kSameAsRight ? right_[i] : distinct_left_[static_cast<std::size_t>(left_of_[i])];
+    return left_of_[i] == kSameAsRight ? nullptr : &distinct_left_[static_cast<std::size_t>(left_of_[i])];
   }
   static constexpr std::int64_t kSameAsRight = -1;
   std::vector<PointData> right_;
