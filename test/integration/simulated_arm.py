@@ -4,7 +4,8 @@
 ~measured_frame (what a robot driver publishes as its measured tool frame), in the command's frame.
 
 Its behaviour is set at run time on ~mode (std_msgs/String), so that one test run can show every
-outcome of the action's tolerances:
+outcome of the action's tolerances; each mode, once applied, is echoed on the latched ~applied
+(std_msgs/String), so that a test waits for the arm instead of guessing how late it runs:
   "follow"       the measured frame is the commanded pose (a perfect controller)
   "freeze"       the measured frame stays where it is (a stalled arm)
   "offset D"     the commanded pose shifted by D m along the frame's x axis (a biased arm)
@@ -33,6 +34,8 @@ class SimulatedArm:
         self.held = None
         self.broadcast_stamp = None
         self.broadcaster = tf2_ros.TransformBroadcaster()
+        self.applied = rospy.Publisher("~applied", String, queue_size=1, latch=True)
+        self.applied.publish(String(data=self.mode))
         rospy.Subscriber("command", PoseStamped, self.on_command, queue_size=10)
         rospy.Subscriber("~mode", String, self.on_mode, queue_size=10)
         rospy.Timer(rospy.Duration(1.0 / rospy.get_param("~rate", 100.0)), self.broadcast)
@@ -47,6 +50,7 @@ class SimulatedArm:
             self.held = self.command if words[0] == "freeze" else None
             self.mode = words[0]
             self.offset = float(words[1]) if words[0] == "offset" else 0.0
+        self.applied.publish(msg)
         rospy.loginfo("simulated arm: %s", msg.data)
 
     def broadcast(self, _event):

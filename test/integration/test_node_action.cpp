@@ -78,6 +78,11 @@ protected:
           commands_.push_back({ m->header.stamp.toSec(), positionOf(m->pose.position) });
         });
     arm_mode_ = nh_.advertise<std_msgs::String>("/simulated_arm/mode", 1, true);
+    arm_applied_sub_ = nh_.subscribe<std_msgs::String>("/simulated_arm/applied", 10,
+                                                       [this](const std_msgs::String::ConstPtr& m) {
+                                                         std::lock_guard<std::mutex> lock(mutex_);
+                                                         arm_applied_ = m->data;
+                                                       });
     setArm("follow");
     if (!placed_)
     {
@@ -111,12 +116,25 @@ protected:
     return c;
   }
 
+  /// Sets the simulated arm's mode and waits until the arm echoes it on ~applied: on a loaded
+  /// machine the arm's process can run seconds late, and a goal sent before the mode took effect
+  /// would be followed by the previous mode.
   void setArm(const std::string& mode)
   {
     std_msgs::String m;
     m.data = mode;
     arm_mode_.publish(m);
-    ros::WallDuration(0.2).sleep();
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+    while (ros::WallTime::now() < deadline)
+    {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (arm_applied_ == mode)
+          return;
+      }
+      ros::WallDuration(0.01).sleep();
+    }
+    ADD_FAILURE() << "the simulated arm did not apply mode \"" << mode << "\" within 30 s";
   }
 
   /// A rest-to-rest motion from the frame's current state (from_current) through `targets`,
@@ -228,6 +246,8 @@ protected:
   ros::NodeHandle nh_;
   ros::Subscriber command_sub_;
   ros::Publisher arm_mode_;
+  ros::Subscriber arm_applied_sub_;
+  std::string arm_applied_;  ///< the simulated arm's last applied mode (guarded by mutex_)
   std::mutex mutex_;
   std::vector<Command> commands_;
 };
