@@ -19,7 +19,7 @@
 namespace se3_interpolation
 {
 /// Whether the geometry G gives the kinematics of its exp in closed form (G::expKinematics, and its
-/// rates alone, G::expRates, as DoubleGeodesicSe3 does).
+/// rates alone, G::expRates, and with the jerk, G::expRates3, as DoubleGeodesicSe3 does).
 template <class G, class = void>
 struct HasExpKinematics : std::false_type
 {

@@ -214,6 +214,17 @@ public:
     return G::expRates(j.v, j.dv, j.ddv);
   }
 
+  /// rates() with the jerk (G::expRates3): the cubic's third time derivative is constant on its
+  /// segment, 6 (v_i + w_i)/h² − 12 L_i/h³ (the Hermite basis's third u-derivatives 6, −12, 6).
+  MotionRates3 rates3(double t, Side side) const
+  {
+    const TangentJet j = tangentJet(t, side);
+    const double inv_h = 1.0 / (times_[j.segment + 1] - times_[j.segment]);
+    const Tangent dddv =
+        (start_rates_[j.segment] + end_rates_[j.segment]) * (6.0 * inv_h * inv_h) - logs_[j.segment] * (12.0 * inv_h * inv_h * inv_h);
+    return G::expRates3(j.v, j.dv, j.ddv, dddv);
+  }
+
   double startTime() const override { return times_.front(); }
   double endTime() const override { return times_.back(); }
   std::vector<double> breakpoints() const override { return times_; }

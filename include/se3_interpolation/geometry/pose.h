@@ -49,6 +49,14 @@ struct MotionRates
   Twist acceleration;
 };
 
+/// MotionRates with the jerk (p⃛ and ω̈, in the frames the producer names).
+struct MotionRates3
+{
+  Twist velocity;
+  Twist acceleration;
+  Twist jerk;
+};
+
 /// The kinematics from the second-order jet of a pose (file comment): ṗ, p̈, ω = 2 vec(q̇ q*), ω̇ = 2 vec(q̈ q*)
 /// (the jet holds q̈/2 as its second coefficient, hence the factor 4).
 inline Kinematics kinematicsFromJet(const Pose<Jet<2>>& x)

@@ -140,12 +140,14 @@ ChannelJet3 channelJet3(const V& b, const V& a, const V& c)
 }
 
 /// Velocity, acceleration and jerk of a pose curve at one instant (spatial: ṗ, p̈, p⃛ and ω, ω̇, ω̈).
-struct Kinematics3
+using Kinematics3 = MotionRates3;
+
+/// The path jet of the rates (each part in one frame of its own: a rotation keeps the products).
+inline PathJet3 pathJet3(const MotionRates3& r)
 {
-  Twist velocity;
-  Twist acceleration;
-  Twist jerk;
-};
+  return { channelJet3(r.velocity.linear, r.acceleration.linear, r.jerk.linear),
+           channelJet3(r.velocity.angular, r.acceleration.angular, r.jerk.angular) };
+}
 
 /// From the third-order jet of a pose (coefficients c_k = q^(k)/k!): ω = 2 vec(q̇ q*),
 /// ω̇ = 2 vec(q̈ q*), ω̈ = 2 vec(q⃛ q* + q̈ q̇*) (q̇ q̇* = |q̇|² is real).
@@ -201,12 +203,7 @@ inline std::array<Eigen::VectorXd, 3> sphereKinematics3FromJet(const VectorX<Jet
 template <class G>
 struct PathJet3FromJet
 {
-  static PathJet3 of(const Pose<Jet<3>>& x)
-  {
-    const Kinematics3 k = kinematics3FromJet(x);
-    return { channelJet3(k.velocity.linear, k.acceleration.linear, k.jerk.linear),
-             channelJet3(k.velocity.angular, k.acceleration.angular, k.jerk.angular) };
-  }
+  static PathJet3 of(const Pose<Jet<3>>& x) { return pathJet3(kinematics3FromJet(x)); }
 };
 
 /// On S^m only the angular channel moves.
@@ -276,18 +273,26 @@ class CurveJerkPath final : public JerkPathModel
 {
 public:
   explicit CurveJerkPath(std::shared_ptr<const Curve<G>> curve)
-    : curve_(std::move(curve)), jets3_(dynamic_cast<const ThirdOrderJets<G>*>(curve_.get()))
+    : curve_(curve)
+    , path_(std::move(curve))
+    , spline_(closedFormKinematicsSpline(*curve_))
+    , jets3_(dynamic_cast<const ThirdOrderJets<G>*>(curve_.get()))
   {
   }
-  double start() const override { return curve_->startTime(); }
-  double end() const override { return curve_->endTime(); }
-  std::vector<double> breakpoints() const override { return curve_->breakpoints(); }
-  PathJet jet(double s, Side side) const override { return pathJetAt(*curve_, s, side); }
-  bool isCorner(double s) const override { return velocityJumps(*curve_, s); }
-  /// (The curve's third-order jets are looked up once: jet3Of's dynamic_cast on every call costs
+  double start() const override { return path_.start(); }
+  double end() const override { return path_.end(); }
+  std::vector<double> breakpoints() const override { return path_.breakpoints(); }
+  /// The second-order jets as time_optimal's path reads them (CurvePath: a C² spline's rates alone).
+  PathJet jet(double s, Side side) const override { return path_.jet(s, side); }
+  bool isCorner(double s) const override { return path_.isCorner(s); }
+  /// (A C² spline with closed-form kinematics gives its rates alone, ChartCubicSpline::rates3; the
+  /// other curves' third-order jets are looked up once: jet3Of's dynamic_cast on every call costs
   /// a sixth of the jet.) A curve without them throws as jet3Of does.
   PathJet3 jet3(double s, Side side) const override
   {
+    if constexpr (HasExpKinematics<G>::value)
+      if (spline_)
+        return pathJet3(spline_->rates3(s, side));
     if (jets3_ == nullptr)
       return pathJet3At(*curve_, s, side);
     return PathJet3FromJet<G>::of(jets3_->jet3(Jet<3>::variable(s), side));
@@ -296,6 +301,8 @@ public:
 
 private:
   std::shared_ptr<const Curve<G>> curve_;
+  CurvePath<G> path_;               ///< the same curve as time_optimal's path
+  const ChartCubicSpline<G>* spline_;  ///< curve_ as closedFormKinematicsSpline sees it (or null)
   const ThirdOrderJets<G>* jets3_;  ///< the curve's third-order jets (null: it has none)
 };
 

@@ -5,9 +5,11 @@
 
 #include <Eigen/LU>
 #include <random>
+#include <tuple>
 
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/chart_cubic.h"
+#include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "spline_test_utils.h"
 #include "test_utils.h"
@@ -129,6 +131,37 @@ TEST(ChartCubic, ClosedFormKinematicsAreTheSecondOrderJetsOnes)
         EXPECT_TRUE(same(path[c].ab, reference[c].ab)) << "t = " << t << " channel " << c;
         EXPECT_TRUE(same(path[c].aa, reference[c].aa)) << "t = " << t << " channel " << c;
       }
+      // With the jerk: rates3 (DoubleGeodesicSe3::expRates3) against the third-order jet's
+      // kinematics, exp in Taylor arithmetic: the first two rates are rates()'s, the linear jerk
+      // the same vector, the angular jerk's norm and its products with the angular velocity and
+      // acceleration the jets' (its frame is the segment start's); the jerk-limited timing's path
+      // jets, which take them, agree.
+      const MotionRates3 rates3 = spline.rates3(t, side);
+      const timing::Kinematics3 jets3 = timing::kinematics3FromJet(spline.jet3(Jet<3>::variable(t), side));
+      EXPECT_EQ(rates3.velocity.angular, rates.velocity.angular);
+      EXPECT_EQ(rates3.acceleration.angular, rates.acceleration.angular);
+      EXPECT_EQ(rates3.acceleration.linear, rates.acceleration.linear);
+      EXPECT_TRUE(near(rates3.jerk.linear, jets3.jerk.linear)) << "t = " << t;
+      EXPECT_TRUE(same(rates3.jerk.angular.norm(), jets3.jerk.angular.norm()))
+          << "t = " << t << ": " << rates3.jerk.angular.norm() << " vs " << jets3.jerk.angular.norm();
+      EXPECT_TRUE(same(rates3.jerk.angular.dot(rates3.velocity.angular),
+                       jets3.jerk.angular.dot(jets3.velocity.angular)))
+          << "t = " << t;
+      EXPECT_TRUE(same(rates3.jerk.angular.dot(rates3.acceleration.angular),
+                       jets3.jerk.angular.dot(jets3.acceleration.angular)))
+          << "t = " << t;
+      const timing::PathJet3 path3 = timing::CurveJerkPath<DoubleGeodesicSe3>(
+                                         std::shared_ptr<const Curve<DoubleGeodesicSe3>>(&spline, [](const auto*) {}))
+                                         .jet3(t, side);
+      const timing::PathJet3 reference3 = timing::pathJet3(jets3);
+      for (int c = 0; c < 2; ++c)
+        for (const auto& [name, mine, theirs] :
+             { std::tuple<const char*, double, double>{ "bc", path3[c].bc, reference3[c].bc },
+               { "ac", path3[c].ac, reference3[c].ac },
+               { "cc", path3[c].cc, reference3[c].cc },
+               { "aa", path3[c].aa, reference3[c].aa } })
+          EXPECT_TRUE(same(mine, theirs)) << "t = " << t << " channel " << c << " " << name << ": " << mine << " vs "
+                                          << theirs;
     }
   }
 }

@@ -276,3 +276,51 @@ TEST(ScrewCoefficients, RatesAreTheDerivativesOfAAndBOnBothSidesOfTheSeriesSwitc
     EXPECT_NEAR(db, static_cast<double>(rb), 3e-14 * std::abs(static_cast<double>(rb))) << "x = " << x;
   }
 }
+
+TEST(ScrewCoefficients, SecondDerivativesOfAAndBOnBothSidesOfTheSeriesSwitch)
+{
+  // d²A/dx² and d²B/dx² (x = θ²) against references written here in long double: below x = 9
+  // their Taylor series Σ_{k≥2} (−1)^k k (k − 1) x^(k−2)/(2k+2)! (and /(2k+3)!) summed to 30 terms;
+  // above it the θ-derivatives, d²f/dx² = (f_θθ − f_θ/θ)/(4θ²), from A = (1 − cos θ)/θ² and
+  // B = 1/θ² − sin θ/θ³. At angle 0, across the switch at θ² = 4 and the first rates' at θ² = 1,
+  // up to θ = π − 1e-9 and beyond.
+  const auto reference = [](long double x, long double* dda, long double* ddb) {
+    if (x >= 9.0L)
+    {
+      const long double t = std::sqrt(x), s = std::sin(t), c = std::cos(t);
+      const long double a1 = s / (t * t) - 2.0L * (1.0L - c) / (t * t * t);
+      const long double a2 = c / (t * t) - 4.0L * s / (t * t * t) + 6.0L * (1.0L - c) / (x * x);
+      const long double b1 = -2.0L / (t * t * t) - c / (t * t * t) + 3.0L * s / (x * x);
+      const long double b2 = 6.0L / (x * x) + s / (t * t * t) + 6.0L * c / (x * x) - 12.0L * s / (x * x * t);
+      *dda = (a2 - a1 / t) / (4.0L * x);
+      *ddb = (b2 - b1 / t) / (4.0L * x);
+      return;
+    }
+    *dda = *ddb = 0.0L;
+    long double factorial = 24.0L;  // (2k + 2)! at k = 1
+    long double power = 1.0L;       // x^(k − 2) at k = 2
+    for (int k = 2; k < 32; ++k)
+    {
+      factorial *= (2.0L * k + 1.0L) * (2.0L * k + 2.0L);
+      const long double sign = k % 2 == 0 ? 1.0L : -1.0L;
+      *dda += sign * k * (k - 1) * power / factorial;
+      *ddb += sign * k * (k - 1) * power / (factorial * (2.0L * k + 3.0L));
+      power *= x;
+    }
+  };
+  std::vector<double> xs{ 0.0,         1e-18, 1e-8, 1e-4, 0.04, 0.5, 1.0, 2.0, 4.0 - 1e-12, 4.0,
+                          4.0 + 1e-12, 4.5,   6.0,  9.0,  30.0 };
+  const double pi = 3.14159265358979323846;
+  xs.push_back((pi - 1e-9) * (pi - 1e-9));
+  std::mt19937 rng(8);
+  for (int i = 0; i < 40; ++i)
+    xs.push_back(std::uniform_real_distribution<double>(0.0, 12.0)(rng));
+  for (const double x : xs)
+  {
+    const detail::ScrewSecondDerivatives d = detail::screwSecondDerivatives(x, detail::screwCoefficients(x));
+    long double ra, rb;
+    reference(x, &ra, &rb);
+    EXPECT_NEAR(d.dda, static_cast<double>(ra), 1e-13 * std::abs(static_cast<double>(ra))) << "x = " << x;
+    EXPECT_NEAR(d.ddb, static_cast<double>(rb), 1e-13 * std::abs(static_cast<double>(rb))) << "x = " << x;
+  }
+}
