@@ -50,9 +50,11 @@ constexpr unsigned kExclusiveFields = kKnotsField | kBlendRadiusField | kFitFiel
 /// Seconds per work unit of a family (work_estimate.h, secondsPerUnit): double geodesic
 /// (stretch, time_optimal), screw (stretch, time_optimal); the sphere uses the screw's. Measured
 /// as the CPU time of generate() over the estimate's units at N = 1000 waypoints (a bezier 100)
-/// on one core of the development machine by bench/bench_work_estimate.cpp; from 100 to 10⁴
-/// waypoints (a bezier 20 to 400) the estimate is then within 0.67 … 1.6 of the measured time
-/// (re-measured after each change of the estimate's model, `bench_work_estimate --middle`).
+/// on one core of the development machine by bench/bench_work_estimate.cpp, then lowered where
+/// the smallest size would be over-estimated more than about 1.8 times (time_optimal's fixed
+/// costs weigh least there) or raised where a ratio came near 0.5: from 100 to 10⁴ waypoints (a
+/// bezier 20 to 400) the estimate is within 0.5 … 2 of the measured time (docs/timing.md,
+/// Bounded work; re-measured after each change of the estimate's model or of the timings' speed).
 using SecondsPerUnit = std::array<double, 4>;
 
 /// What a fit reports besides its curve (BasicResult::residual_linear, residual_angular, knots).

@@ -4,6 +4,7 @@
 // Poses only (either SE(3) geometry).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -88,9 +89,18 @@ struct FitFamily : CurveFamilyDefaults
   }
 
   /// @param shape the request's shape
-  /// @return the `bspline` family's calibration: the fitted curve is one, and the fit's own work
-  ///         (constructionUnits) is counted in its units
-  static SecondsPerUnit secondsPerUnit(const WorkShape& shape) { return BsplineFamily::secondsPerUnit(shape); }
+  /// @return the `bspline` family's calibration under `stretch` (the fitted curve is one, and the
+  ///         fit's own work, constructionUnits, is counted in its units); under `time_optimal` its
+  ///         own: the fitted B-spline has a knot every 25 poses, its few pieces make the timing's
+  ///         fixed costs (the grid's 512 intervals, the searches) most of the estimate, which the
+  ///         bspline's calibration at 1000 waypoints would put at 2.3–2.9 times the measured time
+  static SecondsPerUnit secondsPerUnit(const WorkShape& shape)
+  {
+    SecondsPerUnit row = BsplineFamily::secondsPerUnit(shape);
+    row[1] = kTimeOptimalSecondsPerUnit[0];
+    row[3] = kTimeOptimalSecondsPerUnit[1];
+    return row;
+  }
 
   /// @param shape the request's shape
   /// @param name the family's name
@@ -102,6 +112,9 @@ struct FitFamily : CurveFamilyDefaults
   }
 
 private:
+  /// Seconds per unit under `time_optimal` (double geodesic, screw): bench_work_estimate, 10³ … 10⁵
+  /// recorded poses, estimate / measured 1.5 … 1.6 (double geodesic) and 1.2 … 1.8 (screw).
+  static constexpr std::array<double, 2> kTimeOptimalSecondsPerUnit{ 8.5e-08, 1.56e-07 };
   /// Work units per waypoint and geodesic step of de Boor (bench_fit: 16 × 6 × 5.65e-8 s = 5.4 µs
   /// per pose in the double geodesic).
   static constexpr double kFitUnitsPerStep = 16.0;

@@ -56,7 +56,7 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   {
     if (shape.corner_blends)
       return { 1.54e-07, 2.03e-07, 3.54e-07, 3.97e-07 };
-    return { 5.6e-08, 8.53e-08, 7.74e-08, 1.41e-07 };
+    return { 7.0e-08, 7.7e-08, 7.74e-08, 7.9e-08 };
   }
 };
 
