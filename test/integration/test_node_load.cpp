@@ -187,7 +187,8 @@ TEST(NodeLoad, ConcurrentHeavyRequestsDoNotStarveTf)
 
   std::lock_guard<std::mutex> lock(mutex);
   std::size_t during = 0;
-  double worst_gap = 0.0;
+  double worst_gap = 0.0;          // between the stamps the node gave (when it published)
+  double worst_arrival_gap = 0.0;  // between their arrivals here
   for (std::size_t i = 0; i < arrivals.size(); ++i)
   {
     if (arrivals[i] < start)
@@ -196,18 +197,24 @@ TEST(NodeLoad, ConcurrentHeavyRequestsDoNotStarveTf)
     if (i > 0)
     {
       EXPECT_GT(stamps[i], stamps[i - 1]);
-      worst_gap = std::max(worst_gap, (arrivals[i] - arrivals[i - 1]).toSec());
+      worst_gap = std::max(worst_gap, (stamps[i] - stamps[i - 1]).toSec());
+      worst_arrival_gap = std::max(worst_arrival_gap, (arrivals[i] - arrivals[i - 1]).toSec());
     }
   }
   const double rate = during / elapsed;
   std::cout << "[load] 50 requests in " << elapsed << " s; moving frame " << rate << " Hz, worst gap " << worst_gap
-            << " s" << std::endl;
+            << " s between stamps, " << worst_arrival_gap << " s between arrivals" << std::endl;
   EXPECT_GT(elapsed, 0.5) << "the load was too light to mean anything";
-  // Nominal 50 Hz. A frame starved by the requests would stop for the whole load (4 s and more); on
-  // this 2-core machine under CI's parallel sanitizer build the worst gap measured 0.09-0.56 s and
-  // the rate 43-50 Hz (8 runs): the bounds keep a margin of about 3x over them.
+  // Nominal 50 Hz. A frame starved by the requests would stop for the whole load (2.4-3.6 s here):
+  // the node stamps each transform when it publishes it, so a gap between stamps is the node's, and
+  // a gap between arrivals may be this process's or the connection's too. On this 2-core machine
+  // under CI's parallel sanitizer build the arrivals' worst gap measured 0.09-0.88 s in 12 runs and
+  // 1.54 s once, with the rate at 47 Hz: the transforms had been published on time and arrived in a
+  // burst. So the stamps are held to 1.5 s (3x over the arrivals' usual worst) and the arrivals,
+  // which must not stall for the whole load either, to 3 s.
   EXPECT_GT(rate, 15.0);
   EXPECT_LT(worst_gap, 1.5);
+  EXPECT_LT(worst_arrival_gap, 3.0);
 }
 
 // A request sized to about 4x max_work_seconds, accepted by the estimate, ends within 2x the

@@ -220,8 +220,8 @@ public:
   {
     const TangentJet j = tangentJet(t, side);
     const double inv_h = 1.0 / (times_[j.segment + 1] - times_[j.segment]);
-    const Tangent dddv =
-        (start_rates_[j.segment] + end_rates_[j.segment]) * (6.0 * inv_h * inv_h) - logs_[j.segment] * (12.0 * inv_h * inv_h * inv_h);
+    const Tangent dddv = (start_rates_[j.segment] + end_rates_[j.segment]) * (6.0 * inv_h * inv_h) -
+                         logs_[j.segment] * (12.0 * inv_h * inv_h * inv_h);
     return G::expRates3(j.v, j.dv, j.ddv, dddv);
   }
 

@@ -5,7 +5,8 @@
 //
 // The path C(s) and its channels are those of time_optimal.h; C‴ comes exactly from the curve's
 // third-order jets (curve.h, ThirdOrderJets: every construction evaluates itself in Jet<3>
-// arithmetic as it does in Jet<2>; a curve without them is refused, not approximated). A timing
+// arithmetic as it does in Jet<2>; a curve without them is refused, not approximated; the C²
+// double-geodesic spline gives them in closed form, ChartCubicSpline::rates3). A timing
 // s(t) with ṡ ≥ 0 gives the rates of each channel by the chain rule
 //   v = C′ ṡ,   a = C″ ṡ² + C′ s̈,   j = C‴ ṡ³ + 3 C″ ṡ s̈ + C′ s⃛                      (1)
 // (linear: p and its s-derivatives; angular: the spatial ω_s, ω′_s, ω″_s, so that j = ω̈; on the
