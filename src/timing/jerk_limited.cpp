@@ -148,12 +148,45 @@ double JerkLimitedProfile::segmentTime(const Segment& g, double path_parameter) 
   // s(t) is nondecreasing and passes s between the base's passage and τ after it.
   double lo = std::max(base.t[g.first], base.timeAt(path_parameter));
   double hi = std::min(lo + g.tau, base.t[g.last] + g.tau);
+  // On [lo, hi] s(t) is a cubic between the segment's grid times and those times shifted by τ
+  // (eq. 2): the bracket is narrowed to one such piece by bisection over the grid times inside
+  // it, then over the shifted ones, and the piece's cubic (its Taylor coefficients at the middle)
+  // is solved by bisection: a few evaluations of s(t) instead of one per step.
+  const auto grid_begin = base.t.begin() + static_cast<std::ptrdiff_t>(g.first);
+  const auto grid_end = base.t.begin() + static_cast<std::ptrdiff_t>(g.last) + 1;
+  for (const double shift : { 0.0, g.tau })
+  {
+    auto a = std::upper_bound(grid_begin, grid_end, lo - shift);
+    auto b = std::lower_bound(a, grid_end, hi - shift);
+    while (a != b)
+    {
+      const auto m = a + (b - a) / 2;
+      const double t = *m + shift;
+      if (!(t > lo && t < hi))
+        break;
+      if (segmentParameter(g, t, Side::kRight) < path_parameter)
+      {
+        lo = t;
+        a = m + 1;
+      }
+      else
+      {
+        hi = t;
+        b = m;
+      }
+    }
+  }
+  const double mid = 0.5 * (lo + hi);
+  const Jet<3> cubic = segmentParameter(g, Jet<3>::variable(mid), Side::kRight);
+  const double c0 = cubic.coefficient(0), c1 = cubic.coefficient(1), c2 = cubic.coefficient(2),
+               c3 = cubic.coefficient(3);
   for (int step = 0; step < jerk_limited_detail::kTimeBisectionSteps; ++step)
   {
-    const double mid = 0.5 * (lo + hi);
-    if (!(mid > lo && mid < hi))
+    const double t = 0.5 * (lo + hi);
+    if (!(t > lo && t < hi))
       break;
-    (segmentParameter(g, mid, Side::kRight) < path_parameter ? lo : hi) = mid;
+    const double h = t - mid;
+    (c0 + h * (c1 + h * (c2 + h * c3)) < path_parameter ? lo : hi) = t;
   }
   return hi;
 }

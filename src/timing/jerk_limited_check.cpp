@@ -11,6 +11,7 @@
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/timing/peak_search.h"
 #include "jerk_limited_solver.h"
+#include "time_optimal_solver.h"
 
 namespace se3_interpolation
 {
@@ -24,6 +25,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// Pieces whose parabola through ends and middle comes within this fraction of the largest value
 /// seen are searched for their interior maximum (time_optimal_check.cpp's margin).
 constexpr double kRefineMargin = 1e-3;
+/// A piece is halved (at most kMaxSplitDepth times) while the path's rates vary across it more than
+/// the underlying grid's refinement allows across its intervals (the same rule,
+/// time_optimal_detail::channelVaries): where that refinement stopped at its limits (a blended
+/// curve whose uneven times make |C′| change 100-fold within one grid interval, found by the
+/// request-space grid), the parabola through a piece's ends and middle missed a speed peak by 30 %.
+constexpr int kMaxSplitDepth = 12;
 }  // namespace
 
 Rates6 JerkSolver::rates(const PathJet3& j, const Jet<3>& s)
@@ -125,6 +132,25 @@ void JerkSolver::pieces(const JerkLimitedProfile::Segment& g, const std::vector<
   }
 }
 
+void JerkSolver::splitFloor()
+{
+  for (int c = 0; c < 2; ++c)
+  {
+    double largest = 0.0;
+    for (const PathJet3& j : jets_)
+      largest = std::max(largest, j[c].bb);
+    split_floor_[c] = kMoveTolerance * kMoveTolerance * largest;
+  }
+}
+
+bool JerkSolver::pathVaries(const PathJet3& a, const PathJet3& m, const PathJet3& b, double d) const
+{
+  for (int c = 0; c < 2; ++c)
+    if (moves_[c] && time_optimal_detail::channelVaries(a[c], m[c], b[c], d, split_floor_[c]))
+      return true;
+  return false;
+}
+
 double JerkSolver::verify()
 {
   const std::vector<double> path_breaks = path_.breakpoints();
@@ -136,6 +162,18 @@ double JerkSolver::verify()
     Rates6 f0, fm, f1;
   };
   std::vector<Piece> all;  ///< the pieces the search may take
+  /// A part of a piece still to be checked: its times, cubic (at its middle), the path's jets and
+  /// the rates at its ends, and how often it was halved.
+  struct Part
+  {
+    double lo, hi;
+    Jet<3> middle;
+    PathJet3 jr, jl;
+    Rates6 f0, f1;
+    int depth;
+  };
+  std::vector<Part> parts;
+  splitFloor();
   Rates6 peak{};
   std::vector<double> times;
   std::vector<double> crossing;
@@ -164,27 +202,43 @@ double JerkSolver::verify()
     {
       checkDeadlineEvery(count++, kPointsPerDeadlineCheck / 4, kPhase);
       const double lo = times[i], hi = times[i + 1], mid = 0.5 * (lo + hi);
-      Piece p{ k, lo, hi, profile_.segmentParameter(g, Jet<3>::variable(mid), Side::kRight), {}, {}, {} };
-      const Jet<3> sr = shifted(p.middle, lo - mid), sl = shifted(p.middle, hi - mid);
+      const Jet<3> middle = profile_.segmentParameter(g, Jet<3>::variable(mid), Side::kRight);
+      const Jet<3> sr = shifted(middle, lo - mid), sl = shifted(middle, hi - mid);
       PathJet3 jr = jl;
       if (i == 0)
         jr = segmentPathJet(g, sr.value(), Side::kRight);
       else if (!std::isnan(crossing[i]))
         jr = segmentPathJet(g, crossing[i], Side::kRight);
-      p.f0 = rates(jr, sr);
-      p.fm = ratesInside(g, p.middle);
       jl = segmentPathJet(g, std::isnan(crossing[i + 1]) ? sl.value() : crossing[i + 1], Side::kLeft);
-      p.f1 = rates(jl, sl);
-      for (int q = 0; q < 6; ++q)
-        peak[q] = std::max({ peak[q], p.f0[q], p.fm[q], p.f1[q] });
-      // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
-      // does not reach the threshold of the peaks so far never reaches the final one (the same
-      // pieces are searched, in the same order, without holding every piece's values).
-      bool candidate = false;
-      for (int q = 0; q < 6 && !candidate; ++q)
-        candidate = detail::parabolaPeaksInside(p.f0[q], p.fm[q], p.f1[q], peak[q] * (1.0 - kRefineMargin));
-      if (candidate)
-        all.push_back(p);
+      // The piece, halved while the path's rates vary too much across a part for the parabola
+      // through its ends and middle to stand for it (pathVaries).
+      parts.clear();
+      parts.push_back(Part{ lo, hi, middle, jr, jl, rates(jr, sr), rates(jl, sl), 0 });
+      while (!parts.empty())
+      {
+        const Part a = parts.back();
+        parts.pop_back();
+        const PathJet3 jm = segmentPathJet(g, a.middle.value(), Side::kRight);
+        const Rates6 fm = rates(jm, a.middle);
+        const double quarter = 0.25 * (a.hi - a.lo), centre = 0.5 * (a.lo + a.hi);
+        if (a.depth < kMaxSplitDepth &&
+            pathVaries(a.jr, jm, a.jl, shifted(a.middle, 2.0 * quarter).value() - shifted(a.middle, -2.0 * quarter).value()))
+        {
+          parts.push_back(Part{ centre, a.hi, shifted(a.middle, quarter), jm, a.jl, fm, a.f1, a.depth + 1 });
+          parts.push_back(Part{ a.lo, centre, shifted(a.middle, -quarter), a.jr, jm, a.f0, fm, a.depth + 1 });
+          continue;
+        }
+        for (int q = 0; q < 6; ++q)
+          peak[q] = std::max({ peak[q], a.f0[q], fm[q], a.f1[q] });
+        // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
+        // does not reach the threshold of the peaks so far never reaches the final one (the same
+        // pieces are searched, in the same order, without holding every piece's values).
+        bool candidate = false;
+        for (int q = 0; q < 6 && !candidate; ++q)
+          candidate = detail::parabolaPeaksInside(a.f0[q], fm[q], a.f1[q], peak[q] * (1.0 - kRefineMargin));
+        if (candidate)
+          all.push_back(Piece{ k, a.lo, a.hi, a.middle, a.f0, fm, a.f1 });
+      }
     }
   }
   // The interior maxima where the parabola through ends and middle peaks near the largest value.

@@ -64,9 +64,13 @@ private:
   /// The three runs of the underlying timing (file comment) and the segments of the result.
   void run(const RateBounds& b);
 
-  /// The underlying timing again with the local limits; the segments keep their factors (they
-  /// stop at the same points: the corners and the ends).
+  /// The underlying timing's first pass again with the local limits (firstPassAgain); the
+  /// segments keep their factors (keepSegments).
   void rerun(time_optimal_detail::TimeOptimalSolver* underlying, const TimeOptimalOptions& o, TimingProfile* base);
+
+  /// The segments of a new result of the underlying timing: they keep their factors (they stop at
+  /// the same points: the corners and the ends); if their number changed, the windows are reset.
+  void keepSegments(const TimingProfile& base);
 
   /// The underlying timing's local limit at a grid point (the previous run's grid: the grid
   /// depends on the path and the options only).
@@ -140,6 +144,14 @@ private:
   /// and the stretch k they need. Returns k.
   double verify();
 
+  /// The floors of |C′|² below which a channel counts as still in pathVaries (time_optimal's
+  /// kMoveTolerance of the largest at the grid's points).
+  void splitFloor();
+
+  /// Whether the path's jets at the ends and middle of a piece (a, m, b; d its length in s) vary
+  /// too much for the parabola through the rates there to stand for the piece (verify halves it).
+  bool pathVaries(const PathJet3& a, const PathJet3& m, const PathJet3& b, double d) const;
+
   /// Caps |s̈_T| where the path nearly stands still (file comment of jerk_limited_runs.cpp, at
   /// kStationaryGrowth) from the first run's times and segments (findSegments); returns whether
   /// any cap was set.
@@ -169,6 +181,7 @@ private:
   std::vector<std::size_t> seg_first_, seg_last_;
   std::vector<double> seg_f_;   ///< the short-segment factor f of each segment
   Rates6 peak_{};
+  std::array<double, 2> split_floor_{};  ///< splitFloor
   JerkLimitedProfile profile_;
 };
 

@@ -20,12 +20,9 @@ namespace time_optimal_detail
 namespace
 {
 /// Grid refinement: an interval is halved while the path's rates change too much across it for
-/// the constraints at its ends to stand for its interior: in a bounded channel, Δ |C″| >
-/// kRefineTolerance |C′| (the direction or the speed of C′ turns by more than ~0.25 over the
-/// interval) or |C′| at its ends and middle differs by more than the factor 1 + kRefineTolerance,
+/// the constraints at its ends to stand for its interior (channelVaries, in a bounded channel),
 /// at most kMaxRefineDepth times, and the refined grid has at most kMaxRefineGrowth times the
 /// intervals of the uniform one (the final check and correction keep the bounds beyond that).
-constexpr double kRefineTolerance = 0.25;
 constexpr int kMaxRefineDepth = 24;
 constexpr std::size_t kMaxRefineGrowth = 16;
 /// The first interval of a motion whose start acceleration is held (TimeOptimalOptions::hold_start):
@@ -53,7 +50,7 @@ TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bo
   evaluateGrid(options);
 }
 
-TimingProfile TimeOptimalSolver::resolve(const TimeOptimalOptions& options)
+void TimeOptimalSolver::reset(const TimeOptimalOptions& options)
 {
   if (grid_.empty() || options.hold_start != hold_start_)
     throw InterpolationError("timing: the time-optimal timing was resolved on a grid it did not keep");
@@ -70,33 +67,55 @@ TimingProfile TimeOptimalSolver::resolve(const TimeOptimalOptions& options)
   u_cap_.clear();
   k_.clear();
   evaluateGrid(options);
-  return solve();
+}
+
+const TimingProfile& TimeOptimalSolver::firstPassAgain(const TimeOptimalOptions& options)
+{
+  reset(options);
+  return firstPass();
 }
 
 TimingProfile TimeOptimalSolver::solve()
 {
-  const bool fixed_start = start_x_ > 0.0 || hold_start_;
+  firstPass();
+  return finish();
+}
+
+const TimingProfile& TimeOptimalSolver::firstPass()
+{
   check_quarters_ = start_x_ > 0.0;
-  const int passes = fixed_start ? kFixedStartPasses : kLocalPasses;
-  for (int pass = 0;; ++pass)
+  updateCaps();
+  backward();
+  forward();
+  return profile_;
+}
+
+TimingProfile TimeOptimalSolver::finish()
+{
+  localPasses(start_x_ > 0.0 || hold_start_ ? kFixedStartPasses : kLocalPasses);
+  if (start_x_ > 0.0 || hold_start_)
+    verifyFixedStart();
+  else
+    verifyAndStretch();
+  return std::move(profile_);
+}
+
+const TimingProfile& TimeOptimalSolver::localPasses(int passes)
+{
+  const bool fixed_start = start_x_ > 0.0 || hold_start_;
+  for (int pass = 0; pass < passes; ++pass)
   {
-    updateCaps();
-    backward();
-    forward();
-    if (pass == passes)
-      break;
     if (!tightenWhereTheMiddlesExceed())
     {
       // The middles hold: a fixed start must also hold on the whole check (no stretch after it).
       if (!fixed_start || !tightenWhereTheCheckExceeds(pass >= kLocalPasses ? kFixedStartMargin : 0.0))
         break;
     }
+    updateCaps();
+    backward();
+    forward();
   }
-  if (fixed_start)
-    verifyFixedStart();
-  else
-    verifyAndStretch();
-  return std::move(profile_);
+  return profile_;
 }
 
 void TimeOptimalSolver::growLargest(const PathJet& j, std::array<double, 2>* largest)
@@ -109,15 +128,7 @@ bool TimeOptimalSolver::needsSplit(const PathJet& a, const PathJet& m, const Pat
 {
   for (int c = 0; c < 2; ++c)
   {
-    if (!bounded(c))
-      continue;
-    const double fastest = std::max({ a[c].bb, m[c].bb, b[c].bb, refine_floor_[c] });
-    const double slowest = std::max({ std::min({ a[c].bb, m[c].bb, b[c].bb }), refine_floor_[c] });
-    const double curvature = std::sqrt(std::max({ a[c].aa, m[c].aa, b[c].aa }));
-    const double least_curvature = std::sqrt(std::min({ a[c].aa, m[c].aa, b[c].aa }));
-    if (d * curvature > kRefineTolerance * std::sqrt(fastest) ||
-        d * (curvature - least_curvature) > kRefineTolerance * kRefineTolerance * std::sqrt(fastest) ||
-        fastest > (1.0 + kRefineTolerance) * (1.0 + kRefineTolerance) * slowest)
+    if (bounded(c) && channelVaries(a[c], m[c], b[c], d, refine_floor_[c]))
       return true;
   }
   return false;

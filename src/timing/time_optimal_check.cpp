@@ -236,7 +236,7 @@ void TimeOptimalSolver::verifyAndStretch()
       ui /= k * k;
     profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
   }
-  setFigures(peak, k, energy);
+  figures(peak, k, energy);
 }
 
 std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)
@@ -280,7 +280,7 @@ void TimeOptimalSolver::verifyFixedStart()
                              " corrections; start more slowly or farther from the first waypoint, or raise the "
                              "acceleration bounds");
   profile_.stretch = 1.0;
-  setFigures(searched, 1.0);
+  figures(searched, 1.0, std::nullopt);
 }
 
 std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, double u)
@@ -292,27 +292,6 @@ std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, 
     m[2 + c] = std::sqrt(std::max(0.0, j[c].aa * x * x + 2.0 * j[c].ab * x * u + j[c].bb * u * u));
   }
   return m;
-}
-
-void TimeOptimalSolver::setFigures(const Rates& searched, double k, const std::optional<Energy>& energy)
-{
-  if (!defer_figures_)
-  {
-    figures(searched, k, energy);
-    return;
-  }
-  deferred_searched_ = searched;
-  deferred_k_ = k;
-  deferred_energy_ = energy;
-}
-
-void TimeOptimalSolver::finishFigures(TimingProfile* p)
-{
-  // figures() reads the result through profile_ (with the grid's cached jets, which every solve
-  // shares).
-  profile_ = std::move(*p);
-  figures(deferred_searched_, deferred_k_, deferred_energy_);
-  *p = std::move(profile_);
 }
 
 std::array<double, 3> TimeOptimalSolver::energyWeights(const TimingProfile& p, std::size_t i) const

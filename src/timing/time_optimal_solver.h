@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -57,6 +58,27 @@ constexpr std::size_t kPointsPerDeadlineCheck = 256;
 constexpr std::size_t kIntervalsPerSearchDeadlineCheck = kPointsPerDeadlineCheck / 16;
 constexpr const char* kPhase = "timing: 'time_optimal'";
 
+/// The grid's refinement rule, which the jerk-limited timing's final check applies to its pieces
+/// too: Δ |C″| > kRefineTolerance |C′| over an interval (the direction or the speed of C′ turns by
+/// more than ~0.25 across it) or |C′| at its ends and middle differing by more than the factor
+/// 1 + kRefineTolerance.
+constexpr double kRefineTolerance = 0.25;
+
+/// Whether one channel's jets at the ends and middle of an interval d long in s (a, m, b: any jet
+/// with the inner products bb = |C′|², aa = |C″|²) vary too much across it (kRefineTolerance) for
+/// the values at those three points to stand for its interior; |C′|² below `floor` counts as still.
+template <class ChannelJetType>
+bool channelVaries(const ChannelJetType& a, const ChannelJetType& m, const ChannelJetType& b, double d, double floor)
+{
+  const double fastest = std::max({ a.bb, m.bb, b.bb, floor });
+  const double slowest = std::max({ std::min({ a.bb, m.bb, b.bb }), floor });
+  const double curvature = std::sqrt(std::max({ a.aa, m.aa, b.aa }));
+  const double least_curvature = std::sqrt(std::min({ a.aa, m.aa, b.aa }));
+  return d * curvature > kRefineTolerance * std::sqrt(fastest) ||
+         d * (curvature - least_curvature) > kRefineTolerance * kRefineTolerance * std::sqrt(fastest) ||
+         fastest > (1.0 + kRefineTolerance) * (1.0 + kRefineTolerance) * slowest;
+}
+
 struct Interval
 {
   double lo = -kInf;
@@ -83,30 +105,44 @@ using Rates = std::array<double, 4>;
 class TimeOptimalSolver
 {
 public:
-  /// @param reusable keep the grid for resolve() (a copy of its path parameters)
+  /// @param reusable keep the grid for firstPassAgain() (a copy of its path parameters)
   TimeOptimalSolver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options,
                     bool reusable = false);
 
-  /// The passes, the final check and the stretch or the fixed start's corrections (time_optimal.cpp).
+  /// The passes, the final check and the stretch or the fixed start's corrections (time_optimal.cpp):
+  /// firstPass(), then finish().
   TimingProfile solve();
 
-  /// After solve() of a reusable solver: the timing again on the same grid and jets, with the
+  /// The first pass only (the controllable sets, the greedy forward pass): the timing before the
+  /// local passes and the final check, which may exceed a bound between grid points. For a caller
+  /// that reads a timing only to decide how to solve again (the jerk-limited timing's runs, whose
+  /// result is checked by their own final check): finish() of the last one gives exactly what
+  /// solve() would have returned, and the runs it replaces skip their checks.
+  const TimingProfile& firstPass();
+
+  /// What solve() does after firstPass(): localPasses(), then the final check and the stretch or
+  /// the fixed start's corrections. Once after each firstPass().
+  TimingProfile finish();
+
+  /// At most `passes` local passes after firstPass() (where the middle of an interval exceeds a
+  /// bound, that bound tightened at its ends by the excess and the passes rerun; for a fixed start,
+  /// until the whole check holds), without the final check and stretch: for a caller whose own
+  /// final check holds the motion to the bounds (the jerk-limited timing). Once after each
+  /// firstPass(), instead of finish().
+  const TimingProfile& localPasses(int passes);
+
+  /// After a pass of a reusable solver: the first pass again on the same grid and jets, with the
   /// local limits and start speed of `options` (its grid options and hold_start must be those of
-  /// the construction: they made the grid). The result is exactly what a new solver with these
-  /// options would return, without rebuilding the grid and evaluating the path's jets again (the
-  /// jerk-limited timing's reruns).
-  TimingProfile resolve(const TimeOptimalOptions& options);
-
-  /// Leaves the figures (TimingProfile::max_speed, max_acceleration, acceleration_energy) of the
-  /// following solves to finishFigures: a caller that solves several times and keeps one result
-  /// (the jerk-limited timing's reruns) computes them once.
-  void deferFigures() { defer_figures_ = true; }
-
-  /// The figures of the last solve's result `p` (which deferFigures left out), exactly as solve()
-  /// would have set them.
-  void finishFigures(TimingProfile* p);
+  /// the construction: they made the grid); finish() completes it. Its finish() is exactly what a
+  /// new solver with these options would return from solve(), without rebuilding the grid and
+  /// evaluating the path's jets again (the jerk-limited timing's reruns).
+  const TimingProfile& firstPassAgain(const TimeOptimalOptions& options);
 
 private:
+  /// Everything the passes and checks change, as the constructor leaves it, with the local limits
+  /// and start speed of `options` (firstPassAgain).
+  void reset(const TimeOptimalOptions& options);
+
   // The grid (time_optimal.cpp).
   bool bounded(int c) const { return bounds_.velocity[c] > 0.0 || bounds_.acceleration[c] > 0.0; }
 
@@ -281,8 +317,6 @@ private:
   /// search raises, and `energy` the acceleration energy before the stretch.
   void figures(const Rates& searched, double k, const std::optional<Energy>& energy);
 
-  /// figures(searched, k, energy), or keeps its arguments for finishFigures (deferFigures).
-  void setFigures(const Rates& searched, double k, const std::optional<Energy>& energy = std::nullopt);
 
   /// The weights of interval i's acceleration energy in `p` at its ends and middle: the integral
   /// over the interval's time of the quadratic through the values at times 0, τ_m (the middle in
@@ -310,11 +344,7 @@ private:
   std::size_t recovery_end_ = 0;          ///< the grid point at which the recovery (forward) ends
   bool start_exceeds_ = false;            ///< the start itself exceeds a bound
   TimingProfile profile_;
-  std::vector<double> grid_;  ///< the grid's path parameters, kept for resolve() (reusable only)
-  bool defer_figures_ = false;
-  Rates deferred_searched_{};  ///< figures()'s arguments of the last solve when deferred
-  double deferred_k_ = 1.0;
-  std::optional<Energy> deferred_energy_;
+  std::vector<double> grid_;  ///< the grid's path parameters, kept for firstPassAgain() (reusable only)
   /// Grid point i from the right, and from the left: right_[i] itself where left_of_[i] is
   /// kSameAsRight (all but the pieces' inner ends), else distinct_left_[left_of_[i]] (a few entries
   /// instead of a second copy of the largest array of a long grid).

@@ -109,9 +109,6 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
     const double x = phi.squaredNorm();
     const detail::ScrewCoefficients c = detail::screwCoefficients(x);
     const detail::ScrewSecondDerivatives d = detail::screwSecondDerivatives(x, c);
-    const MotionRates rates = expRates(c, v, dv, ddv);
-    out.velocity.angular = rates.velocity.angular;
-    out.acceleration.angular = rates.acceleration.angular;
     const double dx = 2.0 * phi.dot(dphi);
     const double ddx = 2.0 * (dphi.squaredNorm() + phi.dot(ddphi));
     const Vector3<double> u = phi.cross(dphi);
@@ -120,6 +117,9 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
     const Vector3<double> ddu = dphi.cross(ddphi) + phi.cross(dddphi);
     const Vector3<double> dw = dphi.cross(u) + phi.cross(du);
     const Vector3<double> ddw = ddphi.cross(u) + 2.0 * dphi.cross(du) + phi.cross(ddu);
+    // expRates' ω and ω̇ from the same products (its ω̇ is φ̈ + Ȧ u + A u̇ + Ḃ w + B ẇ).
+    out.velocity.angular = dphi + c.a * u + c.b * w;
+    out.acceleration.angular = ddphi + (c.da * dx) * u + c.a * du + (c.db * dx) * w + c.b * dw;
     out.jerk.angular = dddphi + (d.dda * dx * dx + c.da * ddx) * u + (2.0 * c.da * dx) * du + c.a * ddu +
                        (d.ddb * dx * dx + c.db * ddx) * w + (2.0 * c.db * dx) * dw + c.b * ddw;
     return out;

@@ -51,17 +51,20 @@
 //  - verification, not the grid, guarantees the bounds: s(t) is a cubic polynomial in t between
 //    the times t_i, t_i + τ (t_i the underlying grid's times) and the times at which it passes a
 //    breakpoint of the path; every such piece is evaluated at its two ends (one-sided: s⃛ and C‴
-//    jump there) and its middle with exact third-order path jets (Curve::jet3), and searched for its
+//    jump there) and its middle with exact third-order path jets (Curve::jet3), halved while the
+//    path's jets vary across it more than time_optimal's grid refinement allows across an interval
+//    (where that refinement stopped at its limits), and searched for its
 //    interior maximum where the parabola through the three values peaks inside (as time_optimal's
 //    final check does); the whole motion is then run slower by the uniform factor
 //    k = max(1, v/v_max, √(a/a_max), ∛(j/j_max)) over the peaks (velocities scale by 1/k,
 //    accelerations by 1/k², jerks by 1/k³).
 // Cost: up to three runs of the underlying timing (with the path's speed caps, with lowered
 // accelerations on short segments, with plateaus; two on most paths), which share one grid and its
-// path jets (TimeOptimalSolver::resolve: the reruns only redo the passes and the check), and a
+// path jets; the runs a later run replaces stop after their first pass (the underlying timing's
+// local passes and final check only for the last), and a
 // check of about twice its grid's intervals, each with two third-order path jets: linear in the
-// path's length in its work (bench/bench_time_optimal.cpp: about 1.5 times the acceleration-only
-// timing's cost at 1000 waypoints, 1.7 at 3000, where its data outgrow the cache;
+// path's length in its work (bench/bench_time_optimal.cpp: about 1.8 times the acceleration-only
+// timing's cost at 1000 waypoints, 2.1 at 3000, where its data outgrow the cache;
 // docs/performance.md).
 //
 // Start state (JerkLimitedOptions): a motion that starts moving at path speed ṡ0 ≥ 0 with path
