@@ -4,12 +4,12 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "se3_interpolation/analysis/figures.h"
-#include "se3_interpolation/deadline.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/request.h"
 #include "se3_interpolation/planner/validation.h"
@@ -22,9 +22,6 @@ namespace se3_interpolation
 {
 namespace planner_detail
 {
-/// Pieces of a timed motion integrated between two checks of the request's deadline.
-constexpr std::size_t kEnergyPiecesPerDeadlineCheck = 1024;
-
 /// The uniform stretch k ≥ 1 that brings every peak rate within its bound (0 = unbounded):
 /// speeds scale by 1/k and accelerations by 1/k². `cause` receives the binding bound's field.
 template <class Space>
@@ -94,6 +91,15 @@ void measureJerk(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, C
   fig->max_angular_jerk = j.peak[timing::kAngular];
 }
 
+/// ∫ |p̈|² + ρ²|ω̇|² dt from each channel's ∫|a|² dt.
+template <class Space>
+double channelEnergy(const BasicValidatedRequest<Space>& r, const std::array<double, 2>& energy)
+{
+  const double angular = energy[timing::kAngular];
+  // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
+  return energy[timing::kLinear] + (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
+}
+
 /// The figures of a time-optimal motion: length and rotation length are the path's (timing does not
 /// change them); the rates and the energy are the timed motion's (TimingProfile).
 template <class Space>
@@ -103,30 +109,7 @@ void setTimedFigures(const BasicValidatedRequest<Space>& r, const timing::Timing
   fig->max_angular_speed = p.max_speed[timing::kAngular];
   fig->max_linear_acceleration = p.max_acceleration[timing::kLinear];
   fig->max_angular_acceleration = p.max_acceleration[timing::kAngular];
-  const double angular = p.acceleration_energy[timing::kAngular];
-  // (ρ² · 0 must stay 0 for a huge ρ, as in measureCurve.)
-  fig->energy = p.acceleration_energy[timing::kLinear] +
-                (angular > 0.0 ? r.rotation_scale * r.rotation_scale * angular : 0.0);
-}
-
-/// ∫ |p̈|² + ρ²|ω̇|² dt of a timed motion by Simpson's rule on each of its pieces (the pieces of a
-/// jerk-limited timing are short: its grid's intervals and windows).
-template <class G>
-double piecewiseEnergy(const Curve<G>& curve, double rotation_scale)
-{
-  std::vector<double> b = curve.breakpoints();
-  b.erase(std::unique(b.begin(), b.end()), b.end());
-  double energy = 0.0;
-  for (std::size_t i = 0; i + 1 < b.size(); ++i)
-  {
-    checkDeadlineEvery(i, kEnergyPiecesPerDeadlineCheck, "the trajectory's figures");
-    const double lo = b[i], hi = b[i + 1];
-    energy += (hi - lo) / 6.0 *
-              (energyDensity(kinematicsAt(curve, lo, Side::kRight), rotation_scale) +
-               4.0 * energyDensity(kinematicsAt(curve, 0.5 * (lo + hi), Side::kRight), rotation_scale) +
-               energyDensity(kinematicsAt(curve, hi, Side::kLeft), rotation_scale));
-  }
-  return energy;
+  fig->energy = channelEnergy(r, p.acceleration_energy);
 }
 
 /// The peaks a timing verified densely (JerkLimitedProfile, ConstantSpeedProfile: their
@@ -143,13 +126,13 @@ void setVerifiedPeaks(const Profile& p, CurveFigures* fig)
 }
 
 /// The figures of a jerk-limited motion: length and rotation length are the path's; the peaks
-/// are the timing's verified ones (JerkLimitedProfile), the energy the motion's.
+/// and the energy are the timing's, from its final check (JerkLimitedProfile).
 template <class Space, class G>
 void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::JerkLimitedCurve<G>& timed,
                            CurveFigures* fig)
 {
   setVerifiedPeaks(timed.profile(), fig);
-  fig->energy = piecewiseEnergy(timed, r.rotation_scale);
+  fig->energy = channelEnergy(r, timed.profile().acceleration_energy);
 }
 
 /// The figures of a constant-speed motion: length and rotation length are the path's; the peaks and

@@ -35,11 +35,11 @@ constexpr double kTimeOptimalSearchEvaluations = 4096.0;
 constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 
 /// The jerk-limited timing (timing/jerk_limited.h): up to three runs of the acceleration-only
-/// timing on one grid and a check of about twice its intervals with third-order jets (measured 1.5
-/// times its cost at 1000 waypoints, 1.7 at 3000: bench_time_optimal, docs/performance.md);
+/// timing on one grid and a check of about twice its intervals with third-order jets (measured 1.8
+/// times its cost at 1000 waypoints, 2.1 at 3000: bench_time_optimal, docs/performance.md);
 /// counted as three times its work, which the cache misses of long paths use up: the estimate for
-/// 10⁴ waypoints of bench_time_optimal's spline is 1.42 s, and the timing alone took 1.43 s on the
-/// 2-vCPU EPYC VM of that measurement.
+/// 10⁴ waypoints of bench_time_optimal's spline is 0.78 s, and its generate() took 0.97 s of CPU
+/// (the timing alone 0.67 s) on the 2-vCPU EPYC VM of that measurement.
 constexpr double kJerkLimitedTimingFactor = 3.0;
 /// The constant-speed timing (timing/constant_speed.h), per interval of time_optimal's grid: its
 /// table of S(σ) has two intervals there (or more where it is refined), each a jet at its end, 4

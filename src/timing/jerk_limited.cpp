@@ -232,6 +232,7 @@ JerkLimitedProfile jerkLimitedProfile(const JerkPathModel& path, const RateBound
     p.stretch = p.base.stretch;
     p.max_speed = p.base.max_speed;
     p.max_acceleration = p.base.max_acceleration;
+    p.acceleration_energy = p.base.acceleration_energy;
     for (int c = 0; c < 2; ++c)
       p.max_jerk[c] = p.max_acceleration[c] > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
     return p;

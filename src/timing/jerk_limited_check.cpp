@@ -4,6 +4,7 @@
 // searched peaks, the stretch they need and the figures. The solver is declared in
 // jerk_limited_solver.h.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -175,6 +176,7 @@ double JerkSolver::verify()
   std::vector<Part> parts;
   splitFloor();
   Rates6 peak{};
+  std::array<double, 2> energy{};  ///< ∫|a|² dt per channel, Simpson's rule on every piece
   std::vector<double> times;
   std::vector<double> crossing;
   std::vector<double>& motion_breaks = profile_.breakpoints;
@@ -230,6 +232,9 @@ double JerkSolver::verify()
         }
         for (int q = 0; q < 6; ++q)
           peak[q] = std::max({ peak[q], a.f0[q], fm[q], a.f1[q] });
+        for (int c = 0; c < 2; ++c)
+          energy[c] += (a.hi - a.lo) / 6.0 *
+                       (a.f0[2 + c] * a.f0[2 + c] + 4.0 * fm[2 + c] * fm[2 + c] + a.f1[2 + c] * a.f1[2 + c]);
         // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
         // does not reach the threshold of the peaks so far never reaches the final one (the same
         // pieces are searched, in the same order, without holding every piece's values).
@@ -260,6 +265,7 @@ double JerkSolver::verify()
     }
   }
   peak_ = peak;
+  energy_ = energy;
   double k = 1.0;
   for (int c = 0; c < 2; ++c)
   {
@@ -284,6 +290,8 @@ void JerkSolver::applyStretch(double k)
     p.max_speed[c] = peak_[c] / k;
     p.max_acceleration[c] = peak_[2 + c] / (k * k);
     p.max_jerk[c] = peak_[4 + c] / (k * k * k);
+    // (|a| scales by 1/k², the time by k.)
+    p.acceleration_energy[c] = energy_[c] / (k * k * k);
   }
 }
 

@@ -181,6 +181,7 @@ private:
   std::vector<std::size_t> seg_first_, seg_last_;
   std::vector<double> seg_f_;   ///< the short-segment factor f of each segment
   Rates6 peak_{};
+  std::array<double, 2> energy_{};  ///< ∫|a|² dt per channel before the stretch (verify)
   std::array<double, 2> split_floor_{};  ///< splitFloor
   JerkLimitedProfile profile_;
 };

@@ -353,6 +353,9 @@ struct JerkLimitedProfile
   std::array<double, 2> max_speed{};
   std::array<double, 2> max_acceleration{};
   std::array<double, 2> max_jerk{};
+  /// Each channel's acceleration energy ∫|a|² dt, by Simpson's rule on every piece of the final
+  /// check (its values at the ends and middle), as TimingProfile::acceleration_energy.
+  std::array<double, 2> acceleration_energy{};
   /// The motion times at which s⃛ or the path's C‴ may jump (the pieces of the check), sorted.
   std::vector<double> breakpoints;
 

@@ -533,6 +533,38 @@ TEST(JerkLimited, SphereSplineKeepsEveryBound)
   expectJerkLimited<Sphere>(path, b, "sphere spline");
 }
 
+// The acceleration energy the final check integrates (Simpson's rule on its pieces) against a
+// midpoint sum of |a|² over 2·10⁵ equal steps of the timed curve's own kinematics, per channel:
+// a spline and a corner blend, in both geometries' worth of channels.
+TEST(JerkLimited, AccelerationEnergyIsTheMotionsIntegral)
+{
+  std::mt19937 rng(17);
+  const std::vector<Pose<double>> points = test::randomPolygon(rng, 6, 0.8);
+  const std::vector<double> times = unevenTimes(points.size(), rng);
+  const RateBounds b = bounds(1.0, 2.0, 10.0, 1.5, 3.0, 15.0);
+  const std::shared_ptr<const Curve<DoubleGeodesicSe3>> paths[] = {
+    naturalSpline<DoubleGeodesicSe3>(points, times),
+    std::make_shared<CornerBlendedGeodesic<DoubleGeodesicSe3>>(points, times, 0.3, 1.0)
+  };
+  for (const auto& path : paths)
+  {
+    const auto m = timing::makeJerkLimitedCurve<DoubleGeodesicSe3>(path, b);
+    const std::size_t steps = 200000;
+    const double t0 = m->startTime(), h = (m->endTime() - t0) / static_cast<double>(steps);
+    double linear = 0.0, angular = 0.0;
+    for (std::size_t i = 0; i < steps; ++i)
+    {
+      const Kinematics k = kinematicsAt(*m, t0 + (static_cast<double>(i) + 0.5) * h);
+      linear += h * k.acceleration.linear.squaredNorm();
+      angular += h * k.acceleration.angular.squaredNorm();
+    }
+    EXPECT_GT(linear, 0.0);
+    EXPECT_GT(angular, 0.0);
+    EXPECT_NEAR(m->profile().acceleration_energy[timing::kLinear], linear, 1e-4 * linear);
+    EXPECT_NEAR(m->profile().acceleration_energy[timing::kAngular], angular, 1e-4 * angular);
+  }
+}
+
 TEST(JerkLimited, ALooseJerkBoundCostsAtMostThreePercent)
 {
   std::mt19937 rng(11);
