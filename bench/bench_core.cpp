@@ -235,7 +235,7 @@ void registerGeometry(const std::string& g)
   registerOp(g + "/step_from_log",
              [&in, logs](std::size_t i) { return si::geodesicFromLog<G>(in.a[i], (*logs)[i], in.lambda[i]); });
   registerOp(g + "/step_jet", [&in, logs](std::size_t i) {
-    return si::kinematicsFromJet(si::geodesicFromLog<G>(in.a[i], (*logs)[i], si::Jet<2>::variable(in.lambda[i])));
+    return si::geodesicKinematicsFromLog<G>(in.a[i], (*logs)[i], si::Jet<2>::variable(in.lambda[i]));
   });
 
   const auto bezier = se3_bench::makeBezierCurves<G>();

@@ -156,15 +156,13 @@ std::vector<std::pair<std::string, Runner>> stepOperations()
     { "screw_step_jet",
       [](std::size_t n) {
         return repeat(n, [](std::size_t i) {
-          return si::kinematicsFromJet(
-              si::geodesicFromLog<si::ScrewSe3>(in.a[i], screw_logs[i], si::Jet<2>::variable(in.lambda[i])));
+          return si::geodesicKinematicsFromLog<si::ScrewSe3>(in.a[i], screw_logs[i], si::Jet<2>::variable(in.lambda[i]));
         });
       } },
     { "double_geodesic_step_jet",
       [](std::size_t n) {
         return repeat(n, [](std::size_t i) {
-          return si::kinematicsFromJet(
-              si::geodesicFromLog<si::DoubleGeodesicSe3>(in.a[i], dg_logs[i], si::Jet<2>::variable(in.lambda[i])));
+          return si::geodesicKinematicsFromLog<si::DoubleGeodesicSe3>(in.a[i], dg_logs[i], si::Jet<2>::variable(in.lambda[i]));
         });
       } },
     // KDL's peer of the step with velocity and acceleration: Path_Line (single-axis rotation)

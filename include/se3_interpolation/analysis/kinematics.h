@@ -12,6 +12,7 @@
 
 #include <type_traits>
 
+#include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/curves/chart_cubic.h"
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/geometry/geometry.h"
@@ -49,6 +50,10 @@ Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRigh
   if constexpr (HasExpKinematics<G>::value)
     if (const ChartCubicSpline<G>* chart = closedFormKinematicsSpline(curve))
       return chart->kinematics(t, side);
+  // The geodesic polygon of a geometry with closed-form line kinematics: without the jets.
+  if constexpr (detail::HasExpLineKinematics<G>::value)
+    if (const auto* polygon = dynamic_cast<const PiecewiseGeodesic<G>*>(&curve))
+      return polygon->kinematics(t, side);
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }
 

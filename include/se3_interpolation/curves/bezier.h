@@ -57,6 +57,17 @@ struct HasExpLine<G, std::void_t<decltype(G::expLine(std::declval<const typename
                                                      std::declval<const Jet<2>&>()))>> : std::true_type
 {
 };
+
+/// Whether G gives the kinematics of p Exp(λ L) at a second-order jet λ in closed form
+/// (G::expLineKinematics: the SE(3) geometries).
+template <class G, class = void>
+struct HasExpLineKinematics : std::false_type
+{
+};
+template <class G>
+struct HasExpLineKinematics<G, std::void_t<decltype(&G::expLineKinematics)>> : std::true_type
+{
+};
 }  // namespace detail
 
 /// p Exp(λ L) with exp evaluated in the scalar S: the generic path of geodesicFromLog, kept
@@ -80,6 +91,18 @@ typename G::template Point<S> geodesicFromLog(const typename G::template Point<d
     return G::expLine(p, log, lambda);
   else
     return geodesicFromLogGeneric<G>(p, log, lambda);
+}
+
+/// The kinematics (world frame) of p Exp(λ L) at a second-order jet λ: the geometry's closed
+/// form where it has one (G::expLineKinematics), else kinematicsFromJet of geodesicFromLog.
+template <class G>
+Kinematics geodesicKinematicsFromLog(const typename G::template Point<double>& p,
+                                     const typename G::template Tangent<double>& log, const Jet<2>& lambda)
+{
+  if constexpr (detail::HasExpLineKinematics<G>::value)
+    return G::expLineKinematics(p, log, lambda);
+  else
+    return kinematicsFromJet(geodesicFromLog<G>(p, log, lambda));
 }
 
 /// The generalised de Casteljau algorithm (thesis Alg. 4.1.2) at parameter λ, with the
@@ -151,6 +174,17 @@ public:
     const std::size_t i = findInterval(times_, valueOf(t), side);
     const S lambda = (t - S(times_[i])) * S(1.0 / (times_[i + 1] - times_[i]));
     return geodesicFromLog<G>(points_[i], logs_[i], lambda);
+  }
+
+  /// The kinematics at t (one-sided at a waypoint) without the jets of the pose, for the SE(3)
+  /// geometries (geodesicKinematicsFromLog; analysis/kinematics.h's kinematicsAt calls it).
+  Kinematics kinematics(double t, Side side) const
+  {
+    const std::size_t i = findInterval(times_, t, side);
+    const double rate = 1.0 / (times_[i + 1] - times_[i]);
+    Jet<2> lambda = Jet<2>::variable((t - times_[i]) * rate);
+    lambda.coefficient(1) = rate;
+    return geodesicKinematicsFromLog<G>(points_[i], logs_[i], lambda);
   }
 
   double startTime() const override { return times_.front(); }

@@ -44,6 +44,27 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
     return Point<Jet<2>>(detail::rotationLineJet(q, omega, alpha),
                          detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(), alpha));
   }
+  /// kinematicsFromJet(expLine(a, v, α)) in closed form, without the quaternion jets: the rotation
+  /// R_a Exp(α ω) turns about the fixed world axis R_a ω (Exp(α ω) ω = ω), so the spatial angular
+  /// velocity is α̇ R_a ω and its derivative α̈ R_a ω; p = p_a + α Δp, ṗ = α̇ Δp, p̈ = α̈ Δp (the
+  /// jet holds α̈/2 as its second coefficient). A piecewise geodesic's kinematics (tested to
+  /// rounding against the jets).
+  static Kinematics expLineKinematics(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  {
+    const Vector3<double> omega = v.template head<3>();
+    const Vector3<double> dp = v.template tail<3>();
+    const double rate = alpha.coefficient(1);
+    const double acceleration = 2.0 * alpha.coefficient(2);
+    const Vector3<double> axis = a.q * omega;
+    Kinematics out;
+    out.pose.q = a.q * so3Exp(Vector3<double>(omega * alpha.value()));
+    out.pose.p = a.p + alpha.value() * dp;
+    out.velocity.angular = rate * axis;
+    out.velocity.linear = rate * dp;
+    out.acceleration.angular = acceleration * axis;
+    out.acceleration.linear = acceleration * dp;
+    return out;
+  }
   /// The kinematics (world frame) of t ↦ exp(a, v(t)) from the tangent v and its first two time
   /// derivatives v̇, v̈, in closed form: p = p_a + Δp, ṗ = Δṗ, p̈ = Δp̈; R = R_a Exp(φ), whose spatial
   /// angular velocity is ω = R_a V(φ) φ̇ (V the left Jacobian of SO(3), lie_groups.h's screwV:
