@@ -4,13 +4,17 @@
 # difference of the two totals, divided by 2000, is the cost of one operation.
 #
 # Usage: scripts/instruction_counts.sh            print the table
-#        scripts/instruction_counts.sh --check    compare with bench/instruction_counts.txt;
-#                                                 exit 1 if any count grew by more than 10 %
+#        scripts/instruction_counts.sh --check    compare with bench/instruction_counts.txt and
+#                                                 check bench/instruction_targets.txt; exit 1 if any
+#                                                 count grew by more than 10 % or a target is missed
+#                                                 (last line: `instructions: N passed, N failed`,
+#                                                 a row or a target a test)
 #        scripts/instruction_counts.sh --update   rewrite bench/instruction_counts.txt (the rows of
 #                                                 peers not given are kept as committed)
 # The driver is built with g++ -O2 -DNDEBUG (default x86-64 flags, no catkin) into
 # $SE3_WS/bench; counts depend on the compiler, whose version the results file records.
-# A run takes about 2 minutes on an idle core (48 callgrind runs), so run_tests.sh does not call it.
+# A run takes about 2 minutes of one core (48 callgrind runs); run_tests.sh runs the check beside the
+# sanitizers' tests, which run one at a time.
 # Optional peers (bench/bench_peers.h: Sophus, manif, basalt), counted when a local copy is given:
 # SE3_BENCH_SOPHUS_DIR, SE3_BENCH_MANIF_DIR, SE3_BENCH_BASALT_DIR (see se3_bench_peer_setup in
 # scripts/common.sh). Without them their committed rows are reported as skipped, not as failures.
@@ -31,6 +35,7 @@ esac
 REPEATS=2000
 TOLERANCE=0.10
 RESULTS="$SE3_ROOT/bench/instruction_counts.txt"
+TARGETS="$SE3_ROOT/bench/instruction_targets.txt"
 OUT="$SE3_WS/bench"
 CXX=${CXX:-g++}
 CXXFLAGS="-std=c++17 -O2 -DNDEBUG"
@@ -78,7 +83,8 @@ done
 write_table() {
   echo "# Instructions per operation (callgrind Ir; totals of N = $REPEATS minus N = 0, divided by $REPEATS)."
   echo "# Driver: bench/count_ops.cpp, $CXX $CXXFLAGS (default x86-64 flags); compiler: $compiler"
-  echo "# Check: scripts/instruction_counts.sh --check (fails when a count grows by more than 10 %);"
+  echo "# Check: scripts/instruction_counts.sh --check (fails when a count grows by more than 10 % or a"
+  echo "# target of bench/instruction_targets.txt is missed);"
   echo "# regenerate: scripts/instruction_counts.sh --update."
   echo "# Rows sophus_*, manif_*, basalt_*: optional peers (SE3_BENCH_*_DIR), kept by --update without them."
   awk '{ printf "%-40s %10d\n", $1, $2 }' "$measured"
@@ -107,26 +113,41 @@ case "$mode" in
     [ "$committed_compiler" = "$compiler" ] ||
       echo "note: the committed counts were made with '$committed_compiler', this is '$compiler'" >&2
     awk -v tol="$TOLERANCE" -v peers=" $se3_bench_peers " '
-      FNR == NR { if ($0 !~ /^#/ && NF == 2) committed[$1] = $2; next }
-      {
-        measured[$1] = $2
-        if (!($1 in committed)) { printf "%-40s %10d  NEW (not in the results file)\n", $1, $2; bad = 1; next }
-        change = ($2 - committed[$1]) / committed[$1]
-        verdict = change > tol ? "GREW" : "ok"
-        if (change > tol) bad = 1
-        printf "%-40s %10d  committed %10d  %+6.1f %%  %s\n", $1, $2, committed[$1], 100 * change, verdict
-      }
+      FILENAME == ARGV[1] { if ($0 !~ /^#/ && NF == 2) committed[$1] = $2; next }
+      FILENAME == ARGV[2] { measured[$1] = $2; order[++n] = $1; next }
+      $0 !~ /^#/ && NF == 3 { target[++m] = $0 }
       END {
+        for (i = 1; i <= n; ++i) {
+          op = order[i]
+          if (!(op in committed)) { printf "%-40s %10d  NEW (not in the results file)\n", op, measured[op]; ++failed; continue }
+          change = (measured[op] - committed[op]) / committed[op]
+          verdict = change > tol ? "GREW" : "ok"
+          if (change > tol) ++failed; else ++passed
+          printf "%-40s %10d  committed %10d  %+6.1f %%  %s\n", op, measured[op], committed[op], 100 * change, verdict
+        }
         for (op in committed)
           if (!(op in measured)) {
             peer = op; sub(/_.*/, "", peer)
             if (op ~ /^(sophus|manif|basalt)_/ && index(peers, " " peer " ") == 0)
               printf "%-40s  skipped (no SE3_BENCH_%s_DIR given)\n", op, toupper(peer)
-            else { printf "%-40s  MISSING (in the results file, not measured)\n", op; bad = 1 }
+            else { printf "%-40s  MISSING (in the results file, not measured)\n", op; ++failed }
           }
-        if (bad) { print "instruction counts: FAILED (more than " 100 * tol " % growth, or a changed list); " \
-                         "run scripts/instruction_counts.sh --update if intended"; exit 1 }
-        print "instruction counts: ok (no count grew by more than " 100 * tol " %)"
-      }' "$RESULTS" "$measured"
+        for (i = 1; i <= m; ++i) {
+          split(target[i], f, " ")
+          if (!(f[1] in measured) || !(f[3] in measured)) {
+            printf "target %s <= %s x %s: NOT MEASURED\n", f[1], f[2], f[3]; ++failed; continue
+          }
+          limit = f[2] * measured[f[3]]
+          met = measured[f[1]] <= limit
+          printf "target %-32s %10d <= %s x %s = %d: %s (ratio %.2f)\n", f[1], measured[f[1]], f[2], f[3], limit,
+                 met ? "met" : "MISSED", measured[f[1]] / measured[f[3]]
+          if (met) ++passed; else ++failed
+        }
+        if (failed) print "instruction counts: FAILED (more than " 100 * tol " % growth, a changed list, or a missed " \
+                          "target); run scripts/instruction_counts.sh --update if a change of the counts is intended"
+        else print "instruction counts: ok (no count grew by more than " 100 * tol " %, every target met)"
+        printf "instructions: %d passed, %d failed\n", passed, failed
+        exit failed ? 1 : 0
+      }' "$RESULTS" "$measured" "$TARGETS"
     ;;
 esac

@@ -49,8 +49,14 @@ fi
 # A stage run by its own script, which ends with the line `<prefix>: N passed, N failed`: its
 # counts are added to the totals; a script that fails without counting a failure counts as one.
 run_counted_stage() {
-  local prefix=$1 script=$2 log=$3 status=0 line stage_passed stage_failed
-  bash "$script" >"$log" 2>&1 || status=$?
+  local status=0
+  bash "$2" >"$3" 2>&1 || status=$?
+  count_stage "$1" "$2" "$3" "$status"
+}
+# The counting of a stage that has finished with exit status $4 (run_counted_stage's, or one run
+# in the background).
+count_stage() {
+  local prefix=$1 script=$2 log=$3 status=$4 line stage_passed stage_failed
   grep -vE "^$prefix: |: ok\$" "$log" || true
   line=$(grep -E "^$prefix: [0-9]+ passed, [0-9]+ failed\$" "$log" | tail -n 1 || true)
   stage_passed=$(echo "$line" | sed -nE "s/^$prefix: ([0-9]+) passed.*/\1/p")
@@ -75,6 +81,15 @@ run_counted_stage install "$SE3_ROOT/scripts/check_install.sh" "$SE3_WS/install_
 # The core and unit tests under ASan + UBSan and the libFuzzer targets (scripts/run_sanitizers.sh):
 # each sanitized test case and each fuzz replay and exploration count as tests here too.
 wait "$sanitize_build" || true
+# Instructions per core operation (scripts/instruction_counts.sh --check: callgrind, deterministic
+# under any load) against the committed counts and the performance targets of
+# bench/instruction_targets.txt, each row and target a test: on the core that the sanitizers'
+# tests, run one at a time, leave idle.
+bash "$SE3_ROOT/scripts/instruction_counts.sh" --check >"$SE3_WS/instruction_counts.log" 2>&1 &
+instruction_counts=$!
 run_counted_stage sanitizers "$SE3_ROOT/scripts/run_sanitizers.sh" "$SE3_WS/sanitizers.log"
+instruction_status=0
+wait "$instruction_counts" || instruction_status=$?
+count_stage instructions "$SE3_ROOT/scripts/instruction_counts.sh" "$SE3_WS/instruction_counts.log" "$instruction_status"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <type_traits>
+#include <typeinfo>
 
 #include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/curves/chart_cubic.h"
@@ -30,6 +31,16 @@ struct HasExpKinematics<G, std::void_t<decltype(&G::expKinematics)>> : std::true
 {
 };
 
+/// `curve` as the final curve class C, or null: an exact type check, which for a final class finds
+/// what dynamic_cast would, without dynamic_cast's search of the class hierarchy (a failed one
+/// cost about 750 instructions, as much as a closed-form evaluation of the kinematics).
+template <class C, class G>
+const C* asFinalCurve(const Curve<G>& curve)
+{
+  static_assert(std::is_final<C>::value, "an exact type check finds only the final class");
+  return typeid(curve) == typeid(C) ? static_cast<const C*>(&curve) : nullptr;
+}
+
 /// `curve` as the C² spline whose kinematics are closed-form (its pieces in a geometry with
 /// HasExpKinematics), or null: what kinematicsAt asks of every curve, and what a caller that
 /// evaluates one curve many times asks once.
@@ -37,7 +48,7 @@ template <class G>
 const ChartCubicSpline<G>* closedFormKinematicsSpline(const Curve<G>& curve)
 {
   if constexpr (HasExpKinematics<G>::value)
-    return dynamic_cast<const ChartCubicSpline<G>*>(&curve);
+    return asFinalCurve<ChartCubicSpline<G>>(curve);
   else
     return nullptr;
 }
@@ -52,7 +63,7 @@ Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRigh
       return chart->kinematics(t, side);
   // The geodesic polygon of a geometry with closed-form line kinematics: without the jets.
   if constexpr (detail::HasExpLineKinematics<G>::value)
-    if (const auto* polygon = dynamic_cast<const PiecewiseGeodesic<G>*>(&curve))
+    if (const auto* polygon = asFinalCurve<PiecewiseGeodesic<G>>(curve))
       return polygon->kinematics(t, side);
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }

@@ -188,6 +188,17 @@ struct ChartTransition<Euclidean> : GenericChartTransition<Euclidean>
   }
 };
 
+/// R⁻¹ of the rotation block of an SE(3) transition's D (a Jacobian of SO(3), inverted by
+/// cofactors), refused (false) when |det R| ≤ ε · (max |R_ab|)³.
+inline bool invertRotationBlock(const Eigen::Matrix3d& r, Eigen::Matrix3d* inverse)
+{
+  double det = 0.0;
+  bool invertible = false;
+  const double size = r.cwiseAbs().maxCoeff();
+  r.computeInverseAndDetWithCheck(*inverse, det, invertible, std::numeric_limits<double>::epsilon() * size * size * size);
+  return invertible && size > 0.0;
+}
+
 /// SO(3) × R³: only the rotation's 3 coordinates are curved; D's rotation block R is the right
 /// Jacobian J_r(L) (det = 2 (1 − cos θ)/θ² ≥ 4/π² below half a turn), inverted by cofactors and
 /// refused when |det R| ≤ ε · (max |R_ab|)³; the translation block is the identity.
@@ -210,16 +221,39 @@ struct ChartTransition<DoubleGeodesicSe3> : GenericChartTransition<DoubleGeodesi
   template <class Mat>
   static bool invert(const Mat& d, Mat* e)
   {
-    const Eigen::Matrix3d r = d.template topLeftCorner<3, 3>();
     Eigen::Matrix3d inverse;
-    double det = 0.0;
-    bool invertible = false;
-    const double size = r.cwiseAbs().maxCoeff();
-    r.computeInverseAndDetWithCheck(inverse, det, invertible, std::numeric_limits<double>::epsilon() * size * size * size);
-    if (!invertible || !(size > 0.0))
+    if (!invertRotationBlock(d.template topLeftCorner<3, 3>(), &inverse))
       return false;
     e->setIdentity();
     e->template topLeftCorner<3, 3>() = inverse;
+    return true;
+  }
+};
+
+/// SE(3) with the screw metric: D_i and Q_i in closed form from the right Jacobian of SE(3) and its
+/// derivatives (detail::screwTransitionDerivatives), instead of 21 jet evaluations of the map.
+/// D = J_r(L) = [[V, 0], [Q_l, V]] is block lower-triangular, so D⁻¹ = [[V⁻¹, 0], [−V⁻¹ Q_l V⁻¹, V⁻¹]]
+/// from the rotation block's inverse (refused as the double geodesic's).
+template <>
+struct ChartTransition<ScrewSe3> : GenericChartTransition<ScrewSe3>
+{
+  template <class Mat, class Quad>
+  static void derivatives(const ScrewSe3::Point<double>& /*x0*/, const ScrewSe3::Point<double>& /*x1*/,
+                          const ScrewSe3::Tangent<double>& log, const Eigen::MatrixXd* /*b0*/,
+                          const Eigen::MatrixXd* /*b1*/, Mat* d, Quad* q)
+  {
+    screwTransitionDerivatives(log, d, q);
+  }
+  template <class Mat>
+  static bool invert(const Mat& d, Mat* e)
+  {
+    Eigen::Matrix3d inverse;
+    if (!invertRotationBlock(d.template topLeftCorner<3, 3>(), &inverse))
+      return false;
+    e->template topLeftCorner<3, 3>() = inverse;
+    e->template topRightCorner<3, 3>().setZero();
+    e->template bottomRightCorner<3, 3>() = inverse;
+    e->template bottomLeftCorner<3, 3>() = -inverse * d.template bottomLeftCorner<3, 3>() * inverse;
     return true;
   }
 };

@@ -12,6 +12,9 @@
 // The three-point curve of blended splines is the generic one (curves/blended_spline.h).
 #pragma once
 
+#include <array>
+#include <type_traits>
+
 #include "se3_interpolation/geometry/geodesic.h"
 #include "se3_interpolation/geometry/pose.h"
 
@@ -99,5 +102,168 @@ struct Se3TangentConversion<ScrewSe3>
     return a;
   }
 };
+
+namespace detail
+{
+/// The smallest sin²φ at which screwSlerpJet runs at jets of order K: so3SlerpJet's at second
+/// order; at third order 0.01 (θ ≥ 0.2 rad), since the 1/sin²φ of B amplifies the rounding of the
+/// last coefficient by about 1/sin³φ (measured against the Log → Exp jet path: up to 7e-12 of the
+/// coefficients' size at θ = 0.05, within 1e-12 from θ = 0.2).
+template <int K>
+constexpr double kScrewSlerpJetMinSine2 = K <= 2 ? kSlerpJetMinSine2 : 1e-2;
+
+/// The screw step between jet poses in slerp form (geodesic<ScrewSe3, Jet<K>> below). A screw
+/// motion's rotation is the slerp of the two rotations. Its translation: with the relative
+/// rotation q_b q_a* = (cos φ, u), u = sin φ n (half angle φ, world axis n), and Δ = p_b − p_a,
+/// the motion slides λ (Δ·n) along n and turns the rest of Δ about the screw axis, where
+/// (I − Rot(λ 2φ)) (I − Rot(2φ))⁻¹ = (sin(λφ)/sin φ) Rot((λ − 1)φ) in the plane normal to n; so
+///   p(λ) = p_a + A Δ + B (Δ·u) u + C u × Δ,
+///   A = sin(λφ) cos((λ − 1)φ)/sin φ,  C = sin(λφ) sin((λ − 1)φ)/sin² φ,  B = (λ − A)/sin² φ
+/// (p(0) = p_a, p(1) = p_b). Returns false, leaving *out unchanged, below kScrewSlerpJetMinSine2:
+/// the caller takes the Log → Exp path with its series.
+template <int K>
+bool screwSlerpJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& lambda, Pose<Jet<K>>* out)
+{
+  using J = Jet<K>;
+  SlerpJetWeights<K> k;
+  if (!slerpJetWeights(a.q, b.q, lambda, &k, kScrewSlerpJetMinSine2<K>))
+    return false;
+  // u = sign vec(q_b q_a*) = sign (w_a v_b − w_b v_a + v_a × v_b).
+  const Vector3<J> va = a.q.vec();
+  const Vector3<J> vb = b.q.vec();
+  const Vector3<J> u = (a.q.w() * vb - b.q.w() * va + va.cross(vb)) * J(k.sign);
+  const Vector3<J> delta = b.p - a.p;
+  const J coefficient_a = k.s * (k.c * k.w + k.sl * k.n);
+  const J inverse_n2 = J(1.0) / (k.n * k.n);
+  const J coefficient_b = (lambda - coefficient_a) * inverse_n2;
+  const J coefficient_c = k.s * (k.sl * k.w - k.c * k.n) / k.n;
+  out->q = slerpFromWeights(a.q, b.q, k);
+  out->p = a.p + delta * coefficient_a + u * (coefficient_b * delta.dot(u)) + u.cross(delta) * coefficient_c;
+  return true;
+}
+
+/// The derivatives D = dF(0) and Q = d²F(0) of the chart transition F(δ) = Log(Exp(−L) Exp(L + δ))
+/// (the C² solve's map between the charts at a segment's ends, chart_transition.h), in closed
+/// form. With g(s) = Exp(−L) Exp(L + s d), g⁻¹ ġ = J_r(L + s d) d = J_r(F) Ḟ (J_r the right
+/// Jacobian of SE(3)), so Ḟ(0) = J_r(L) d and F̈(0) = dJ_r(L)[d] d (the term of J_r(F)⁻¹ is
+/// ½ ad_Ḟ Ḟ = 0): D = J_r(L) and Q(e_a, e_b) = ½ (dJ_r(L)[e_a] e_b + dJ_r(L)[e_b] e_a).
+/// J_r(ξ) = J_l(−ξ), and the left Jacobian of ξ = (ω, v) is
+///   J_l(ξ) η = (V(ω) η_ω, Q_l(ω, v) η_ω + V(ω) η_v),  Q_l(ω, v) y = dV(ω)[y] v − (V(ω) y) × (V(ω) v)
+/// (the translation part of d/dε Exp(ξ + ε η) Exp(ξ)⁻¹ with Exp(ξ) = (Exp(ω), V(ω) v); V the left
+/// Jacobian of SO(3), V(ω) w = w + A ω × w + B ω × (ω × w), screwCoefficients). J_r depends on v
+/// linearly and only through Q_l, so its derivatives along the rotation coordinates come from
+/// first-order jets of ω and along the translation coordinates from doubles. Tested against the
+/// second-order jets of F itself (unitFrameTransition).
+inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix<double, 6, 6>* d,
+                                       Eigen::Matrix<double, 6, 36>* q)
+{
+  using J1 = Jet<1>;
+  const Vector3<double> omega = -log.head<3>();  // J_r(L) = J_l(−L)
+  const Vector3<double> lin = -log.tail<3>();
+  const double x = omega.squaredNorm();
+  const ScrewCoefficients c = screwCoefficients(x);
+  const ScrewSecondDerivatives c2 = screwSecondDerivatives(x, c);
+  // V(Ω) y for the unit vectors y = e_k, and dV(Ω)[y] n − (V(Ω) y) × (V(Ω) n) (Q_l(Ω, n) y) with
+  // n = −v, in the scalar S (double, or a first-order jet along Ω), from A, B and A', B' at |Ω|².
+  auto leftJacobianColumns = [](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db,
+                                const auto& n, auto* v_columns, auto* q_columns) {
+    const auto un = om.cross(n).eval();
+    const auto wn = om.cross(un).eval();
+    const auto vn = (n + un * a + wn * b).eval();
+    for (int k = 0; k < 3; ++k)
+    {
+      using Vec = std::decay_t<decltype(un)>;
+      const Vec y = Vec::Unit(k);
+      const auto uy = om.cross(y).eval();
+      const auto vy = (y + uy * a + om.cross(uy) * b).eval();
+      const auto yn = y.cross(n).eval();
+      const auto dx = 2.0 * om[k];  // 2 Ω·y
+      v_columns->col(k) = vy;
+      q_columns->col(k) = un * (da * dx) + yn * a + wn * (db * dx) + (y.cross(un) + om.cross(yn)) * b - vy.cross(vn);
+    }
+  };
+  // dJ_r(L)[e_j], j < 3: along the rotation, Ω(s) = −(ω_L + s e_j), from first-order jets.
+  std::array<Eigen::Matrix<double, 6, 6>, 3> rotation_derivative;
+  for (int j = 0; j < 3; ++j)
+  {
+    Vector3<J1> om = omega.cast<J1>();
+    om[j].coefficient(1) = -1.0;
+    const double dx = -2.0 * omega[j];
+    J1 ja(c.a), jb(c.b), jda(c.da), jdb(c.db);
+    ja.coefficient(1) = c.da * dx;
+    jb.coefficient(1) = c.db * dx;
+    jda.coefficient(1) = c2.dda * dx;
+    jdb.coefficient(1) = c2.ddb * dx;
+    Eigen::Matrix<J1, 3, 3> v_columns, q_columns;
+    leftJacobianColumns(om, ja, jb, jda, jdb, Vector3<J1>(lin.cast<J1>()), &v_columns, &q_columns);
+    rotation_derivative[j].setZero();
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k)
+      {
+        if (j == 0)
+        {
+          (*d)(r, k) = v_columns(r, k).value();
+          (*d)(3 + r, 3 + k) = v_columns(r, k).value();
+          (*d)(3 + r, k) = q_columns(r, k).value();
+          (*d)(r, 3 + k) = 0.0;
+        }
+        rotation_derivative[j](r, k) = v_columns(r, k).coefficient(1);
+        rotation_derivative[j](3 + r, 3 + k) = v_columns(r, k).coefficient(1);
+        rotation_derivative[j](3 + r, k) = q_columns(r, k).coefficient(1);
+      }
+  }
+  // dJ_r(L)[e_{3+b}] e_a = (0, ∂Q_l/∂v_b e_a) = (0, −dV(Ω)[e_a] e_b + V(Ω) e_a × V(Ω) e_b) for a < 3
+  // (N = −v, Q_l linear in it), and 0 on the translation coordinates.
+  auto translationDerivative = [&](int a_index, int b_index) {
+    const Vector3<double> y = Vector3<double>::Unit(a_index);
+    const Vector3<double> w = Vector3<double>::Unit(b_index);
+    const Vector3<double> uw = omega.cross(w);
+    const Vector3<double> yw = y.cross(w);
+    const double dx = 2.0 * omega[a_index];
+    const Vector3<double> dv = uw * (c.da * dx) + yw * c.a + omega.cross(uw) * (c.db * dx) +
+                               (y.cross(uw) + omega.cross(yw)) * c.b;
+    return Vector3<double>(-dv + d->block<3, 1>(0, a_index).cross(d->block<3, 1>(0, b_index)));
+  };
+  q->setZero();
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = 0; b < 3; ++b)
+      q->col(6 * a + b) = 0.5 * (rotation_derivative[a].col(b) + rotation_derivative[b].col(a));
+    for (int b = 0; b < 3; ++b)
+    {
+      Vector6<double> mixed = 0.5 * rotation_derivative[a].col(3 + b);
+      mixed.tail<3>() += 0.5 * translationDerivative(a, b);
+      q->col(6 * a + 3 + b) = mixed;
+      q->col(6 * (3 + b) + a) = mixed;
+    }
+  }
+}
+
+/// The screw step between jet poses: screwSlerpJet where its weights are accurate, else the
+/// SE(3) Log → Exp in jets.
+template <int K>
+Pose<Jet<K>> screwGeodesicJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& lambda)
+{
+  Pose<Jet<K>> out;
+  if (!screwSlerpJet(a, b, lambda, &out))
+    out = ScrewSe3::exp(a, Vector6<Jet<K>>(ScrewSe3::log(a, b) * lambda));
+  return out;
+}
+}  // namespace detail
+
+/// The screw step between jet poses (levels ≥ 2 of the recursions when derivatives are sampled;
+/// detail::screwGeodesicJet).
+template <>
+inline Pose<Jet<2>> geodesic<ScrewSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b, const Jet<2>& lambda)
+{
+  return detail::screwGeodesicJet(a, b, lambda);
+}
+
+/// The screw step between third-order jet poses (the jerk-limited timing's path jets).
+template <>
+inline Pose<Jet<3>> geodesic<ScrewSe3, Jet<3>>(const Pose<Jet<3>>& a, const Pose<Jet<3>>& b, const Jet<3>& lambda)
+{
+  return detail::screwGeodesicJet(a, b, lambda);
+}
 
 }  // namespace se3_interpolation

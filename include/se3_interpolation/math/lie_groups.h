@@ -316,13 +316,21 @@ inline Quaternion<double> so3Slerp(const Quaternion<double>& qa, const Quaternio
 /// θ = 0.05), so below it the caller takes the Log → Exp path with its series.
 constexpr double kSlerpJetMinSine2 = 6.25e-4;
 
-/// so3Slerp at quaternions and parameter given as jets (the levels ≥ 2 of de Casteljau / de Boor
-/// when derivatives are sampled): the same weights in jet arithmetic, without the two
-/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, when
-/// sin²φ < kSlerpJetMinSine2. Throws NonUniqueGeodesicError at θ = π.
+/// The slerp weights of so3Slerp in jet arithmetic: with φ the half angle between q_a and
+/// sign · q_b (sign making cos φ = w ≥ 0), n = sin φ, sl = sin(λφ), c = cos(λφ) and s = sl/n,
+/// slerp is (c − w s) q_a + s sign q_b.
 template <int K>
-bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
-                 Quaternion<Jet<K>>* out)
+struct SlerpJetWeights
+{
+  Jet<K> w, n, sl, c, s;
+  double sign;
+};
+
+/// The slerp weights of q_a, q_b at λ (SlerpJetWeights). Returns false, leaving *out unspecified,
+/// when sin²φ < min_sine2. Throws NonUniqueGeodesicError at θ = π.
+template <int K>
+SE3_JET_INLINE bool slerpJetWeights(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
+                     SlerpJetWeights<K>* out, double min_sine2 = kSlerpJetMinSine2)
 {
   using J = Jet<K>;
   J w = qa.w() * qb.w() + qa.x() * qb.x() + qa.y() * qb.y() + qa.z() * qb.z();
@@ -335,16 +343,40 @@ bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, con
   const J dy = qb.y() * sign - w * qa.y();
   const J dz = qb.z() * sign - w * qa.z();
   const J n2 = dw * dw + dx * dx + dy * dy + dz * dz;  // sin² φ
-  if (n2.value() < kSlerpJetMinSine2)
+  if (n2.value() < min_sine2)
     return false;
-  const J n = sqrt(n2);
-  J sl, c;
-  sincos(J(lambda * atan2(n, w)), &sl, &c);
-  const J s = sl / n;
-  const J ka = c - w * s;
-  const J kb = s * sign;
-  *out = Quaternion<J>(ka * qa.w() + kb * qb.w(), ka * qa.x() + kb * qb.x(), ka * qa.y() + kb * qb.y(),
+  out->n = sqrt(n2);
+  sincos(J(lambda * atan2(out->n, w)), &out->sl, &out->c);
+  out->s = out->sl / out->n;
+  out->w = w;
+  out->sign = sign;
+  return true;
+}
+
+/// (c − w s) q_a + s sign q_b: the slerp of q_a, q_b from its weights.
+template <int K>
+SE3_JET_INLINE Quaternion<Jet<K>> slerpFromWeights(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb,
+                                    const SlerpJetWeights<K>& weights)
+{
+  using J = Jet<K>;
+  const J ka = weights.c - weights.w * weights.s;
+  const J kb = weights.s * weights.sign;
+  return Quaternion<J>(ka * qa.w() + kb * qb.w(), ka * qa.x() + kb * qb.x(), ka * qa.y() + kb * qb.y(),
                        ka * qa.z() + kb * qb.z());
+}
+
+/// so3Slerp at quaternions and parameter given as jets (the levels ≥ 2 of de Casteljau / de Boor
+/// when derivatives are sampled): the same weights in jet arithmetic, without the two
+/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, when
+/// sin²φ < kSlerpJetMinSine2. Throws NonUniqueGeodesicError at θ = π.
+template <int K>
+SE3_JET_INLINE bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
+                 Quaternion<Jet<K>>* out)
+{
+  SlerpJetWeights<K> weights;
+  if (!slerpJetWeights(qa, qb, lambda, &weights))
+    return false;
+  *out = slerpFromWeights(qa, qb, weights);
   return true;
 }
 

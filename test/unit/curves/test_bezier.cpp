@@ -181,6 +181,28 @@ TEST(Geodesic, So3ClosedFormFirstLevelJetMatchesJetArithmetic)
     }
 }
 
+namespace
+{
+/// Two poses `angle` rad and up to 2√3 m apart, and two unrelated tangents along which they move:
+/// the configurations of the jet steps' tests.
+struct MovingPair
+{
+  Pose<double> a, b;
+  Vector6<double> la, lb;
+};
+MovingPair movingPair(std::mt19937& rng, double angle)
+{
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  MovingPair pair;
+  pair.a = randomPose(rng);
+  pair.b = pair.a * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
+                                 Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  pair.la << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+  pair.lb << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+  return pair;
+}
+}  // namespace
+
 TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
 {
   // geodesic<G, Jet<2>> for DoubleGeodesicSe3 and So3 (so3SlerpJet above θ = 0.05, the Log/Exp
@@ -192,22 +214,79 @@ TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
   for (const double angle : { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.2, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
     for (int i = 0; i < 40; ++i)
     {
-      const Pose<double> a0 = randomPose(rng);
-      const Pose<double> b0 = a0 * Pose<double>(so3Exp<double>(angle * test::randomUnitVector<3>(rng)),
-                                                Eigen::Vector3d(u(rng), u(rng), u(rng)));
-      Vector6<double> la, lb;
-      la << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
-      lb << u(rng) * test::randomUnitVector<3>(rng), u(rng), u(rng), u(rng);
+      const MovingPair pair = movingPair(rng, angle);
       Jet<2> alpha = Jet<2>::variable(0.0) * u(rng);
       alpha.coefficient(2) = u(rng);
-      const Pose<Jet<2>> a = geodesicFromLogGeneric<DG>(a0, la, alpha);
-      const Pose<Jet<2>> b = geodesicFromLogGeneric<DG>(b0, lb, Jet<2>(Jet<2>::variable(0.0) * u(rng)));
+      const Pose<Jet<2>> a = geodesicFromLogGeneric<DG>(pair.a, pair.la, alpha);
+      const Pose<Jet<2>> b = geodesicFromLogGeneric<DG>(pair.b, pair.lb, Jet<2>(Jet<2>::variable(0.0) * u(rng)));
       const Jet<2> lambda = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
       const Pose<Jet<2>> ref = DG::exp(a, Vector6<Jet<2>>(DG::log(a, b) * lambda));
       EXPECT_LE(jetPoseDifference(geodesic<DG>(a, b, lambda), ref), 1e-12) << "angle " << angle << " i " << i;
       const Quaternion<Jet<2>> q = geodesic<So3>(a.q, b.q, lambda);
       EXPECT_LE(jetPoseDifference(Pose<Jet<2>>(q, ref.p), ref), 1e-12) << "angle " << angle << " i " << i;
     }
+}
+
+namespace
+{
+/// Largest difference between the coefficients of two jet poses of order K, relative to
+/// 1 + the largest coefficient of the second.
+template <int K>
+double relativeJetPoseDifference(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b)
+{
+  double d = 0.0;
+  double scale = 1.0;
+  for (int k = 0; k <= K; ++k)
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      d = std::max(d, std::abs(a.q.coeffs()[i].coefficient(k) - b.q.coeffs()[i].coefficient(k)));
+      scale = std::max(scale, std::abs(b.q.coeffs()[i].coefficient(k)));
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      d = std::max(d, std::abs(a.p[i].coefficient(k) - b.p[i].coefficient(k)));
+      scale = std::max(scale, std::abs(b.p[i].coefficient(k)));
+    }
+  }
+  return d / scale;
+}
+
+/// geodesic<ScrewSe3, Jet<K>> (the slerp form above θ = 0.05, the Log → Exp jet path below)
+/// against a Exp(λ Log(a⁻¹ b)) written out in jets, between two jet poses moving along unrelated
+/// screws with a curved clock, at relative angles across the switch-over and near π.
+template <int K>
+void checkScrewSlerpJet(std::uint32_t seed)
+{
+  using J = Jet<K>;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  auto clock = [&]() {
+    J alpha = J::variable(0.0) * u(rng);
+    for (int k = 2; k <= K; ++k)
+      alpha.coefficient(k) = u(rng);
+    return alpha;
+  };
+  // The switch-overs: θ = 0.05 at second order, 0.2 at third (kScrewSlerpJetMinSine2).
+  for (const double angle :
+       { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.1, 0.2, 0.201, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
+    for (int i = 0; i < 40; ++i)
+    {
+      const MovingPair pair = movingPair(rng, angle);
+      const Pose<J> a = ScrewSe3::exp(pair.a.cast<J>(), Vector6<J>(pair.la.cast<J>() * clock()));
+      const Pose<J> b = ScrewSe3::exp(pair.b.cast<J>(), Vector6<J>(pair.lb.cast<J>() * clock()));
+      const J lambda = J::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      const Pose<J> ref = ScrewSe3::exp(a, Vector6<J>(ScrewSe3::log(a, b) * lambda));
+      EXPECT_LE(relativeJetPoseDifference(geodesic<ScrewSe3>(a, b, lambda), ref), 1e-12)
+          << "order " << K << " angle " << angle << " i " << i;
+    }
+}
+}  // namespace
+
+TEST(Geodesic, ScrewSlerpJetStepMatchesLogExpJetPath)
+{
+  checkScrewSlerpJet<2>(15);
+  checkScrewSlerpJet<3>(16);
 }
 
 TEST(Geodesic, ScrewIsOneParameterSubgroupAndExtrapolates)
