@@ -99,18 +99,22 @@ void expectWithinBounds(const TrajectoryRequest& r, const TrajectoryResult& out,
   const Measured m = measure(out);
   const double tol = 1.0 + 1e-6;
   // The differences of accelerations are mean jerks over each step: never above the peak.
-  if (r.max_linear_velocity > 0.0)
-    EXPECT_LE(m.v[0], r.max_linear_velocity * tol) << what;
-  if (r.max_angular_velocity > 0.0)
-    EXPECT_LE(m.v[1], r.max_angular_velocity * tol) << what;
-  if (r.max_linear_acceleration > 0.0)
-    EXPECT_LE(m.a[0], r.max_linear_acceleration * tol) << what;
-  if (r.max_angular_acceleration > 0.0)
-    EXPECT_LE(m.a[1], r.max_angular_acceleration * tol) << what;
-  if (r.max_linear_jerk > 0.0)
-    EXPECT_LE(m.j[0], r.max_linear_jerk * tol) << what;
-  if (r.max_angular_jerk > 0.0)
-    EXPECT_LE(m.j[1], r.max_angular_jerk * tol) << what;
+  const struct
+  {
+    const char* name;
+    double bound;
+    double peak;
+  } checks[] = { { "max_linear_velocity", r.max_linear_velocity, m.v[0] },
+                 { "max_angular_velocity", r.max_angular_velocity, m.v[1] },
+                 { "max_linear_acceleration", r.max_linear_acceleration, m.a[0] },
+                 { "max_angular_acceleration", r.max_angular_acceleration, m.a[1] },
+                 { "max_linear_jerk", r.max_linear_jerk, m.j[0] },
+                 { "max_angular_jerk", r.max_angular_jerk, m.j[1] } };
+  for (const auto& check : checks)
+    if (check.bound > 0.0)
+    {
+      EXPECT_LE(check.peak, check.bound * tol) << what << ": " << check.name;
+    }
   // The figures are the motion's peaks: never below what the samples show, and within 1 % of it
   // on a dense sampling (the jerk differences average over a step).
   EXPECT_GE(out.figures.max_linear_speed * tol, m.v[0]) << what;
