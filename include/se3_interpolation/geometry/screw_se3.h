@@ -112,7 +112,7 @@ namespace detail
 template <int K>
 constexpr double kScrewSlerpJetMinSine2 = K <= 2 ? kSlerpJetMinSine2 : 1e-2;
 
-/// The screw step between jet poses in slerp form (geodesic<ScrewSe3, Jet<K>> below). A screw
+/// The screw step between jet poses in slerp form (the jet specialisations of geodesic below). A screw
 /// motion's rotation is the slerp of the two rotations. Its translation: with the relative
 /// rotation q_b q_a* = (cos φ, u), u = sin φ n (half angle φ, world axis n), and Δ = p_b − p_a,
 /// the motion slides λ (Δ·n) along n and turns the rest of Δ about the screw axis, where
