@@ -163,23 +163,30 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
   const double x = omega.squaredNorm();
   const ScrewCoefficients c = screwCoefficients(x);
   const ScrewSecondDerivatives c2 = screwSecondDerivatives(x, c);
-  // V(Ω) y for the unit vectors y = e_k, and dV(Ω)[y] n − (V(Ω) y) × (V(Ω) n) (Q_l(Ω, n) y) with
-  // n = −v, in the scalar S (double, or a first-order jet along Ω), from A, B and A', B' at |Ω|².
-  auto leftJacobianColumns = [](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db,
-                                const auto& n, auto* v_columns, auto* q_columns) {
+  // dV(Ω)[e_k] w = 2A'Ω_k Ω × w + A e_k × w + 2B'Ω_k Ω × (Ω × w) + B (e_k × (Ω × w) + Ω × (e_k × w)),
+  // the derivative of V(Ω) w along e_k, given u = Ω × w, in the scalar S (double, or a
+  // first-order jet along Ω), from A, B and A', B' at |Ω|².
+  auto leftDV = [](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db, int k,
+                   const auto& w, const auto& u) {
+    using Vec = std::decay_t<decltype(u)>;
+    const Vec y = Vec::Unit(k);
+    const auto yw = y.cross(w).eval();
+    const auto dx = 2.0 * om[k];  // 2 Ω·e_k
+    return (u * (da * dx) + yw * a + om.cross(u) * (db * dx) + (y.cross(u) + om.cross(yw)) * b).eval();
+  };
+  // V(Ω) e_k, and Q_l(Ω, n) e_k = dV(Ω)[e_k] n − (V(Ω) e_k) × (V(Ω) n) with n = −v, for k < 3.
+  auto leftJacobianColumns = [&leftDV](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db,
+                                       const auto& n, auto* v_columns, auto* q_columns) {
     const auto un = om.cross(n).eval();
-    const auto wn = om.cross(un).eval();
-    const auto vn = (n + un * a + wn * b).eval();
+    const auto vn = (n + un * a + om.cross(un) * b).eval();
     for (int k = 0; k < 3; ++k)
     {
       using Vec = std::decay_t<decltype(un)>;
       const Vec y = Vec::Unit(k);
       const auto uy = om.cross(y).eval();
       const auto vy = (y + uy * a + om.cross(uy) * b).eval();
-      const auto yn = y.cross(n).eval();
-      const auto dx = 2.0 * om[k];  // 2 Ω·y
       v_columns->col(k) = vy;
-      q_columns->col(k) = un * (da * dx) + yn * a + wn * (db * dx) + (y.cross(un) + om.cross(yn)) * b - vy.cross(vn);
+      q_columns->col(k) = leftDV(om, a, b, da, db, k, n, un) - vy.cross(vn);
     }
   };
   // dJ_r(L)[e_j], j < 3: along the rotation, Ω(s) = −(ω_L + s e_j), from first-order jets.
@@ -215,14 +222,9 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
   // dJ_r(L)[e_{3+b}] e_a = (0, ∂Q_l/∂v_b e_a) = (0, −dV(Ω)[e_a] e_b + V(Ω) e_a × V(Ω) e_b) for a < 3
   // (N = −v, Q_l linear in it), and 0 on the translation coordinates.
   auto translationDerivative = [&](int a_index, int b_index) {
-    const Vector3<double> y = Vector3<double>::Unit(a_index);
     const Vector3<double> w = Vector3<double>::Unit(b_index);
-    const Vector3<double> uw = omega.cross(w);
-    const Vector3<double> yw = y.cross(w);
-    const double dx = 2.0 * omega[a_index];
-    const Vector3<double> dv = uw * (c.da * dx) + yw * c.a + omega.cross(uw) * (c.db * dx) +
-                               (y.cross(uw) + omega.cross(yw)) * c.b;
-    return Vector3<double>(-dv + d->block<3, 1>(0, a_index).cross(d->block<3, 1>(0, b_index)));
+    return Vector3<double>(-leftDV(omega, c.a, c.b, c.da, c.db, a_index, w, Vector3<double>(omega.cross(w))) +
+                           d->block<3, 1>(0, a_index).cross(d->block<3, 1>(0, b_index)));
   };
   q->setZero();
   for (int a = 0; a < 3; ++a)
