@@ -36,7 +36,7 @@ run_target() {
 }
 
 running=0
-while read -r target seeds max_len; do
+while read -r target seeds max_len _; do
   [ -n "${budget[$target]:-}" ] || continue
   [ -x "$build/$target" ] || { echo "$build/$target is missing: run scripts/run_sanitizers.sh first" >&2; exit 2; }
   run_target "$target" "$seeds" "$max_len" "${budget[$target]}" &

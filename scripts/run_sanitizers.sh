@@ -7,12 +7,11 @@
 #  - the exploration, from the fixed seed ${SE3_FUZZ_SEED:-1} (reproducible: a passing run stays
 #    passing): every per-layer target (fuzz_lie, fuzz_validate, fuzz_curves, fuzz_c2,
 #    fuzz_sphere, fuzz_yaml) for ${SE3_FUZZ_RUNS:-100000} inputs, at most
-#    ${SE3_FUZZ_MAX_SECONDS:-60} s each (the slowest, fuzz_sphere, reached about 40 000 in that
-#    time), and the whole-request target fuzz_generate, much slower per input, for
-#    ${SE3_FUZZ_SECONDS:-30} s. Each run's input count, time and rate are printed.
+#    ${SE3_FUZZ_MAX_SECONDS:-60} s each, and the whole-request target fuzz_generate, much slower
+#    per input, for ${SE3_FUZZ_SECONDS:-30} s. Each run's input count, time and rate are printed.
 # Each replay and each exploration is one test: a failing seed, a finding (printed with its
-# input) or a per-layer target that reaches fewer than ${SE3_FUZZ_MIN_RUNS:-10000} inputs within
-# its time (a target slowed down about fourfold) fails it.
+# input) or an exploration that reaches fewer inputs than targets.txt's last column asks for (a
+# target slowed down about fourfold; SE3_FUZZ_MIN_RUNS overrides it for every target) fails it.
 # The last line is `sanitizers: N passed, N failed` (the unit test cases plus those); exits
 # non-zero on any failure.
 # SE3_SANITIZE_BUILD_ONLY=1: only the build (scripts/run_tests.sh runs it at nice 19 beside the
@@ -24,7 +23,6 @@ build="$SE3_WS/sanitize"
 results="$build/test_results"
 fuzz_runs=${SE3_FUZZ_RUNS:-100000}
 fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-60}
-fuzz_min_runs=${SE3_FUZZ_MIN_RUNS:-10000}
 fuzz_seconds=${SE3_FUZZ_SECONDS:-30}
 mkdir -p "$build"
 echo "sanitized build (clang++, ASan + UBSan) in $build"
@@ -62,14 +60,40 @@ rm -rf "$results"
 mkdir -p "$results"
 passed=0
 failed=0
-for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' | sort); do
-  name=$(basename "$source" .cpp)
-  log="$results/$name.log"
-  xml="$results/$name.xml"
-  status=0
+
+# The tests and the fuzz targets run ${SE3_SANITIZE_JOBS:-2} at a time (one per core: each is a
+# single process). Each job writes its printed lines to $results/JOB.out and its counts to
+# $results/JOB.counts ("passed failed"); they are printed and added in a fixed order afterwards.
+jobs_limit=${SE3_SANITIZE_JOBS:-2}
+jobs_running=0
+# Runs "$@" in the background once fewer than $jobs_limit jobs run.
+start_job() {
+  if [ "$jobs_running" -ge "$jobs_limit" ]; then
+    wait -n || true
+    jobs_running=$((jobs_running - 1))
+  fi
+  "$@" &
+  jobs_running=$((jobs_running + 1))
+}
+finish_jobs() {
+  wait || true
+  jobs_running=0
+}
+# Prints job $1's lines and adds its counts.
+collect_job() {
+  local p=0 f=1
+  cat "$results/$1.out" 2>/dev/null || echo "FAIL $1: its job left no output"
+  [ -f "$results/$1.counts" ] && read -r p f <"$results/$1.counts"
+  passed=$((passed + p))
+  failed=$((failed + f))
+}
+
+# One sanitized unit test binary: its cases, plus one failure when the binary fails as a whole (a
+# sanitizer report, a crash or a leak after the last test) or runs no case.
+unit_test_job() {
+  local name=$1 log="$results/$1.log" xml="$results/$1.xml" status=0 run bad
   "$build/$name" --gtest_output="xml:$xml" >"$log" 2>&1 || status=$?
   read -r run bad < <(count_cases "$xml")
-  # A sanitizer report, a crash or a leak after the last test: the binary failed as a whole.
   if [ "$status" -ne 0 ] && [ "$bad" -eq 0 ]; then
     bad=1
     run=$((run + 1))
@@ -78,70 +102,99 @@ for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' | sort); do
     bad=1
     run=1
   fi
-  passed=$((passed + run - bad))
-  failed=$((failed + bad))
-  if [ "$bad" -eq 0 ]; then
-    echo "PASS $name: $run test cases"
-  else
-    echo "FAIL $name: $bad of $run test cases failed (exit status $status, log: $log)"
-    grep -E '^\[  FAILED  \]|ERROR: (Address|Leak)Sanitizer|runtime error:|SUMMARY:' "$log" | head -n 20 || true
-  fi
-done
+  {
+    if [ "$bad" -eq 0 ]; then
+      echo "PASS $name: $run test cases"
+    else
+      echo "FAIL $name: $bad of $run test cases failed (exit status $status, log: $log)"
+      grep -E '^\[  FAILED  \]|ERROR: (Address|Leak)Sanitizer|runtime error:|SUMMARY:' "$log" | head -n 20 || true
+    fi
+  } >"$results/$name.out"
+  echo "$((run - bad)) $bad" >"$results/$name.counts"
+}
 
+# Longest source first (the longest-running tests are among the longest sources: the request-space
+# grid, jerk-limited timing, goal trajectories), so that no long test starts last.
+mapfile -t unit_tests < <(for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp'); do
+  echo "$(wc -l <"$source") $(basename "$source" .cpp)"
+done | sort -k1,1nr -k2 | awk '{print $2}')
+for name in "${unit_tests[@]}"; do
+  start_job unit_test_job "$name"
+done
+finish_jobs
+for name in $(printf '%s\n' "${unit_tests[@]}" | sort); do
+  collect_job "$name"
+done
 echo "unit tests done at ${SECONDS} s"
 
 # A fixed seed makes a CI run reproducible (a finding replays with the same command); a long
 # exploratory run sets SE3_FUZZ_SEED=0 (libFuzzer then picks a random seed).
 fuzz_seed=${SE3_FUZZ_SEED:-1}
-fuzz_total=0
-fuzz_findings=0
-while read -r target seeds max_len <&3; do
+# One fuzz target, two tests: the replay of its seeds and the exploration. Writes the number of
+# inputs explored and whether there was a finding to $results/TARGET.fuzz ("runs findings").
+fuzz_job() {
+  local target=$1 seeds=$2 max_len=$3 need=${SE3_FUZZ_MIN_RUNS:-$4} p=0 f=0 runs seconds rate
+  local budget=(-runs="$fuzz_runs" -max_total_time="$fuzz_max_seconds")
   # Per-layer targets: a number of inputs (with a time cap); the whole request: a time.
-  budget=(-runs="$fuzz_runs" -max_total_time="$fuzz_max_seconds")
-  need=$fuzz_min_runs
   if [ "$target" = fuzz_generate ]; then
     budget=(-max_total_time="$fuzz_seconds")
-    need=1
   fi
-  corpus="$build/corpus_$target"
-  artifacts="$build/artifacts_$target"
-  log="$build/$target.log"
+  local corpus="$build/corpus_$target" artifacts="$build/artifacts_$target" log="$build/$target.log"
   rm -rf "$corpus" "$artifacts"
   mkdir -p "$artifacts"
   cp -r "$SE3_ROOT/$seeds" "$corpus"
-  # Replay (blocking): every seed, fixed findings' reproducers included, once each.
-  replay_log="$build/$target.replay.log"
-  mapfile -t seed_files < <(find "$SE3_ROOT/$seeds" -type f | sort)
-  if "$build/$target" -rss_limit_mb=2048 -timeout=60 "${seed_files[@]}" >"$replay_log" 2>&1; then
-    passed=$((passed + 1))
-    echo "PASS $target replay: ${#seed_files[@]} seed inputs"
-  else
-    failed=$((failed + 1))
-    echo "FAIL $target replay: a seed input fails (log: $replay_log)"
-    grep -E "^$target:|ERROR: |runtime error:|SUMMARY:" "$replay_log" | head -n 20 || true
-  fi
-  # Exploration: new inputs from the seeds, from the fixed seed. A finding or fewer inputs than
-  # asked fails it.
-  se3_fuzz_explore "$build/$target" "$corpus" "$artifacts" "$log" "$max_len" "$fuzz_seed" "${budget[@]}"
-  runs=$se3_fuzz_runs
-  seconds=$se3_fuzz_seconds
-  rate=$((runs / (seconds > 0 ? seconds : 1)))
+  {
+    # Replay: every seed, fixed findings' reproducers included, once each.
+    local replay_log="$build/$target.replay.log" seed_files
+    mapfile -t seed_files < <(find "$SE3_ROOT/$seeds" -type f | sort)
+    if "$build/$target" -rss_limit_mb=2048 -timeout=60 "${seed_files[@]}" >"$replay_log" 2>&1; then
+      p=$((p + 1))
+      echo "PASS $target replay: ${#seed_files[@]} seed inputs"
+    else
+      f=$((f + 1))
+      echo "FAIL $target replay: a seed input fails (log: $replay_log)"
+      grep -E "^$target:|ERROR: |runtime error:|SUMMARY:" "$replay_log" | head -n 20 || true
+    fi
+    # Exploration: new inputs from the seeds, from the fixed seed. A finding or fewer inputs than
+    # asked fails it.
+    se3_fuzz_explore "$build/$target" "$corpus" "$artifacts" "$log" "$max_len" "$fuzz_seed" "${budget[@]}"
+    runs=$se3_fuzz_runs
+    seconds=$se3_fuzz_seconds
+    rate=$((runs / (seconds > 0 ? seconds : 1)))
+    find "$artifacts" -type f -name 'slow-unit-*' -exec echo "$target: slow input (not a finding):" {} \;
+    if [ -z "$se3_fuzz_finding" ] && [ "$runs" -ge "$need" ]; then
+      p=$((p + 1))
+      echo "explored $target: $runs inputs in $seconds s (${rate}/s), no finding; corpus $(find "$corpus" -type f | wc -l) files"
+    elif [ -z "$se3_fuzz_finding" ]; then
+      f=$((f + 1))
+      echo "FAIL explored $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need required" \
+        "(test/fuzz/targets.txt, SE3_FUZZ_MIN_RUNS; log: $log)"
+    else
+      f=$((f + 1))
+      echo "FINDING $target: exit status $se3_fuzz_status after $runs inputs (log: $log; inputs: $artifacts)"
+      grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
+    fi
+    echo "$runs ${se3_fuzz_finding:+1}" >"$results/$target.fuzz"
+  } >"$results/$target.out"
+  echo "$p $f" >"$results/$target.counts"
+}
+mapfile -t fuzz_targets < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
+for line in "${fuzz_targets[@]}"; do
+  read -r target seeds max_len min_runs <<<"$line"
+  start_job fuzz_job "$target" "$seeds" "$max_len" "$min_runs"
+done
+finish_jobs
+fuzz_total=0
+fuzz_findings=0
+for line in "${fuzz_targets[@]}"; do
+  read -r target _ <<<"$line"
+  collect_job "$target"
+  runs=0
+  finding=""
+  [ -f "$results/$target.fuzz" ] && read -r runs finding <"$results/$target.fuzz"
   fuzz_total=$((fuzz_total + runs))
-  find "$artifacts" -type f -name 'slow-unit-*' -exec echo "$target: slow input (not a finding):" {} \;
-  if [ -z "$se3_fuzz_finding" ] && [ "$runs" -ge "$need" ]; then
-    passed=$((passed + 1))
-    echo "explored $target: $runs inputs in $seconds s (${rate}/s), no finding; corpus $(find "$corpus" -type f | wc -l) files"
-  elif [ -z "$se3_fuzz_finding" ]; then
-    failed=$((failed + 1))
-    echo "FAIL explored $target: only $runs inputs in $seconds s (${rate}/s), fewer than the $need required" \
-      "(SE3_FUZZ_MIN_RUNS, SE3_FUZZ_MAX_SECONDS; log: $log)"
-  else
-    failed=$((failed + 1))
-    fuzz_findings=$((fuzz_findings + 1))
-    echo "FINDING $target: exit status $se3_fuzz_status after $runs inputs (log: $log; inputs: $artifacts)"
-    grep -E "^$target:|ERROR: |runtime error:|SUMMARY:|Test unit written" "$log" | head -n 20 || true
-  fi
-done 3< <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
+  [ -z "$finding" ] || fuzz_findings=$((fuzz_findings + 1))
+done
 echo "fuzzing: $fuzz_total inputs explored, $fuzz_findings targets with findings"
 
 echo "done in ${SECONDS} s"

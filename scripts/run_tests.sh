@@ -81,10 +81,12 @@ run_counted_stage install "$SE3_ROOT/scripts/check_install.sh" "$SE3_WS/install_
 # The core and unit tests under ASan + UBSan and the libFuzzer targets (scripts/run_sanitizers.sh):
 # each sanitized test case and each fuzz replay and exploration count as tests here too.
 wait "$sanitize_build" || true
+echo "sanitized build ready at ${SECONDS} s"
 # Instructions per core operation (scripts/instruction_counts.sh --check: callgrind, deterministic
 # under any load) against the committed counts and the performance targets of
-# bench/instruction_targets.txt, each row and target a test: on the core that the sanitizers'
-# tests, run one at a time, leave idle.
+# bench/instruction_targets.txt, each row and target a test: beside the sanitizers' stage (its
+# tests run two at a time; callgrind's counts do not depend on the load, and it is done in about
+# a minute).
 bash "$SE3_ROOT/scripts/instruction_counts.sh" --check >"$SE3_WS/instruction_counts.log" 2>&1 &
 instruction_counts=$!
 run_counted_stage sanitizers "$SE3_ROOT/scripts/run_sanitizers.sh" "$SE3_WS/sanitizers.log"

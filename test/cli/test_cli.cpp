@@ -249,7 +249,9 @@ TEST(Cli, ScrewBezierCsvToFile)
     const Eigen::Vector4d q(rows[i][4], rows[i][5], rows[i][6], rows[i][7]);
     EXPECT_NEAR(q.norm(), 1.0, 1e-14);
     if (i > 0)
+    {
       EXPECT_GT(q.dot(Eigen::Vector4d(rows[i - 1][4], rows[i - 1][5], rows[i - 1][6], rows[i - 1][7])), 0.0);
+    }
   }
   for (const char* figure : { "duration: 2", "length: ", "rotation_length: ", "max_linear_speed: ",
                               "max_angular_speed: ", "energy: " })

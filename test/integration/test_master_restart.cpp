@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "node_test_utils.h"
 #include "se3_interpolation/GenerateTrajectory.h"
 namespace
 {
@@ -137,7 +138,7 @@ bool generateFromBuffer(const Instance& instance, se3_interpolation::GenerateTra
 {
   srv->request = se3_interpolation::GenerateTrajectory::Request();
   srv->request.publish = false;
-  return ros::service::call(instance.node() + "/generate", *srv) && srv->response.success;
+  return node_test::callService(instance.node() + "/generate", *srv) && srv->response.success;
 }
 
 /// The buffer is used: the path runs from its first waypoint to its last, with the sample count
@@ -251,7 +252,7 @@ TEST(MasterRestart, InstancesKeepRunningAndRegisterAgainWithTheirParametersAndMo
     p.name = "sample_count";
     p.value = 25;
     srv.request.config.ints.push_back(p);
-    ASSERT_TRUE(ros::service::call(instances[0].node() + "/set_parameters", srv));
+    ASSERT_TRUE(node_test::callService(instances[0].node() + "/set_parameters", srv));
     instances[0].sample_count = 25;
   }
 
@@ -280,7 +281,7 @@ TEST(MasterRestart, InstancesKeepRunningAndRegisterAgainWithTheirParametersAndMo
     motion.request.curve = "piecewise_geodesic";
     motion.request.sample_count = 10;
     motion.request.publish = true;
-    ASSERT_TRUE(ros::service::call(instance.node() + "/generate", motion));
+    ASSERT_TRUE(node_test::callService(instance.node() + "/generate", motion));
     ASSERT_TRUE(motion.response.success) << motion.response.message;
   }
   expectContinuousPlayback(instances, 1.0);

@@ -150,7 +150,7 @@ protected:
     srv.request.from_current = from_current;
     srv.request.sample_period = kSamplePeriod;
     srv.request.child_frame_id = childFrame();
-    EXPECT_TRUE(ros::service::call(nodeName() + "/generate", srv));
+    EXPECT_TRUE(node_test::callService(nodeName() + "/generate", srv));
     if (expect_success)
       EXPECT_TRUE(srv.response.success) << srv.response.message;
     return srv.response;
@@ -513,7 +513,7 @@ TEST_F(NodeAction, CommandCarriesGoalsOnly)
   srv.request.from_current = true;
   srv.request.publish = true;
   srv.request.child_frame_id = childFrame();
-  ASSERT_TRUE(ros::service::call(nodeName() + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(nodeName() + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   const double t0 = srv.response.trajectory.header.stamp.toSec();
   ros::WallDuration(t0 - ros::Time::now().toSec() + 0.5).sleep();

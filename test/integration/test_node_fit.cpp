@@ -134,7 +134,7 @@ TEST(NodeFit, TheServiceReturnsTheFittedBSplineWhichReplaysIt)
   fit.request.control_period = 0.4;
   fit.request.smoothing = 1e-6;
   fit.request.sample_count = 31;
-  ASSERT_TRUE(ros::service::call(kService, fit));
+  ASSERT_TRUE(node_test::callService(kService, fit));
   ASSERT_TRUE(fit.response.success) << fit.response.message;
   EXPECT_NE(fit.response.message.find("fitted 8 control poses to 41 waypoints"), std::string::npos)
       << fit.response.message;
@@ -150,7 +150,7 @@ TEST(NodeFit, TheServiceReturnsTheFittedBSplineWhichReplaysIt)
   replay.request.degree = 3;
   replay.request.knots = fit.response.knots;
   replay.request.sample_count = 31;
-  ASSERT_TRUE(ros::service::call(kService, replay));
+  ASSERT_TRUE(node_test::callService(kService, replay));
   ASSERT_TRUE(replay.response.success) << replay.response.message;
   ASSERT_EQ(replay.response.trajectory.points.size(), fit.response.trajectory.points.size());
   for (std::size_t i = 0; i < fit.response.trajectory.points.size(); ++i)
@@ -175,28 +175,28 @@ TEST(NodeFit, BadFitsAreRefusedNamingTheFieldAndTheNodeKeepsServing)
   std::vector<double> times;
   srv.request.waypoints.poses = noisyArc(21, &times);
   srv.request.curve = "fit";
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   EXPECT_FALSE(srv.response.success);
   EXPECT_EQ(srv.response.message.rfind("times: curve 'fit' needs the waypoints' times", 0), 0u) << srv.response.message;
   srv.request.times = times;
   srv.request.loss = "cauchy";
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   EXPECT_FALSE(srv.response.success);
   EXPECT_EQ(srv.response.message.rfind("loss: unknown value 'cauchy'", 0), 0u) << srv.response.message;
   srv.request.loss = "";
   srv.request.control_period = 0.001;  // more control poses than waypoints
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   EXPECT_FALSE(srv.response.success);
   EXPECT_EQ(srv.response.message.rfind("control_period:", 0), 0u) << srv.response.message;
   // For another curve the fit's fields are refused, not ignored.
   srv.request.curve = "interpolating";
   srv.request.control_period = 0.0;
   srv.request.smoothing = 1.0;
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   EXPECT_FALSE(srv.response.success);
   EXPECT_EQ(srv.response.message.rfind("smoothing: only used by curve 'fit'", 0), 0u) << srv.response.message;
   srv.request.smoothing = 0.0;
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   EXPECT_TRUE(srv.response.success) << srv.response.message;
 }
 

@@ -53,7 +53,7 @@ se3_interpolation::GenerationStatus statusNow(ros::NodeHandle& nh)
 {
   se3_interpolation::GenerateTrajectory srv;
   srv.request.publish = false;
-  EXPECT_TRUE(ros::service::call(kNode + "/generate", srv));
+  EXPECT_TRUE(node_test::callService(kNode + "/generate", srv));
   se3_interpolation::GenerationStatus::ConstPtr status =
       ros::topic::waitForMessage<se3_interpolation::GenerationStatus>(kNode + "/status", nh, ros::Duration(10.0));
   return status ? *status : se3_interpolation::GenerationStatus();
@@ -120,12 +120,12 @@ TEST(NodeFlood, MemoryReturnsAfterFloodsAndLargePublications)
     srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(1, 0, 0, 0.5) };
     srv.request.sample_count = 10;
     srv.request.publish = true;
-    ASSERT_TRUE(ros::service::call(kNode + "/generate", srv));
+    ASSERT_TRUE(node_test::callService(kNode + "/generate", srv));
     ASSERT_TRUE(srv.response.success) << srv.response.message;
   };
   small();
   std_srvs::Trigger cleared;
-  ASSERT_TRUE(ros::service::call(kNode + "/clear_waypoints", cleared));
+  ASSERT_TRUE(node_test::callService(kNode + "/clear_waypoints", cleared));
   ros::WallDuration(2.0).sleep();
   const long idle = rssKb(pid);
   ASSERT_GT(idle, 0);
@@ -152,7 +152,7 @@ TEST(NodeFlood, MemoryReturnsAfterFloodsAndLargePublications)
     ros::WallDuration(1.0).sleep();
   }
   std_srvs::Trigger clear;
-  ASSERT_TRUE(ros::service::call(kNode + "/clear_waypoints", clear));
+  ASSERT_TRUE(node_test::callService(kNode + "/clear_waypoints", clear));
   const long after_floods = rssKb(pid);
 
   // Large publications while a ~path subscriber reads slowly.
@@ -169,7 +169,7 @@ TEST(NodeFlood, MemoryReturnsAfterFloodsAndLargePublications)
     srv.request.sample_count = 100000;
     srv.request.publish = true;
     srv.request.outputs = { "path" };
-    ASSERT_TRUE(ros::service::call(kNode + "/generate", srv));
+    ASSERT_TRUE(node_test::callService(kNode + "/generate", srv));
     ASSERT_TRUE(srv.response.success) << srv.response.message;
   }
   const long after_large = rssKb(pid);

@@ -108,13 +108,13 @@ TEST(NodeHostile, FarFutureStampDoesNotKillTheNode)
   auto far = lightRequest();
   far.request.waypoints.header.stamp = ros::Time(3950000000u);
   far.request.publish = true;
-  ASSERT_TRUE(ros::service::call(kService, far));
+  ASSERT_TRUE(node_test::callService(kService, far));
   EXPECT_TRUE(far.response.success) << far.response.message;
 
   // The TF timer replays it (tf_rate 50 Hz) for a while; the node must still be the same process.
   ros::WallDuration(1.0).sleep();
   auto light = lightRequest();
-  ASSERT_TRUE(ros::service::call(kService, light));
+  ASSERT_TRUE(node_test::callService(kService, light));
   EXPECT_TRUE(light.response.success) << light.response.message;
   EXPECT_EQ(nodePid(), pid);
 
@@ -122,13 +122,13 @@ TEST(NodeHostile, FarFutureStampDoesNotKillTheNode)
   auto late = lightRequest();
   late.request.waypoints.header.stamp = ros::Time(4294967290u);
   late.request.duration = 100.0;
-  ASSERT_TRUE(ros::service::call(kService, late));
+  ASSERT_TRUE(node_test::callService(kService, late));
   EXPECT_FALSE(late.response.success);
   EXPECT_EQ(late.response.message.rfind("waypoints.header.stamp: ", 0), 0u) << late.response.message;
   // Row 14: a duration ROS cannot carry names the field.
   auto huge = lightRequest();
   huge.request.duration = 3e9;
-  ASSERT_TRUE(ros::service::call(kService, huge));
+  ASSERT_TRUE(node_test::callService(kService, huge));
   EXPECT_FALSE(huge.response.success);
   EXPECT_EQ(huge.response.message.rfind("duration: ", 0), 0u) << huge.response.message;
 }
@@ -154,7 +154,7 @@ TEST(NodeHostile, FrameIdsAreBounded)
     auto srv = lightRequest();
     c.first(srv);
     srv.request.publish = true;
-    ASSERT_TRUE(ros::service::call(kService, srv)) << c.second;
+    ASSERT_TRUE(node_test::callService(kService, srv)) << c.second;
     EXPECT_FALSE(srv.response.success) << c.second;
     EXPECT_EQ(srv.response.message.rfind(c.second, 0), 0u) << srv.response.message.substr(0, 200);
     EXPECT_LT(srv.response.message.size(), 300u) << c.second;
@@ -162,7 +162,7 @@ TEST(NodeHostile, FrameIdsAreBounded)
   }
   auto ok = lightRequest();
   ok.request.child_frame_id = std::string(256, 'k');
-  ASSERT_TRUE(ros::service::call(kService, ok));
+  ASSERT_TRUE(node_test::callService(kService, ok));
   EXPECT_TRUE(ok.response.success) << ok.response.message;
 
   ros::Publisher waypoints = nh.advertise<geometry_msgs::PoseArray>(std::string(kNode) + "/waypoints", 10);
@@ -195,7 +195,7 @@ TEST(NodeHostile, TfStaticHoldsOnlyTheLatestTrajectory)
     auto srv = lightRequest();
     srv.request.child_frame_id = child;
     srv.request.publish = true;
-    ASSERT_TRUE(ros::service::call(kService, srv));
+    ASSERT_TRUE(node_test::callService(kService, srv));
     ASSERT_TRUE(srv.response.success) << srv.response.message;
   }
   // A late subscriber receives the latched message(s) of every /tf_static publisher; the
@@ -245,7 +245,7 @@ TEST(NodeHostile, WaypointTfWaitsDoNotDelayTheService)
   }
   ASSERT_TRUE(waitFor([&] { return log.count("~waypoint rejected") >= 1; }, 20.0));
   auto light = lightRequest();
-  ASSERT_TRUE(ros::service::call(kService, light));
+  ASSERT_TRUE(node_test::callService(kService, light));
   EXPECT_TRUE(light.response.success) << light.response.message;
   // Served on its own threads: at most a couple of the 1 s waits were over when it returned.
   EXPECT_LT(log.count("~waypoint rejected"), 5);
@@ -284,7 +284,7 @@ TEST(NodeHostile, HeavyRequestDoesNotDelayALightOne)
   std::atomic<bool> heavy_started{ false }, heavy_done{ false };
   std::thread worker([&] {
     heavy_started = true;
-    ros::service::call(kService, heavy);
+    node_test::callService(kService, heavy);
     heavy_done = true;
   });
   ASSERT_TRUE(waitFor([&] { return heavy_started.load(); }, 10.0));
@@ -293,7 +293,7 @@ TEST(NodeHostile, HeavyRequestDoesNotDelayALightOne)
   for (int i = 0; i < 3; ++i)
   {
     auto light = lightRequest();
-    ASSERT_TRUE(ros::service::call(kService, light));
+    ASSERT_TRUE(node_test::callService(kService, light));
     EXPECT_TRUE(light.response.success) << light.response.message;
     light_done_first = !heavy_done;
   }
@@ -309,7 +309,7 @@ TEST(NodeHostile, RespawnedAfterSigkill)
   auto playing = lightRequest();
   playing.request.duration = 30.0;
   playing.request.publish = true;
-  ASSERT_TRUE(ros::service::call(kService, playing));
+  ASSERT_TRUE(node_test::callService(kService, playing));
   ASSERT_TRUE(playing.response.success) << playing.response.message;
   const int pid = nodePid();
   ASSERT_GT(pid, 0);
@@ -323,7 +323,7 @@ TEST(NodeHostile, RespawnedAfterSigkill)
   ASSERT_TRUE(ros::service::waitForService(kService, ros::Duration(30.0)));
   auto light = lightRequest();
   light.request.publish = true;
-  ASSERT_TRUE(ros::service::call(kService, light));
+  ASSERT_TRUE(node_test::callService(kService, light));
   EXPECT_TRUE(light.response.success) << light.response.message;
 }
 

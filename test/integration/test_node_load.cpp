@@ -13,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "node_test_utils.h"
 #include "se3_interpolation/GenerateTrajectory.h"
 
 namespace
@@ -128,7 +129,7 @@ TEST(NodeLoad, ConcurrentHeavyRequestsDoNotStarveTf)
   auto light = heavyRequest(0);
   light.request.sample_count = 10;
   light.request.publish = true;
-  ASSERT_TRUE(ros::service::call(kService, light));
+  ASSERT_TRUE(node_test::callService(kService, light));
   ASSERT_TRUE(light.response.success) << light.response.message;
 
   // Watch /tf on a dedicated queue and thread so the clients below cannot delay us.
@@ -158,7 +159,7 @@ TEST(NodeLoad, ConcurrentHeavyRequestsDoNotStarveTf)
   for (int k = 0; k < 50; ++k)
     clients.emplace_back([k, &ok, &errors] {
       auto srv = heavyRequest(k);
-      if (!ros::service::call(kService, srv))
+      if (!node_test::callService(kService, srv))
       {
         errors[k] = "call failed";
         return;
@@ -237,7 +238,7 @@ TEST(NodeLoad, RequestPastTheWorkLimitIsStoppedWhileAnotherClientIsServed)
     while (!heavy_done)
     {
       auto light = lightRequest();
-      const bool called = ros::service::call(kService, light);
+      const bool called = node_test::callService(kService, light);
       const bool during = !heavy_done;
       if (!called || !light.response.success)
         light_errors.push_back(called ? light.response.message : "call failed");
@@ -254,7 +255,7 @@ TEST(NodeLoad, RequestPastTheWorkLimitIsStoppedWhileAnotherClientIsServed)
   auto heavy = overLimitRequest();
   ASSERT_EQ(heavy.request.waypoints.poses.size(), 2000u);
   const ros::WallTime start = ros::WallTime::now();
-  const bool called = ros::service::call(kService, heavy);
+  const bool called = node_test::callService(kService, heavy);
   const double elapsed = (ros::WallTime::now() - start).toSec();
   heavy_done = true;
   light_client.join();
@@ -283,7 +284,7 @@ TEST(NodeLoad, RequestPastTheWorkLimitIsStoppedWhileAnotherClientIsServed)
 
   // Afterwards the node still serves.
   auto after = lightRequest();
-  ASSERT_TRUE(ros::service::call(kService, after));
+  ASSERT_TRUE(node_test::callService(kService, after));
   EXPECT_TRUE(after.response.success) << after.response.message;
   EXPECT_EQ(after.response.path.poses.size(), 10u);
 }

@@ -99,7 +99,7 @@ void replanMidMotion(se3_interpolation::GenerateTrajectory first, double after, 
   ASSERT_TRUE(ros::service::waitForService(kNode + "/generate", ros::Duration(30.0)));
   TfRecord tf(nh);
   spinFor(0.3);
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", first));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", first));
   ASSERT_TRUE(first.response.success) << first.response.message;
   // (The frame jumps to the first motion's start: that motion does not start from the current one.)
   spinFor(0.1);
@@ -117,7 +117,7 @@ void replanMidMotion(se3_interpolation::GenerateTrajectory first, double after, 
   second.request.max_angular_acceleration = first.request.max_angular_acceleration;
   second.request.publish = true;
   const ros::Time called = ros::Time::now();
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", second));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", second));
   ASSERT_TRUE(second.response.success) << second.response.message;
   const ros::Time switch_time = second.response.trajectory.header.stamp;
   EXPECT_EQ(second.response.path.header.stamp, switch_time);
@@ -132,7 +132,7 @@ void replanMidMotion(se3_interpolation::GenerateTrajectory first, double after, 
   reference.request.publish = false;
   reference.request.sample_times = { t_switch };
   reference.request.sample_count = 0;
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", reference));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", reference));
   ASSERT_TRUE(reference.response.success) << reference.response.message;
   ASSERT_EQ(reference.response.trajectory.points.size(), 1u);
   const auto& start = second.response.trajectory.points.front();
@@ -177,7 +177,7 @@ TEST(NodeReplan, IdleReplanStartsAtRestFromTheHeldPose)
   ASSERT_TRUE(ros::service::waitForService(kNode + "/generate", ros::Duration(30.0)));
   se3_interpolation::GenerateTrajectory first = firstMotion("stretch");
   first.request.times = { 0.0, 0.2, 0.4 };
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", first));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", first));
   ASSERT_TRUE(first.response.success) << first.response.message;
   spinFor(0.8);  // ended: the frame holds the last pose (loop false)
 
@@ -186,7 +186,7 @@ TEST(NodeReplan, IdleReplanStartsAtRestFromTheHeldPose)
   second.request.waypoints.poses = newWaypoints();
   second.request.from_current = true;
   second.request.publish = true;
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", second));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", second));
   ASSERT_TRUE(second.response.success) << second.response.message;
   trajectory_msgs::MultiDOFJointTrajectoryPoint held = first.response.trajectory.points.back();
   for (auto* twist : { &held.velocities[0], &held.accelerations[0] })
@@ -205,7 +205,7 @@ TEST(NodeReplan, NothingPlayingOnTheFrameStartsAtTheFirstWaypoint)
   srv.request.waypoints.poses = newWaypoints();
   srv.request.from_current = true;
   srv.request.child_frame_id = "never_played";
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   const Eigen::Isometry3d x = tf2::transformToEigen(srv.response.trajectory.points.front().transforms[0]);
   EXPECT_LT((x.translation() - Eigen::Vector3d(1.5, 1.5, 0.2)).norm(), 1e-12);
@@ -215,13 +215,13 @@ TEST(NodeReplan, FromCurrentInAnotherFrameIsRefusedNamingTheField)
 {
   ASSERT_TRUE(ros::service::waitForService(kNode + "/generate", ros::Duration(30.0)));
   se3_interpolation::GenerateTrajectory first = firstMotion("stretch");
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", first));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", first));
   ASSERT_TRUE(first.response.success);
   se3_interpolation::GenerateTrajectory srv;
   srv.request.waypoints.header.frame_id = "odom";
   srv.request.waypoints.poses = newWaypoints();
   srv.request.from_current = true;
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", srv));
   EXPECT_FALSE(srv.response.success);
   EXPECT_EQ(srv.response.message.rfind("from_current", 0), 0u) << srv.response.message;
 }
@@ -237,7 +237,7 @@ TEST(NodeReplan, AutoGenerationStartsFromTheCurrentMotion)
       [&](const trajectory_msgs::MultiDOFJointTrajectory::ConstPtr& m) { published.push_back(*m); });
   ros::Publisher array_pub = nh.advertise<geometry_msgs::PoseArray>(kNode + "/waypoints", 1, true);
   se3_interpolation::GenerateTrajectory first = firstMotion("stretch");
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", first));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", first));
   ASSERT_TRUE(first.response.success);
   spinFor(0.7);
   const std::size_t before = published.size();
@@ -256,7 +256,7 @@ TEST(NodeReplan, AutoGenerationStartsFromTheCurrentMotion)
   se3_interpolation::GenerateTrajectory reference = first;
   reference.request.publish = false;
   reference.request.sample_times = { t_switch };
-  ASSERT_TRUE(ros::service::call(kNode + "/generate", reference));
+  ASSERT_TRUE(node_test::callService(kNode + "/generate", reference));
   ASSERT_TRUE(reference.response.success) << reference.response.message;
   expectSameState(replanned.points.front(), reference.response.trajectory.points.front(), kSwitchTolerance);
 }

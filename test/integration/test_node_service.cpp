@@ -48,7 +48,7 @@ se3_interpolation::GenerateTrajectory timeOptimalRequest()
 
 bool call(se3_interpolation::GenerateTrajectory& srv)
 {
-  return ros::service::call(kService, srv);
+  return node_test::callService(kService, srv);
 }
 }  // namespace
 

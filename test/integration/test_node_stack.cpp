@@ -104,7 +104,7 @@ dynamic_reconfigure::Config reconfigure(const std::string& node, const std::vect
     p.value = b.second;
     srv.request.config.bools.push_back(p);
   }
-  EXPECT_TRUE(ros::service::call(node + "/set_parameters", srv)) << node;
+  EXPECT_TRUE(node_test::callService(node + "/set_parameters", srv)) << node;
   return srv.response.config;
 }
 
@@ -176,9 +176,9 @@ TEST(NodeStack, HoldsTheLastPoseUnlessLooping)
   const ros::Time stamp = ros::Time::now();
   auto held = segment(1.0, stamp);
   auto looped = segment(1.0, stamp);
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", held));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", held));
   ASSERT_TRUE(held.response.success) << held.response.message;
-  ASSERT_TRUE(ros::service::call(kArm2 + "/generate", looped));
+  ASSERT_TRUE(node_test::callService(kArm2 + "/generate", looped));
   ASSERT_TRUE(looped.response.success) << looped.response.message;
 
   // 1.25 s: a quarter into the second cycle when looping, past the end when holding.
@@ -202,7 +202,7 @@ TEST(NodeStack, ClearStopsPlaybackAndClearsPathAndMarkers)
   Latest<nav_msgs::Path> path(nh, kArm2 + "/path");
   Latest<visualization_msgs::MarkerArray> markers(nh, kArm2 + "/markers");
   auto srv = segment(4.0, ros::Time::now());
-  ASSERT_TRUE(ros::service::call(kArm2 + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kArm2 + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   ASSERT_TRUE(spinUntil([&] { return !path.msg().poses.empty() && !markers.msg().markers.empty(); }, 10.0));
   spinFor(0.5);
@@ -210,7 +210,7 @@ TEST(NodeStack, ClearStopsPlaybackAndClearsPathAndMarkers)
   const int paths_before = path.count();
   const int markers_before = markers.count();
   std_srvs::Trigger clear;
-  ASSERT_TRUE(ros::service::call(kArm2 + "/clear_waypoints", clear));
+  ASSERT_TRUE(node_test::callService(kArm2 + "/clear_waypoints", clear));
   EXPECT_TRUE(clear.response.success);
   ASSERT_TRUE(spinUntil([&] { return path.count() > paths_before && markers.count() > markers_before; }, 10.0));
   EXPECT_TRUE(path.msg().poses.empty());
@@ -259,7 +259,7 @@ TEST(NodeStack, ReconfigureChangesTheDefaultsWithValidation)
   srv.request.times = { 0.0, 1.0, 2.0 };
   srv.request.publish = false;
   Latest<se3_interpolation::GenerationStatus> status(nh, kArm1 + "/status");
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   ASSERT_EQ(srv.response.path.poses.size(), 3U);  // the reconfigured sample_count
   Eigen::Isometry3d mid;
@@ -272,7 +272,7 @@ TEST(NodeStack, ReconfigureChangesTheDefaultsWithValidation)
   tf2_ros::TransformListener listener(buffer);
   const ros::Time stamp = ros::Time::now();
   auto looped = segment(1.0, stamp);
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", looped));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", looped));
   ASSERT_TRUE(looped.response.success) << looped.response.message;
   const ros::Time t = stamp + ros::Duration(1.25);
   ASSERT_TRUE(spinUntil([&] { return ros::Time::now() > t + ros::Duration(0.3); }, 10.0));
@@ -322,7 +322,7 @@ TEST(NodeStack, RefusedParametersKeepTheDefaults)
     Latest<se3_interpolation::GenerationStatus> status(nh, "/refused_node/status");
     auto srv = segment(1.0, ros::Time::now());
     srv.request.curve.clear();
-    ASSERT_TRUE(ros::service::call("/refused_node/generate", srv));
+    ASSERT_TRUE(node_test::callService("/refused_node/generate", srv));
     EXPECT_TRUE(srv.response.success) << srv.response.message;
     EXPECT_EQ(srv.response.path.poses.size(), 100U);
     EXPECT_EQ(srv.response.trajectory.joint_names.at(0), "interpolated");
@@ -352,7 +352,7 @@ TEST(NodeStack, WaypointFramesAreLookedUpWithTf2)
   srv.request.curve = "piecewise_geodesic";
   srv.request.times = { 0.0, 1.0, 2.0 };
   srv.request.sample_times = { 0.0, 1.0, 2.0 };
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   ASSERT_EQ(srv.response.path.poses.size(), 3U);
   // static_transform_publisher args of node_stack.test.
@@ -368,7 +368,7 @@ TEST(NodeStack, WaypointFramesAreLookedUpWithTf2)
   // Frames alone are enough (the buffer is not used).
   se3_interpolation::GenerateTrajectory frames_only;
   frames_only.request.waypoint_frames = { "taught_2", "taught_1" };
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", frames_only));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", frames_only));
   ASSERT_TRUE(frames_only.response.success) << frames_only.response.message;
   EXPECT_NEAR(frames_only.response.path.poses.front().pose.position.x, 2.0, 1e-12);
   EXPECT_NEAR(frames_only.response.path.poses.back().pose.position.x, 1.0, 1e-12);
@@ -376,13 +376,13 @@ TEST(NodeStack, WaypointFramesAreLookedUpWithTf2)
   // An unknown frame is named; an unbounded one is refused without being echoed.
   se3_interpolation::GenerateTrajectory unknown;
   unknown.request.waypoint_frames = { "taught_1", "nowhere" };
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", unknown));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", unknown));
   EXPECT_FALSE(unknown.response.success);
   EXPECT_EQ(unknown.response.message.rfind("waypoint_frames[1]: no transform from 'nowhere' to 'map'", 0), 0U)
       << unknown.response.message;
   se3_interpolation::GenerateTrajectory huge;
   huge.request.waypoint_frames = { "taught_1", std::string(100000, 'f') };
-  ASSERT_TRUE(ros::service::call(kArm1 + "/generate", huge));
+  ASSERT_TRUE(node_test::callService(kArm1 + "/generate", huge));
   EXPECT_FALSE(huge.response.success);
   EXPECT_EQ(huge.response.message.rfind("waypoint_frames[1]: ", 0), 0U) << huge.response.message.substr(0, 200);
   EXPECT_LT(huge.response.message.size(), 400U);
@@ -395,7 +395,7 @@ TEST(NodeStack, WaitingLookupBlocksNeitherRequestsNorTf)
   waitForNodes();
   ros::NodeHandle nh;
   auto first = segment(10.0, ros::Time::now());
-  ASSERT_TRUE(ros::service::call(kSlow + "/generate", first));
+  ASSERT_TRUE(node_test::callService(kSlow + "/generate", first));
   ASSERT_TRUE(first.response.success) << first.response.message;
   int broadcasts = 0;
   ros::Subscriber tf_sub = nh.subscribe<tf2_msgs::TFMessage>("/tf", 100, [&](const tf2_msgs::TFMessage::ConstPtr& m) {
@@ -407,13 +407,13 @@ TEST(NodeStack, WaitingLookupBlocksNeitherRequestsNorTf)
   std::future<se3_interpolation::GenerateTrajectory> waiting = std::async(std::launch::async, [] {
     se3_interpolation::GenerateTrajectory w;
     w.request.waypoint_frames = { "taught_1", "appears_never" };
-    ros::service::call(kSlow + "/generate", w);
+    node_test::callService(kSlow + "/generate", w);
     return w;
   });
   spinFor(0.3);  // the waiting call is inside its tf2 wait now
   auto other = segment(1.0, ros::Time::now());
   other.request.publish = false;
-  ASSERT_TRUE(ros::service::call(kSlow + "/generate", other));
+  ASSERT_TRUE(node_test::callService(kSlow + "/generate", other));
   EXPECT_TRUE(other.response.success) << other.response.message;
   const int before = broadcasts;
   spinFor(0.5);
@@ -436,7 +436,7 @@ TEST(NodeStack, TfCollisionIsWarnedNamingThePublisher)
   for (const auto& n : { kArm1, kArm2 })
   {
     auto srv = segment(5.0, ros::Time::now());
-    ASSERT_TRUE(ros::service::call(n + "/generate", srv));
+    ASSERT_TRUE(node_test::callService(n + "/generate", srv));
   }
   spinFor(1.0);
   EXPECT_FALSE(warnings.has(kArm1, { "TF collision" }));
@@ -469,7 +469,7 @@ TEST(NodeletStack, AnswersTheServiceBroadcastsAndReconfigures)
   tf2_ros::Buffer buffer;
   tf2_ros::TransformListener listener(buffer);
   auto srv = segment(0.5, ros::Time::now());
-  ASSERT_TRUE(ros::service::call(kNodelet + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(kNodelet + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   EXPECT_EQ(srv.response.trajectory.joint_names.at(0), "arm3_tool");
   ASSERT_TRUE(spinUntil([&] { return ros::Time::now() > srv.request.waypoints.header.stamp + ros::Duration(1.0); }, 10.0));
@@ -477,7 +477,7 @@ TEST(NodeletStack, AnswersTheServiceBroadcastsAndReconfigures)
   dynamic_reconfigure::Config c = reconfigure(kNodelet, { { "timing", "time_optimal" } }, {}, {});
   EXPECT_EQ(strOf(c, "timing"), "time_optimal");
   std_srvs::Trigger clear;
-  ASSERT_TRUE(ros::service::call(kNodelet + "/clear_waypoints", clear));
+  ASSERT_TRUE(node_test::callService(kNodelet + "/clear_waypoints", clear));
   EXPECT_TRUE(clear.response.success);
 }
 

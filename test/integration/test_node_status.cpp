@@ -90,7 +90,7 @@ TEST(NodeStatus, ServiceCallsAreReportedWithTheirOutcome)
   srv.request.waypoints.poses = { pose(0, 0, 0, 0), pose(1, 0, 0, 0.5), pose(1, 1, 0.5, 1.5), pose(0, 2, 1, 2.5) };
   srv.request.sample_count = 50;
   srv.request.duration = 4.0;
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   se3_interpolation::GenerationStatus s;
   ASSERT_TRUE(log.next(seen++, &s));
@@ -111,7 +111,7 @@ TEST(NodeStatus, ServiceCallsAreReportedWithTheirOutcome)
   srv.request.curve = "bspline";
   srv.request.geometry = "screw";
   srv.request.times = { 0.0, 1.0 };  // 2 times for 4 waypoints
-  ASSERT_TRUE(ros::service::call(kService, srv));
+  ASSERT_TRUE(node_test::callService(kService, srv));
   ASSERT_FALSE(srv.response.success);
   ASSERT_TRUE(log.next(seen++, &s));
   EXPECT_FALSE(s.success);

@@ -48,7 +48,7 @@ TEST(NodeTf, MovingFrameFollowsTheTrajectoryThroughTf2)
   srv.request.times = { 0.0, 2.0 };
   srv.request.curve = "piecewise_geodesic";
   srv.request.publish = true;
-  ASSERT_TRUE(ros::service::call(std::string(kNode) + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(std::string(kNode) + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   const ros::Time stamp = srv.request.waypoints.header.stamp;
 
@@ -121,7 +121,7 @@ TEST(NodeTf, WaypointTopicsFeedTheBufferAndAutoGenerate)
   ros::Publisher array_pub = nh.advertise<geometry_msgs::PoseArray>(std::string(kNode) + "/waypoints", 1, true);
   ros::Publisher pose_pub = nh.advertise<geometry_msgs::PoseStamped>(std::string(kNode) + "/waypoint", 10);
   std_srvs::Trigger clear;
-  ASSERT_TRUE(ros::service::call(std::string(kNode) + "/clear_waypoints", clear));
+  ASSERT_TRUE(node_test::callService(std::string(kNode) + "/clear_waypoints", clear));
   ASSERT_TRUE(clear.response.success);
 
   geometry_msgs::PoseArray array;
@@ -161,7 +161,7 @@ TEST(NodeTf, WaypointTopicsFeedTheBufferAndAutoGenerate)
   pose_pub.publish(bad);
   spinUntil([] { return false; }, 1.0);
   se3_interpolation::GenerateTrajectory srv;  // empty waypoints: use the buffer
-  ASSERT_TRUE(ros::service::call(std::string(kNode) + "/generate", srv));
+  ASSERT_TRUE(node_test::callService(std::string(kNode) + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
   EXPECT_NEAR(srv.response.path.poses.back().pose.position.x, 11.0, 1e-12);
   EXPECT_EQ(srv.response.path.header.frame_id, "map");

@@ -311,6 +311,8 @@ TEST(NodeParameters, LaunchFilesSetOnlyTableParametersAndOnlyWhenGiven)
     const std::regex arg("<arg name=\"([a-z_]+)\" default=\"([^\"]*)\"");
     for (auto m = std::sregex_iterator(text.begin(), text.end(), arg); m != std::sregex_iterator(); ++m)
       if (findNodeParameter((*m)[1]))
+      {
         EXPECT_EQ((*m)[2].str(), "") << file << ": argument " << (*m)[1] << " overrides the config file";
+      }
   }
 }

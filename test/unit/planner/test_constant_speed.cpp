@@ -88,11 +88,17 @@ void expectWithinBounds(const TrajectoryRequest& r, const TrajectoryResult& out,
   for (int c = 0; c < 2; ++c)
   {
     if (bound_v[c] > 0.0)
+    {
       EXPECT_LE(v[c], bound_v[c] * tol) << what << " channel " << c;
+    }
     if (bound_a[c] > 0.0)
+    {
       EXPECT_LE(a[c], bound_a[c] * tol) << what << " channel " << c;
+    }
     if (bound_j[c] > 0.0)
+    {
       EXPECT_LE(j[c], bound_j[c] * tol) << what << " channel " << c;
+    }
   }
   EXPECT_GE(out.figures.max_linear_speed * tol, v[0]) << what;
   EXPECT_GE(out.figures.max_angular_speed * tol, v[1]) << what;
@@ -215,8 +221,10 @@ TEST(ConstantSpeed, TheChordSpeedIsHeldOnACircleLikeBlendedPolygon)
     // ... and by the reported velocities at every sample of the window.
     for (const auto& s : out.samples)
       if (s.time > out.constant_speed_start && s.time < out.constant_speed_end)
+      {
         EXPECT_NEAR(std::hypot(s.velocity.linear.norm(), 0.5 * s.velocity.angular.norm()), r.speed, 1e-6 * r.speed)
             << geometry << " t " << s.time;
+      }
     // The waypoint times increase to the end, and the motion passes near each corner then.
     ASSERT_EQ(out.waypoint_times.size(), r.waypoints.size());
     for (std::size_t i = 1; i < out.waypoint_times.size(); ++i)
@@ -258,8 +266,10 @@ TEST(ConstantSpeed, CurvesOfEveryFamilyWithSmoothPathsAreServedWithinTheBounds)
     expectWithinBounds(r, out, curve);
     for (const auto& s : out.samples)
       if (s.time > out.constant_speed_start && s.time < out.constant_speed_end)
+      {
         EXPECT_NEAR(std::hypot(s.velocity.linear.norm(), s.velocity.angular.norm()), r.speed, 1e-6 * r.speed)
             << curve << " t " << s.time;
+      }
   }
 }
 
@@ -377,8 +387,10 @@ TEST(ConstantSpeed, AMovingStartRampsFromItsStateToTheSpeed)
       EXPECT_LT((first.acceleration.linear - start.acceleration.linear).norm(), 1e-7) << what;
       for (const auto& s : out.samples)
         if (s.time > out.constant_speed_start && s.time < out.constant_speed_end)
+        {
           EXPECT_NEAR(std::hypot(s.velocity.linear.norm(), s.velocity.angular.norm()), r.speed, 1e-6 * r.speed)
               << what << " t " << s.time;
+        }
       // Within the bounds throughout; rest at the end only.
       for (const auto& s : out.samples)
       {
