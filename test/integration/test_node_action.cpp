@@ -152,7 +152,9 @@ protected:
     srv.request.child_frame_id = childFrame();
     EXPECT_TRUE(node_test::callService(nodeName() + "/generate", srv));
     if (expect_success)
+    {
       EXPECT_TRUE(srv.response.success) << srv.response.message;
+    }
     return srv.response;
   }
 

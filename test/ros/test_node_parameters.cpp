@@ -62,7 +62,9 @@ TEST(NodeParameters, EveryRowAcceptsItsDefaultAndNamesItself)
       }
     }
     else if (spec.type != ParameterType::kBool)
+    {
       EXPECT_EQ(parameterError(spec, std::string(spec.default_text)), "") << spec.name;
+    }
   }
   EXPECT_EQ(findNodeParameter("max_velocity"), nullptr);
 }
