@@ -39,8 +39,9 @@ inline geometry_msgs::Pose pose(const Eigen::Vector3d& p, const Eigen::Quaternio
 /// closes: a persistent client, dropped after its one call. With roscpp's non-persistent call the
 /// server closes the connection right after its response, and on a loaded machine the client's
 /// poll thread can take the hang-up before it has read the response and report the call failed
-/// (ros/ros_comm issue 1976, the POLLRDHUP branch of TransportTCP::socketUpdate; in this suite's
-/// CI, one light request of about 80 made while the node was loaded).
+/// (https://github.com/ros/ros_comm/issues/1976: the POLLRDHUP branch of
+/// TransportTCP::socketUpdate; in this suite's CI, one light request of about 80 made while the
+/// node was loaded).
 template <class Service>
 bool callService(const std::string& name, Service& srv)
 {
