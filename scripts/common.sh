@@ -38,6 +38,23 @@ se3_free_port() {
   done
 }
 
+# A pool of background jobs, two at a time (one per core of the CI machine; SE3_SANITIZE_JOBS
+# changes it): se3_start_job CMD ARGS... runs the command in the background once fewer than that
+# run; se3_finish_jobs waits for them all (scripts/run_sanitizers.sh, scripts/fuzz_long_run.sh).
+se3_jobs_running=0
+se3_start_job() {
+  if [ "$se3_jobs_running" -ge "${SE3_SANITIZE_JOBS:-2}" ]; then
+    wait -n || true
+    se3_jobs_running=$((se3_jobs_running - 1))
+  fi
+  "$@" &
+  se3_jobs_running=$((se3_jobs_running + 1))
+}
+se3_finish_jobs() {
+  wait || true
+  se3_jobs_running=0
+}
+
 # One libFuzzer exploration, with the options of CI's and of the long run (docs/testing.md "Sanitizers
 # and fuzzing"): se3_fuzz_explore BINARY CORPUS ARTIFACTS LOG MAX_LEN SEED [LIMIT FLAGS...]. ASan
 # reports carry no allocation stacks (a finding's input replays with them): ASan's stack unwinding

@@ -35,18 +35,12 @@ run_target() {
     "$(find "$SE3_ROOT/$seeds" -type f | wc -l) $(find "$corpus" -type f | wc -l) $finding" >"$out/$target.row"
 }
 
-running=0
 while read -r target seeds max_len _; do
   [ -n "${budget[$target]:-}" ] || continue
   [ -x "$build/$target" ] || { echo "$build/$target is missing: run scripts/run_sanitizers.sh first" >&2; exit 2; }
-  run_target "$target" "$seeds" "$max_len" "${budget[$target]}" &
-  running=$((running + 1))
-  if [ "$running" -ge 2 ]; then
-    wait -n
-    running=$((running - 1))
-  fi
+  se3_start_job run_target "$target" "$seeds" "$max_len" "${budget[$target]}"
 done < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
-wait
+se3_finish_jobs
 
 total=0
 findings=0

@@ -61,24 +61,10 @@ mkdir -p "$results"
 passed=0
 failed=0
 
-# The tests and the fuzz targets run ${SE3_SANITIZE_JOBS:-2} at a time (one per core: each is a
-# single process). Each job writes its printed lines to $results/JOB.out and its counts to
-# $results/JOB.counts ("passed failed"); they are printed and added in a fixed order afterwards.
-jobs_limit=${SE3_SANITIZE_JOBS:-2}
-jobs_running=0
-# Runs "$@" in the background once fewer than $jobs_limit jobs run.
-start_job() {
-  if [ "$jobs_running" -ge "$jobs_limit" ]; then
-    wait -n || true
-    jobs_running=$((jobs_running - 1))
-  fi
-  "$@" &
-  jobs_running=$((jobs_running + 1))
-}
-finish_jobs() {
-  wait || true
-  jobs_running=0
-}
+# The tests and the fuzz targets run ${SE3_SANITIZE_JOBS:-2} at a time (se3_start_job; one per
+# core: each is a single process). Each job writes its printed lines to $results/JOB.out and its
+# counts to $results/JOB.counts ("passed failed"); they are printed and added in a fixed order
+# afterwards.
 # Prints job $1's lines and adds its counts.
 collect_job() {
   local p=0 f=1
@@ -119,9 +105,9 @@ mapfile -t unit_tests < <(for source in $(find "$SE3_ROOT/test/unit" -name 'test
   echo "$(wc -l <"$source") $(basename "$source" .cpp)"
 done | sort -k1,1nr -k2 | awk '{print $2}')
 for name in "${unit_tests[@]}"; do
-  start_job unit_test_job "$name"
+  se3_start_job unit_test_job "$name"
 done
-finish_jobs
+se3_finish_jobs
 for name in $(printf '%s\n' "${unit_tests[@]}" | sort); do
   collect_job "$name"
 done
@@ -181,9 +167,9 @@ fuzz_job() {
 mapfile -t fuzz_targets < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
 for line in "${fuzz_targets[@]}"; do
   read -r target seeds max_len min_runs <<<"$line"
-  start_job fuzz_job "$target" "$seeds" "$max_len" "$min_runs"
+  se3_start_job fuzz_job "$target" "$seeds" "$max_len" "$min_runs"
 done
-finish_jobs
+se3_finish_jobs
 fuzz_total=0
 fuzz_findings=0
 for line in "${fuzz_targets[@]}"; do
