@@ -3,14 +3,16 @@
 // that stretch the curve, `time_optimal`) and N = 100, 1000, 10⁴ waypoints (a bezier 20, 100,
 // 400), the estimate in seconds, the measured CPU time of generate() (the least of three runs)
 // and their ratio, which the estimate's calibration keeps within [0.5, 2] on the development
-// machine (calibrated at the middle size: `--middle` runs only that one). Prints one line per
-// case; `--check` exits 1 when a ratio is outside [0.5, 2] (run on
+// machine (calibrated at the middle size: `--middle` runs only that one; other arguments name the
+// curves to run, all by default). Prints one line per case; `--check` exits 1 when a ratio is
+// outside [0.5, 2] (run on
 // an idle machine: the measured times are wall-clock-free CPU times, but a loaded machine's
 // caches still slow them).
 //
 // Waypoints: a random walk from a fixed seed, each step a rotation of 0.2 … 1 rad about a random
 // axis and a translation ~ N(0, 0.5²) m per axis; chord-spaced times; 100 samples. curve fit: a
 // noisy 100 Hz recording at its times (bench/recording.h), N = 10³ … 10⁵ poses.
+#include <algorithm>
 #include <ctime>
 #include <cstdio>
 #include <cstring>
@@ -50,10 +52,15 @@ int main(int argc, char** argv)
 {
   bool check = false;
   bool middle_only = false;  // --middle: only the calibration size (1000 waypoints, a bezier 100)
+  std::vector<std::string> curves;  // the curves to run (all when empty)
   for (int i = 1; i < argc; ++i)
   {
-    check = check || std::strcmp(argv[i], "--check") == 0;
-    middle_only = middle_only || std::strcmp(argv[i], "--middle") == 0;
+    if (std::strcmp(argv[i], "--check") == 0)
+      check = true;
+    else if (std::strcmp(argv[i], "--middle") == 0)
+      middle_only = true;
+    else
+      curves.emplace_back(argv[i]);
   }
   struct Family
   {
@@ -74,6 +81,9 @@ int main(int argc, char** argv)
   std::printf("%-20s %-6s %-15s %-12s %6s %12s %12s %7s\n", "curve", "blend", "geometry", "timing", "N", "estimate_s",
               "measured_s", "ratio");
   for (const Family& f : families)
+  {
+    if (!curves.empty() && std::find(curves.begin(), curves.end(), f.curve) == curves.end())
+      continue;
     for (const char* geometry : { "double_geodesic", "screw" })
       for (const char* timing : { "stretch", "time_optimal" })
         for (std::size_t n : f.sizes)
@@ -112,6 +122,7 @@ int main(int argc, char** argv)
                       w.seconds, best, ratio, ok ? "" : "  outside [0.5, 2]");
           std::fflush(stdout);
         }
+  }
   std::printf("%d of the ratios outside [0.5, 2]\n", outside);
   return check && outside > 0 ? 1 : 0;
 }

@@ -193,6 +193,8 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
             << "\npeak_angular_jerk: " << r.figures.max_angular_jerk << "\nenergy: " << r.figures.energy << "\n";
   if (r.recovery_time > 0.0)
     std::cerr << "recovery_time: " << r.recovery_time << "\n";
+  if (r.stop_time > 0.0)
+    std::cerr << "stop_time: " << r.stop_time << "\n";
   if (r.constant_speed_end > r.constant_speed_start)
     std::cerr << "constant_speed_start: " << r.constant_speed_start
               << "\nconstant_speed_end: " << r.constant_speed_end << "\n";

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "se3_interpolation/analysis/figures.h"
+#include "se3_interpolation/curves/braked_start.h"
 #include "se3_interpolation/curves/start_join.h"
 #include "se3_interpolation/deadline.h"
 #include "se3_interpolation/planner/curve_families.h"
@@ -487,6 +488,170 @@ void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveF
                             "'natural' or 'clamped', or waypoints and times that the start velocity leads into");
 }
 
+/// A request's motion before sampling: the timed curve, its figures and the result's fields so far.
+template <class Space, class G>
+struct PlannedMotion
+{
+  std::shared_ptr<const Curve<G>> curve;
+  CurveFigures figures;
+  BasicResult<Space> out;
+  /// A fit's control points (those of the fitted B-spline, not of the joined motion).
+  std::optional<std::vector<typename Space::Waypoint>> fit_control;
+};
+
+template <class Space, class G>
+PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const std::vector<double>& times);
+
+/// Whether a start state moves faster than a velocity bound in some channel.
+bool startExceedsVelocityBound(const ValidatedRequest& r)
+{
+  const Twist& v = r.start_state->velocity;
+  return (r.max_linear_velocity > 0.0 && v.linear.norm() > r.max_linear_velocity) ||
+         (r.max_angular_velocity > 0.0 && v.angular.norm() > r.max_angular_velocity);
+}
+
+/// The stop of the start state (curves/braked_start.h, B1, B2): each moving channel decelerates at
+/// its acceleration bound; a channel without one stops when the bounded ones do. std::nullopt when
+/// no channel with an acceleration bound moves: then nothing fixes how fast to stop.
+std::optional<BrakeToRest> brakeToRest(const ValidatedRequest& r)
+{
+  const StartState& s = *r.start_state;
+  BrakeToRest b;
+  b.start = s.pose;
+  b.start_acceleration = s.acceleration;
+  const Eigen::Vector3d velocities[2] = { s.velocity.linear, s.velocity.angular };
+  const double bounds[2] = { r.max_linear_acceleration, r.max_angular_acceleration };
+  ChannelBrake* channels[2] = { &b.linear, &b.angular };
+  double stop = 0.0;  // of the bounded channels
+  for (int c = 0; c < 2; ++c)
+  {
+    channels[c]->speed = velocities[c].norm();
+    if (channels[c]->speed > 0.0)
+      channels[c]->direction = velocities[c] / channels[c]->speed;
+    if (bounds[c] > 0.0 && channels[c]->speed > 0.0)
+    {
+      channels[c]->deceleration = bounds[c];
+      stop = std::max(stop, channels[c]->stopTime());
+    }
+  }
+  if (!(stop > 0.0) || !std::isfinite(stop))
+    return std::nullopt;
+  for (int c = 0; c < 2; ++c)
+    if (!(bounds[c] > 0.0) && channels[c]->speed > 0.0)
+      channels[c]->deceleration = channels[c]->speed / stop;
+  return b;
+}
+
+/// The motion of a request whose start state cannot continue along the curve within the bounds
+/// (it exceeds a velocity bound, or the time-optimal timing from it is refused): the start state
+/// braked to rest along its own directions (curves/braked_start.h), then the request's motion from
+/// rest at the stopping pose. Time-optimal timing without jerk bounds only (its acceleration may
+/// jump at the stop, as it does at a time-optimal switch).
+template <class G>
+PlannedMotion<PoseSpace, G> planBrakedStart(const ValidatedRequest& r, const BrakeToRest& brake)
+{
+  const Pose<double> stop_pose = brake.stopPose();
+  ValidatedRequest from_rest = r;
+  from_rest.start_state = StartState{ stop_pose, Twist{}, Twist{} };
+  from_rest.waypoints.front() = stop_pose;
+  if (!from_rest.velocities.empty())
+    from_rest.velocities.front() = Twist{};
+  if (continuesStartState(from_rest))
+  {
+    from_rest.start_velocity = Twist{};
+    from_rest.start_acceleration = Twist{};
+  }
+  PlannedMotion<PoseSpace, G> m = planMotion<PoseSpace, G>(from_rest, waypointTimes(from_rest));
+  auto braked = std::make_shared<BrakedStartCurve<G>>(brake, m.curve);
+  const double stop = braked->stopTime();
+  m.curve = braked;
+  for (double& t : m.out.waypoint_times)
+    t += stop;
+  // Every bound holds once each channel that exceeded its velocity bound is within it.
+  double recovery = 0.0;
+  const double velocity_bounds[2] = { r.max_linear_velocity, r.max_angular_velocity };
+  const ChannelBrake* channels[2] = { &brake.linear, &brake.angular };
+  for (int c = 0; c < 2; ++c)
+    if (velocity_bounds[c] > 0.0 && channels[c]->speed > velocity_bounds[c])
+      recovery = std::max(recovery, (channels[c]->speed - velocity_bounds[c]) / channels[c]->deceleration);
+  m.out.recovery_time = recovery;
+  m.out.stop_time = stop;
+  // The figures of the whole motion: the braking's in closed form (B1, B2: speeds falling from the
+  // start's, constant decelerations, the start's acceleration at t = 0) with those from rest.
+  CurveFigures& f = m.figures;
+  const double rho = r.rotation_scale;
+  f.length += brake.linear.distance();
+  f.rotation_length += brake.angular.distance();
+  f.max_linear_speed = std::max(f.max_linear_speed, brake.linear.speed);
+  f.max_angular_speed = std::max(f.max_angular_speed, brake.angular.speed);
+  f.max_linear_acceleration = std::max({ f.max_linear_acceleration, brake.linear.deceleration,
+                                         brake.start_acceleration.linear.norm() });
+  f.max_angular_acceleration = std::max({ f.max_angular_acceleration, brake.angular.deceleration,
+                                          brake.start_acceleration.angular.norm() });
+  f.energy += brake.linear.deceleration * brake.linear.deceleration * brake.linear.stopTime() +
+              rho * rho * brake.angular.deceleration * brake.angular.deceleration * brake.angular.stopTime();
+  return m;
+}
+
+template <class Space, class G>
+PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const std::vector<double>& times)
+{
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+  {
+    // A start beyond a velocity bound brakes to rest first under time-optimal timing: straight
+    // braking is the fastest recovery the acceleration bounds allow (braked_start.h).
+    const bool brakes = r.start_state && r.timing == Timing::kTimeOptimal && !hasJerkBound(r);
+    if (brakes && startExceedsVelocityBound(r))
+      if (const std::optional<BrakeToRest> brake = brakeToRest(r))
+        return planBrakedStart<G>(r, *brake);
+  }
+  FamilyCurve<G> built = makeFamilyCurve<G>(r, times);
+  PlannedMotion<Space, G> m;
+  m.curve = std::move(built.curve);
+  BasicResult<Space>& out = m.out;
+  out.blend_radii = std::move(built.blend_radii);
+  if (built.fit)
+  {
+    m.fit_control = m.curve->controlPoints();
+    out.residual_linear = built.fit->residual_linear;
+    out.residual_angular = built.fit->residual_angular;
+    out.knots = std::move(built.fit->knots);
+  }
+  m.figures = measureCurve(*m.curve, r.rotation_scale);
+  requireStableStartSolve(r, m.figures);
+
+  out.waypoint_times = times;
+  bool timed = false;
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (r.start_state)
+    {
+      try
+      {
+        applyTimingFromStart<G>(r, times, &m.curve, &m.figures, &out);
+      }
+      catch (const LimitExceededError&)
+      {
+        throw;
+      }
+      catch (const InterpolationError&)
+      {
+        // A moving start that the time-optimal timing cannot continue along the curve within the
+        // bounds (the joining segment bends too sharply for its speed): braked to rest first.
+        const bool moving = !(isZero(r.start_state->velocity) && isZero(r.start_state->acceleration));
+        if (!moving || r.timing != Timing::kTimeOptimal || hasJerkBound(r))
+          throw;
+        const std::optional<BrakeToRest> brake = brakeToRest(r);
+        if (!brake)
+          throw;
+        return planBrakedStart<G>(r, *brake);
+      }
+      timed = true;
+    }
+  if (!timed)
+    applyTiming<Space, G>(r, &m.curve, &m.figures, &out);
+  return m;
+}
+
 template <class Space, class G>
 BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits, const SampleSink<Space>* sink)
 {
@@ -494,31 +659,11 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   // Bounded work: refused from the fields alone, before the curve is built or measured.
   const WorkShape shape = workShape(r);
   requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
-  FamilyCurve<G> built = makeFamilyCurve<G>(r, times);
-  std::shared_ptr<const Curve<G>> curve = std::move(built.curve);
-  BasicResult<Space> out;
-  out.blend_radii = std::move(built.blend_radii);
-  std::optional<std::vector<typename Space::Waypoint>> fit_control;
-  if (built.fit)
-  {
-    fit_control = curve->controlPoints();
-    out.residual_linear = built.fit->residual_linear;
-    out.residual_angular = built.fit->residual_angular;
-    out.knots = std::move(built.fit->knots);
-  }
-  CurveFigures fig = measureCurve(*curve, r.rotation_scale);
-  requireStableStartSolve(r, fig);
-
-  out.waypoint_times = times;
-  bool timed = false;
-  if constexpr (std::is_same_v<Space, PoseSpace>)
-    if (r.start_state)
-    {
-      applyTimingFromStart<G>(r, times, &curve, &fig, &out);
-      timed = true;
-    }
-  if (!timed)
-    applyTiming<Space, G>(r, &curve, &fig, &out);
+  PlannedMotion<Space, G> planned = planMotion<Space, G>(r, times);
+  const std::shared_ptr<const Curve<G>> curve = std::move(planned.curve);
+  const CurveFigures& fig = planned.figures;
+  BasicResult<Space> out = std::move(planned.out);
+  std::optional<std::vector<typename Space::Waypoint>>& fit_control = planned.fit_control;
   out.start_time = curve->startTime();
   out.duration = curve->endTime() - curve->startTime();
   out.figures = fig;

@@ -14,10 +14,10 @@ namespace
 {
 /// measureCurve's effort (analysis/figures.h): its Gauss-Legendre nodes and the two ends of each of
 /// subintervalsPerPiece subintervals (more where it halves them: a speed that varies by more than
-/// kFigureSpeedRatio inside one), and one golden-section search per peak rate of 2 + at most
-/// kGoldenMaxIterations evaluations.
+/// kFigureSpeedRatio inside one), and golden-section searches of 2 + at most kGoldenMaxIterations
+/// evaluations, kPeakSearchesPerRate per peak rate.
 constexpr double kNodesPerSubinterval = static_cast<double>(kGaussNodes.size()) + 2.0;
-constexpr double kGoldenEvaluations = 4.0 * (2.0 + kGoldenMaxIterations);
+constexpr double kGoldenEvaluations = 4.0 * static_cast<double>(kPeakSearchesPerRate) * (2.0 + kGoldenMaxIterations);
 /// TOPP-RA's grid (TimeOptimalOptions: max(16, ⌈512 ℓ/T⌉) intervals on a piece of length ℓ
 /// of T): at most 17 per piece plus 512.
 constexpr double kTimeOptimalIntervalsPerPiece = 17.0;
@@ -33,6 +33,14 @@ constexpr double kTimeOptimalSearchEvaluations = 4096.0;
 /// sets, the forward pass, the checks' parabolas), in work units: measured 2.6 us per interval on
 /// the loaded development machine (piecewise_geodesic, whose evaluations take 0.08 us).
 constexpr double kTimeOptimalUnitsPerInterval = 3.0;
+
+/// time_optimal's time per unit grows with its grid: the passes stream the grid's per-interval data
+/// (controllable sets, path jets), which outgrows the caches. bench_work_estimate measured the time
+/// per estimated unit at 100 waypoints 0.7 times, at 10⁴ 1.1 to 2.5 times that at 10³ (every family,
+/// both geometries); the units of the timing are scaled by (G / G₁₀₀₀)^0.15, G its grid intervals and
+/// G₁₀₀₀ those of a curve of 1000 pieces (the calibration's size).
+constexpr double kTimeOptimalGridExponent = 0.15;
+constexpr double kTimeOptimalReferenceIntervals = kTimeOptimalIntervalsPerPiece * 1000.0 + kTimeOptimalMinIntervals;
 
 /// The jerk-limited timing (timing/jerk_limited.h): up to three runs of the acceleration-only
 /// timing on one grid and a check of about twice its intervals with third-order jets (measured 1.8
@@ -124,7 +132,10 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   }
   w.timing_units = w.timing_evaluations * w.evaluation_cost;
   if (r.timing == Timing::kTimeOptimal)
+  {
     w.timing_units += kTimeOptimalUnitsPerInterval * w.timing_intervals * (r.jerk ? kJerkLimitedTimingFactor : 1.0);
+    w.timing_units *= std::pow(w.timing_intervals / kTimeOptimalReferenceIntervals, kTimeOptimalGridExponent);
+  }
   w.samples = samples;
   w.construction_units = visitFamily(r.curve, [&r](auto family) { return decltype(family)::constructionUnits(r); });
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units + w.construction_units;

@@ -196,6 +196,10 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     if (result.recovery_time > 0.0)
       msg << "; the start state exceeds a bound: every bound holds from t = " << result.recovery_time
           << " s on (recovery_time)";
+    if (result.stop_time > 0.0)
+      msg << "; the start state cannot continue along the curve within the bounds: it brakes to rest along "
+             "its own directions in the first "
+          << result.stop_time << " s, and the motion from rest follows";
     if (!result.knots.empty())
       msg << "; fitted " << result.control_points.size() << " control poses to " << result.waypoints.size()
           << " waypoints (residual_linear " << result.residual_linear << " m, residual_angular "

@@ -290,6 +290,11 @@ struct BasicResult
   /// for what lies ahead; timing time_optimal): the time after the start at which its recovery
   /// ends, from which every bound holds (s). 0 otherwise.
   double recovery_time = 0.0;
+  /// With a start state that cannot continue along the curve within the bounds under time_optimal
+  /// timing (one beyond a velocity bound, or one whose timing along the joining segment is refused):
+  /// how long its motion brakes to rest along its own directions before the motion from rest
+  /// begins (s; curves/braked_start.h). 0 when the motion continues the start state.
+  double stop_time = 0.0;
   /// With timing constant_speed: the window in which the chord speed is `speed` (s, on the same
   /// clock as start_time), where a process tool is switched on. Both 0 otherwise.
   double constant_speed_start = 0.0;

@@ -12,9 +12,10 @@
 // (planner/curve_family.h, planner/families/); the sums below are the same for every family.
 //
 // The planner evaluates the curve (analysis/figures.h, measureCurve) at
-//   P (2 + 10 s) + 4 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
-// (P analytic pieces, 8 nodes and 2 ends, 4 golden-section searches of 2 + at most 60
-// evaluations; subintervals where the speed varies strongly are halved, see figures.h), then
+//   P (2 + 10 s) + 8 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
+// (P analytic pieces, 8 nodes and 2 ends, golden-section searches of 2 + at most 60 evaluations,
+// counted as two per peak rate; subintervals where the speed varies strongly are halved, see
+// figures.h), then
 // once per sample. An evaluation costs, in geodesic steps (the families' evaluationCost),
 //   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
 //   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2
@@ -23,7 +24,8 @@
 // blends in turn, and an evaluation costs PiecewiseGeodesicFamily::kBlendEvaluationCost (measured).
 // Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
 // G = 17 P + 512 intervals, with 6 G + 4096 curve evaluations and 3 units of its own (the
-// passes' bisections, the checks) per interval;
+// passes' bisections, the checks) per interval, all scaled by (G / 17 512)^0.15 (its time per unit
+// grows with the grid, which outgrows the caches; 17 512 intervals are those of 1000 pieces);
 // replanning (start_state) measures the figures again on the curve joined to the start state:
 // twice more under stretch (before and after the stretch, P pieces), once more on the
 // time-optimal curve (G pieces, one per grid interval).

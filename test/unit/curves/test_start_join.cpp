@@ -774,11 +774,12 @@ TEST(StartJoin, RecoveryFromAStartBeyondTheBoundsBrakesWithinThem)
 }
 
 // end_condition 'start' continues the start state itself: from three times the velocity bound,
-// this spline bends so sharply that braking along it takes 34 times the acceleration bound (it
-// was served so). No joining segment can be redesigned for it: refused naming end_condition,
-// and the same request with 'clamped' (a joining segment chosen for the bounds) is served within
-// them.
-TEST(StartJoin, StartConditionThatCannotBrakeWithinTheBoundsIsRefused)
+// this spline bends so sharply that braking along it would take 34 times the acceleration bound
+// (it was served so, then refused naming end_condition). A start beyond a velocity bound now brakes
+// to rest along its own directions first (curves/braked_start.h): the fastest recovery the
+// acceleration bounds allow, (0.9 − 0.3) / 0.5 = 1.2 s, a stop after 0.9 / 0.5 = 1.8 s, then the
+// spline from rest at the stopping pose; with 'start' and with 'clamped' alike, within the bounds.
+TEST(StartJoin, StartBeyondAVelocityBoundBrakesToRestFirst)
 {
   TrajectoryRequest r;
   r.waypoints = { Pose<double>(Eigen::Quaterniond(0.82582406459599578, 0.17251512573128769, -0.50342962866468843,
@@ -802,22 +803,97 @@ TEST(StartJoin, StartConditionThatCannotBrakeWithinTheBoundsIsRefused)
                         Eigen::Vector3d(0.73199262184071534, -0.078073822530450754, 1.1380755084166654));
   s.velocity = twist({ 0.9, 0.0, 0.0 }, { 0.0, 0.0, 0.1 });
   r.start_state = s;
-  std::string refusal;
-  try
+  for (const char* end_condition : { "start", "clamped" })
   {
-    generate(r, test::unhurriedLimits());
+    SCOPED_TRACE(end_condition);
+    r.end_condition = end_condition;
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
+    EXPECT_NEAR(out.recovery_time, 1.2, 1e-12);
+    EXPECT_NEAR(out.stop_time, 1.8, 1e-12);
+    const TrajectorySample& first = out.samples.front();
+    EXPECT_LT(test::poseDistance(first.pose, s.pose), 1e-12);
+    EXPECT_LT((first.velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+    EXPECT_LT((first.velocity.angular - s.velocity.angular).norm(), kSwitchTolerance);
+    EXPECT_LT(first.acceleration.linear.norm() + first.acceleration.angular.norm(), kSwitchTolerance);
+    EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints.back()), 1e-9);
+    double previous = std::numeric_limits<double>::infinity();
+    for (const TrajectorySample& x : out.samples)
+    {
+      const double speed = x.velocity.linear.norm();
+      if (x.time <= out.recovery_time)
+      {
+        // The exceeded speed falls at the acceleration bound, along the start's direction.
+        EXPECT_NEAR(speed, 0.9 - 0.5 * x.time, 1e-12) << x.time;
+        EXPECT_LE(speed, previous) << x.time;
+      }
+      else
+      {
+        EXPECT_LE(speed, 0.3 * (1.0 + 1e-6)) << x.time;
+      }
+      previous = speed;
+      EXPECT_LE(x.velocity.angular.norm(), 0.4 * (1.0 + 1e-6)) << x.time;
+      if (x.time > 0.0)
+      {
+        EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
+        EXPECT_LE(x.acceleration.angular.norm(), 0.8 * (1.0 + 1e-6)) << x.time;
+      }
+    }
+    // The figures include the braking: the start's speed, the decelerations at the bounds.
+    EXPECT_EQ(out.figures.max_linear_speed, 0.9);
+    EXPECT_NEAR(out.figures.max_linear_acceleration, 0.5, 1e-6 * 0.5);
   }
-  catch (const InvalidInputError& e)
-  {
-    refusal = e.what();
-  }
-  EXPECT_EQ(refusal.rfind("end_condition: 'start' continues the start state's motion", 0), 0u) << refusal;
-  r.end_condition = "clamped";
+}
+
+// A moving start within the bounds whose spline (end_condition 'start' continues the start state
+// itself) bends too sharply for its speed: the time-optimal timing along it did not converge
+// within max_linear_acceleration and the request was refused ("... after 16 corrections"; the
+// request-space grid's interpolating/start double_geodesic time_optimal/al N=1 times=even
+// start=moving). It brakes to rest along its own directions first (stop_time, no recovery: the
+// start is within the bounds), then moves from rest to the waypoint: served within the bound.
+TEST(StartJoin, MovingStartThatCannotContinueWithinTheBoundsBrakesToRest)
+{
+  TrajectoryRequest r;
+  r.waypoints = { Pose<double>(Eigen::Quaterniond(0.23750523422383812, 0.036020526275221898, 0.26797785078609077,
+                                                  0.93299606477798369),
+                               Eigen::Vector3d(1.1353100277014709, 1.4397380422075639, 1.8955473932535476)) };
+  r.times = { 0.7 };
+  r.curve = "interpolating";
+  r.end_condition = "start";
+  r.geometry = "double_geodesic";
+  r.timing = "time_optimal";
+  r.max_linear_acceleration = 0.5;
+  r.sample_count = 20001;
+  StartState s;
+  s.pose = Pose<double>(Eigen::Quaterniond(0.19656327655251482, 0.18360423429639572, 0.27900563721701122,
+                                           0.92185043139356582),
+                        Eigen::Vector3d(1.3353614309682669, 1.20057334019981, 2.1023798891639536));
+  s.velocity = twist({ 0.12, -0.05, 0.04 }, { 0.05, 0.1, -0.08 });
+  s.acceleration = twist({ -0.1, 0.05, 0.1 }, { 0.1, -0.1, 0.05 });
+  r.start_state = s;
   const TrajectoryResult out = generate(r, test::unhurriedLimits());
-  for (const TrajectorySample& x : out.samples)
+  // Only the linear channel has an acceleration bound: it stops in |v| / 0.5 s, the rotation with it.
+  EXPECT_NEAR(out.stop_time, s.velocity.linear.norm() / 0.5, 1e-12);
+  EXPECT_EQ(out.recovery_time, 0.0);
+  const TrajectorySample& first = out.samples.front();
+  EXPECT_LT(test::poseDistance(first.pose, s.pose), 1e-12);
+  EXPECT_LT((first.velocity.linear - s.velocity.linear).norm(), kSwitchTolerance);
+  EXPECT_LT((first.velocity.angular - s.velocity.angular).norm(), kSwitchTolerance);
+  EXPECT_LT((first.acceleration.linear - s.acceleration.linear).norm(), kSwitchTolerance);
+  EXPECT_LT((first.acceleration.angular - s.acceleration.angular).norm(), kSwitchTolerance);
+  EXPECT_LT(test::poseDistance(out.samples.back().pose, r.waypoints[0]), 1e-9);
+  EXPECT_LT(out.samples.back().velocity.linear.norm() + out.samples.back().velocity.angular.norm(), 1e-9);
+  for (std::size_t i = 1; i < out.samples.size(); ++i)
   {
+    const TrajectorySample& x = out.samples[i];
     EXPECT_LE(x.acceleration.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
-    EXPECT_LE(x.acceleration.angular.norm(), 0.8 * (1.0 + 1e-6)) << x.time;
+    // Independently of the reported accelerations: the mean over each sample interval.
+    const TrajectorySample& w = out.samples[i - 1];
+    EXPECT_LE((x.velocity.linear - w.velocity.linear).norm() / (x.time - w.time), 0.5 * (1.0 + 1e-6)) << x.time;
+    if (x.time <= out.stop_time)
+    {
+      // Braking along the start's own direction.
+      EXPECT_NEAR(x.velocity.linear.norm(), s.velocity.linear.norm() - 0.5 * x.time, 1e-12) << x.time;
+    }
   }
 }
 
