@@ -277,6 +277,12 @@ private:
         return;
       }
     }
+    // A halved interval's start is a piece end of the check too: the table is halved where the
+    // path's parameter speed varies so much that its quintic is off (uneven waypoint times put a
+    // bend of a few millimetres in a piece metres long), and the check's pieces, twice as long as
+    // the table's intervals, would see such a bend only at their ends and middle.
+    if (depth > 0 && p_.check_sigma.back() < p_.sigma.back())
+      p_.check_sigma.push_back(p_.sigma.back());
     p_.quintic.push_back(q);
     p_.s.push_back(s1);
     p_.sigma.push_back(p_.sigma.back() + arc);

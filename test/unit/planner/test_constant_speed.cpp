@@ -413,3 +413,60 @@ TEST(ConstantSpeed, OtherTimingsDoNotReadSpeedButRefuseBadValues)
   r.speed = -1.0;
   expectRefused(r, "speed");
 }
+
+// Uneven waypoint times put a bend of a few millimetres (a near half-turn in 0.03 s between
+// segments of 30 s) in a piece of the check metres long in chord length: the request-space grid's
+// interpolating/natural screw constant_speed/al N=5 times=uneven start=resting was served with
+// 4 times max_linear_acceleration there, between the check's points. The table of S(σ) halves its
+// intervals around such a bend, and its halvings are the check's piece ends too: refused, naming
+// the bound and the bend, and served within the bound at a speed that passes it.
+TEST(ConstantSpeed, ABendOfAFewMillimetresBetweenUnevenTimesIsChecked)
+{
+  TrajectoryRequest r;
+  auto pose = [](double x, double y, double z, double qx, double qy, double qz, double qw) {
+    return Pose<double>(Quaternion<double>(qw, qx, qy, qz), Eigen::Vector3d(x, y, z));
+  };
+  r.waypoints = {
+    pose(0.34312178463589427, -0.35324395021084432, 1.490933618866159, 0.17162881559849935, -0.13051072393472751,
+         0.12114915357260614, 0.96893414801158229),
+    pose(0.66439570294720218, -0.48640724710442801, 1.3529096869799446, 0.116005420325876, -0.0015382964152547782,
+         0.062199647894463042, 0.99129792691246987),
+    pose(0.21081333107022127, 0.32861885485813253, 0.75209484116695113, 0.41620646670839972, 0.24037328057043064,
+         -0.87689288392424525, 0.0071925781844325775),
+    pose(1.3590015745859052, -0.11833111075377795, 1.1817239462879314, 0.41620646653090632, 0.24037328049141635,
+         -0.8768928840264647, 0.0071925786336586202),
+    pose(1.9116803475683204, 0.087111175822422893, 2.2845675635249938, 0.41620646653090637, 0.24037328049141637,
+         -0.87689288402646481, 0.0071925786336586211),
+    pose(3.4303076614354224, 0.22184935110643128, 1.7569950836096861, 0.35831864911151651, 0.40089140686239078,
+         -0.83373495729047564, 0.12561785937771558),
+  };
+  r.times = { 0.0, 0.7, 0.73162277660168373, 32.354399378285478, 35.869561477918417, 36.055075573965603 };
+  r.curve = "interpolating";
+  r.geometry = "screw";
+  r.timing = "constant_speed";
+  r.speed = 0.1;
+  r.max_linear_acceleration = 0.5;
+  expectRefused(r, "max_linear_acceleration", "the bend's centripetal share");
+  // The centripetal share grows with V²: about 29 times the bound at 0.1 m/s, within it at 0.015.
+  r.speed = 0.015;
+  r.sample_count = 20001;
+  const TrajectoryResult out = generate(r, unhurriedLimits());
+  expectWithinBounds(r, out, "at 0.015 m/s");
+  // Independently of the reported accelerations, where the bend is (path time 0.403 s, between the
+  // first two waypoints): second differences of the positions at 40 000 steps between the times
+  // the motion passes them (9 µm of chord per step at this speed).
+  ASSERT_GE(out.waypoint_times.size(), 2u);
+  const double t0 = out.waypoint_times[0], t1 = out.waypoint_times[1];
+  const int steps = 40000;
+  const double h = (t1 - t0) / steps;
+  double worst = 0.0;
+  for (int k = 1; k < steps; ++k)
+  {
+    const double t = t0 + k * h;
+    const Eigen::Vector3d d2 =
+        (out.state_at(t + h).pose.p - 2.0 * out.state_at(t).pose.p + out.state_at(t - h).pose.p) / (h * h);
+    worst = std::max(worst, d2.norm());
+  }
+  EXPECT_LE(worst, 0.5 * (1.0 + 1e-3)) << "second differences between " << t0 << " and " << t1 << " s";
+  EXPECT_GT(worst, 0.1) << "the bend's centripetal acceleration is seen";
+}
