@@ -502,6 +502,13 @@ struct PlannedMotion
 template <class Space, class G>
 PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const std::vector<double>& times);
 
+/// Whether a start state that cannot continue along the curve may brake to rest first
+/// (planBrakedStart): under time-optimal timing without jerk bounds.
+bool mayBrakeToRest(const ValidatedRequest& r)
+{
+  return r.start_state && r.timing == Timing::kTimeOptimal && !hasJerkBound(r);
+}
+
 /// Whether a start state moves faster than a velocity bound in some channel.
 bool startExceedsVelocityBound(const ValidatedRequest& r)
 {
@@ -600,8 +607,7 @@ PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const 
   {
     // A start beyond a velocity bound brakes to rest first under time-optimal timing: straight
     // braking is the fastest recovery the acceleration bounds allow (braked_start.h).
-    const bool brakes = r.start_state && r.timing == Timing::kTimeOptimal && !hasJerkBound(r);
-    if (brakes && startExceedsVelocityBound(r))
+    if (mayBrakeToRest(r) && startExceedsVelocityBound(r))
       if (const std::optional<BrakeToRest> brake = brakeToRest(r))
         return planBrakedStart<G>(r, *brake);
   }
@@ -636,11 +642,9 @@ PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const 
       catch (const InterpolationError&)
       {
         // A moving start that the time-optimal timing cannot continue along the curve within the
-        // bounds (the joining segment bends too sharply for its speed): braked to rest first.
-        const bool moving = !(isZero(r.start_state->velocity) && isZero(r.start_state->acceleration));
-        if (!moving || r.timing != Timing::kTimeOptimal || hasJerkBound(r))
-          throw;
-        const std::optional<BrakeToRest> brake = brakeToRest(r);
+        // bounds (the joining segment bends too sharply for its speed): braked to rest first
+        // (brakeToRest has no stop for a start whose bounded channels do not move).
+        const std::optional<BrakeToRest> brake = mayBrakeToRest(r) ? brakeToRest(r) : std::nullopt;
         if (!brake)
           throw;
         return planBrakedStart<G>(r, *brake);
