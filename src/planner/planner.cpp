@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -335,7 +336,8 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
       for (std::size_t i = 1; i < times.size(); ++i)
         out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
       out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
-      *fig_io = measureCurve(*path, rho);
+      *fig_io = CurveFigures();
+      std::tie(fig_io->length, fig_io->rotation_length) = measureLengths(*path);
       curve = timed;
     };
     const auto timeAlongPath = [&]() {
@@ -623,7 +625,12 @@ PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const 
     out.residual_angular = built.fit->residual_angular;
     out.knots = std::move(built.fit->knots);
   }
-  m.figures = measureCurve(*m.curve, r.rotation_scale);
+  // A timing other than the stretch measures the rates and the energy of its own motion: the
+  // curve's lengths are all it needs of the curve's figures (as the start's stability check does).
+  if (r.timing == Timing::kStretch)
+    m.figures = measureCurve(*m.curve, r.rotation_scale);
+  else
+    std::tie(m.figures.length, m.figures.rotation_length) = measureLengths(*m.curve);
   requireStableStartSolve(r, m.figures);
 
   out.waypoint_times = times;

@@ -55,8 +55,11 @@ constexpr double kJerkLimitedTimingFactor = 3.0;
 /// where the ramps grow) and the ramps, and the searches where a rate comes near its bound or its
 /// peak, which concentrate on few pieces. Counted (test_work_estimate.cpp): 14–20 per grid
 /// interval on 40 waypoints of every family, up to 20 361 in all on the 529 intervals of a two-piece
-/// curve; with a jerk bound the check's jets are third-order ones, about twice as dear.
-constexpr double kConstantSpeedEvaluationsPerInterval = 30.0;
+/// curve; with a jerk bound the check's jets are third-order ones, about twice as dear. Counted as
+/// 40: it shares time_optimal's seconds per unit (secondsPerUnit), which fell by 0.85 when the
+/// timings measured only the path's lengths (measureLengths), while its own work did not (its
+/// 10⁴-waypoint splines, measured at 1.6 s and more, stay refused by the default limit).
+constexpr double kConstantSpeedEvaluationsPerInterval = 40.0;
 constexpr double kConstantSpeedSearchEvaluations = 8192.0;
 /// The peak jerk under `stretch` (timing/jerk_peaks.h): ends and middle of each figure
 /// subinterval plus the searches, in third-order jets of about twice an evaluation's cost.
@@ -100,18 +103,31 @@ double figureEvaluations(double pieces)
   return pieces * (2.0 + kFigureRefinementAllowance * kNodesPerSubinterval * sub) + kGoldenEvaluations;
 }
 
+/// measureLengths' halvings: one Gauss rule per piece is halved where a speed varies by more than
+/// kFigureSpeedRatio across the piece, which on random polygons is most pieces (counted 1.8–3.2
+/// times the unhalved evaluations at 40 waypoints of every family, test_work_estimate.cpp).
+constexpr double kLengthRefinementAllowance = 3.5;
+
+/// measureLengths' evaluations (analysis/figures.h), the timings' measure of the path: the nodes and
+/// ends of lengthSubintervalsPerPiece subintervals per piece, more where it halves them.
+double lengthEvaluations(double pieces)
+{
+  const double sub = static_cast<double>(lengthSubintervalsPerPiece(static_cast<std::size_t>(pieces)));
+  return pieces * kLengthRefinementAllowance * kNodesPerSubinterval * sub;
+}
+
 WorkEstimate estimateWork(const WorkShape& r, double samples)
 {
   WorkEstimate w;
   w.pieces = analyticPieces(r);
   w.evaluation_cost = evaluationCost(r);
-  w.figure_evaluations = figureEvaluations(w.pieces);
+  // A timing measures only the curve's lengths, and from a start state those of the joined path too.
+  w.figure_evaluations = r.timing == Timing::kStretch ? figureEvaluations(w.pieces) :
+                                                        (r.start_state ? 2.0 : 1.0) * lengthEvaluations(w.pieces);
   if (r.timing == Timing::kTimeOptimal)
   {
     w.timing_intervals = kTimeOptimalIntervalsPerPiece * w.pieces + kTimeOptimalMinIntervals;
     w.timing_evaluations = kTimeOptimalEvaluationsPerInterval * w.timing_intervals + kTimeOptimalSearchEvaluations;
-    if (r.start_state)
-      w.figure_evaluations += figureEvaluations(w.timing_intervals);
     if (r.jerk)
       w.timing_evaluations *= kJerkLimitedTimingFactor;
   }

@@ -52,7 +52,7 @@ struct WorkEstimate
 {
   double pieces = 0.0;
   double evaluation_cost = 0.0;       ///< geodesic steps per evaluation
-  double figure_evaluations = 0.0;    ///< evaluations of measureCurve (every pass)
+  double figure_evaluations = 0.0;    ///< evaluations of measureCurve (every pass), or of measureLengths under a timing
   double timing_intervals = 0.0;      ///< time_optimal's grid intervals (0: stretch)
   double timing_evaluations = 0.0;    ///< evaluations of time_optimal
   double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations

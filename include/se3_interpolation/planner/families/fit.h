@@ -113,8 +113,9 @@ struct FitFamily : CurveFamilyDefaults
 
 private:
   /// Seconds per unit under `time_optimal` (double geodesic, screw): bench_work_estimate, 10³ … 10⁵
-  /// recorded poses, estimate / measured 1.5 … 1.6 (double geodesic) and 1.2 … 1.8 (screw).
-  static constexpr std::array<double, 2> kTimeOptimalSecondsPerUnit{ 8.5e-08, 1.56e-07 };
+  /// recorded poses, estimate / measured 1.5 … 1.6 (double geodesic) and 1.2 … 1.8 (screw); lowered by
+  /// 0.8 when the timings measured only the path's lengths (1.9–2.1 and 1.4–2.0 before).
+  static constexpr std::array<double, 2> kTimeOptimalSecondsPerUnit{ 6.8e-08, 1.25e-07 };
   /// Work units per waypoint and geodesic step of de Boor (bench_fit: 16 × 6 × 5.65e-8 s = 5.4 µs
   /// per pose in the double geodesic).
   static constexpr double kFitUnitsPerStep = 16.0;

@@ -55,8 +55,8 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   static SecondsPerUnit secondsPerUnit(const WorkShape& shape)
   {
     if (shape.corner_blends)
-      return { 1.54e-07, 2.03e-07, 3.54e-07, 3.97e-07 };
-    return { 7.0e-08, 7.7e-08, 7.74e-08, 7.9e-08 };
+      return { 1.54e-07, 1.16e-07, 3.54e-07, 1.78e-07 };
+    return { 7e-08, 3.14e-08, 7.74e-08, 4.71e-08 };
   }
 };
 
