@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "se3_interpolation/analysis/figures.h"
@@ -52,7 +53,7 @@ TEST(Figures, ConstantScrewMotionIsAHelix)
   // g(t) = g_0 Exp(t ξ) for several turns, as a degree-1 B-spline through samples of it.
   // The body origin runs on a helix of radius r = |ω × v|/|ω|² about the screw axis, with
   // axial speed h = ω·v/|ω|: length T √((|ω| r)² + h²), rotation length T |ω|, centripetal
-  // acceleration |ω|² r so energy T (|ω|² r)² (ω̇ = 0).
+  // acceleration |ω|² r so energy T (|ω|² r)² (ω̇ = 0). measureLengths gives the same lengths.
   std::mt19937 rng(902);
   for (int trial = 0; trial < 5; ++trial)
   {
@@ -75,6 +76,10 @@ TEST(Figures, ConstantScrewMotionIsAHelix)
     EXPECT_NEAR(f.rotation_length, duration * w.norm(), 1e-10 * duration * w.norm());
     EXPECT_NEAR(f.energy, energy, 1e-10 * energy);
     EXPECT_NEAR(f.max_angular_speed, w.norm(), 1e-10 * w.norm());
+    // The timings' measure of the path (lengths alone, one Gauss rule per piece).
+    const std::pair<double, double> lengths = measureLengths(helix);
+    EXPECT_NEAR(lengths.first, length, 1e-10 * length);
+    EXPECT_NEAR(lengths.second, duration * w.norm(), 1e-10 * duration * w.norm());
   }
 }
 
@@ -283,25 +288,4 @@ TYPED_TEST(FiguresSe3, LengthsAloneAgreeWithTheChordSums)
       EXPECT_NEAR(full.rotation_length, reference.second, tolerance * reference.second) << what;
     }
   }
-}
-
-TEST(Figures, LengthsAloneOfAHelix)
-{
-  std::mt19937 rng(906);
-  const Pose<double> g0 = randomPose(rng);
-  Vector6<double> xi;
-  xi << 2.0 * randomUnitVector<3>(rng), 1.5 * randomUnitVector<3>(rng);
-  const double duration = 6.0;
-  const std::size_t n = 25;
-  std::vector<Pose<double>> pts;
-  for (std::size_t k = 0; k < n; ++k)
-    pts.push_back(g0 * se3Exp<double>(duration * static_cast<double>(k) / (n - 1) * xi));
-  const BSplineCurve<ScrewSe3> helix(pts, 1, clampedUniformKnots(n, 1, 0.0, duration));
-  const Eigen::Vector3d w = xi.head<3>(), v = xi.tail<3>();
-  const double r = w.cross(v).norm() / w.squaredNorm();
-  const double h = w.dot(v) / w.norm();
-  const double length = duration * std::sqrt(std::pow(w.norm() * r, 2) + h * h);
-  const std::pair<double, double> lengths = measureLengths(helix);
-  EXPECT_NEAR(lengths.first, length, 1e-10 * length);
-  EXPECT_NEAR(lengths.second, duration * w.norm(), 1e-10 * duration * w.norm());
 }
