@@ -336,8 +336,11 @@ void applyTimingFromStart(const ValidatedRequest& r, const std::vector<double>& 
       for (std::size_t i = 1; i < times.size(); ++i)
         out.waypoint_times[i] = timed->profile().timeAt(mapTime(times[i]));
       out.waypoint_times.back() = timed->endTime();  // (the sum above may round off the path's end)
+      // The curve's lengths are measured already (planMotion); a joined path is measured here.
+      const std::pair<double, double> lengths =
+          path == through ? std::make_pair(fig_io->length, fig_io->rotation_length) : measureLengths(*path);
       *fig_io = CurveFigures();
-      std::tie(fig_io->length, fig_io->rotation_length) = measureLengths(*path);
+      std::tie(fig_io->length, fig_io->rotation_length) = lengths;
       curve = timed;
     };
     const auto timeAlongPath = [&]() {

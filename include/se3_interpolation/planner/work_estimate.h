@@ -15,7 +15,8 @@
 //   P (2 + 10 s) + 8 (2 + 60) points, s = max(4, 64 / P) Gauss-Legendre subintervals per piece
 // (P analytic pieces, 8 nodes and 2 ends, golden-section searches of 2 + at most 60 evaluations,
 // counted as two per peak rate; subintervals where the speed varies strongly are halved, see
-// figures.h), then
+// figures.h) under `stretch`; under a timing (which measures its own rates) only the lengths
+// (measureLengths: 10 max(1, 64 / P) points per piece, counted 3.5 times for its halvings); then
 // once per sample. An evaluation costs, in geodesic steps (the families' evaluationCost),
 //   piecewise_geodesic 1; interpolating and hermite 6 (a cubic de Casteljau per piece);
 //   blended 2 (its three-point curves are cheap closed forms, measured); bezier d (d + 1) / 2
@@ -26,9 +27,9 @@
 // G = 17 P + 512 intervals, with 6 G + 4096 curve evaluations and 3 units of its own (the
 // passes' bisections, the checks) per interval, all scaled by (G / 17 512)^0.15 (its time per unit
 // grows with the grid, which outgrows the caches; 17 512 intervals are those of 1000 pieces);
-// replanning (start_state) measures the figures again on the curve joined to the start state:
-// twice more under stretch (before and after the stretch, P pieces), once more on the
-// time-optimal curve (G pieces, one per grid interval).
+// replanning (start_state) measures again on the curve joined to the start state: the figures
+// twice more under stretch (before and after the stretch, P pieces), the lengths once more under
+// a timing.
 // Building the curve costs about 10 units per waypoint (times, logs, the
 // C^2 solve's sweeps). The figures' effort is thus linear in the pieces; what grows as N^2 is
 // the evaluation of one Bezier of degree N - 1, which the estimate charges (and refuses) up front.
