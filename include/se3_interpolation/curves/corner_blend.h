@@ -13,7 +13,7 @@
 //   * is C² with the constant-rate geodesic legs at both ends (pose, velocity, acceleration).
 // The interior waypoints are no longer passed through; the first and last are.
 //
-// Construction (written once over the geometry G, from the core's de Casteljau):
+// Construction (written once over the geometry G):
 //   Path. The quartic geodesic Bézier curve (thesis Alg. 4.1.2) with control points
 //     c_0 = a_i, c_1 = midpoint of a_i x_i, c_2 = x_i, c_3 = midpoint of x_i b_i, c_4 = b_i,
 //   all on the two legs. Its k-jet at λ = 0 depends only on c_0 … c_k (the de Casteljau
@@ -44,12 +44,22 @@
 //   half a leg from x_i), so each de Casteljau level stays in the ball. For screw (whose
 //   geodesics are helices, not straight lines) this is checked by the tests, not proven.
 //
+// Evaluation. The de Casteljau triangle of these control points has six of its ten steps
+// between two points of one leg. Relative to the corner (below) a leg is the one-parameter
+// subgroup α ↦ exp(e, α m) (m = Log(e, x_i⁻¹ x_{i±1})), and the geodesic between two of its
+// points is that subgroup again, exp(e, ((1 − λ) α₀ + λ α₁) m) (the requirement on G below). With
+// c_0, c_1, c_2 = exp(e, s_in m_in), exp(e, s_in m_in/2), e and c_2, c_3, c_4 = e,
+// exp(e, s_out m_out/2), exp(e, s_out m_out):
+//   level 1   β¹_1 = exp(e, (1 − λ) s_in m_in/2),   β¹_2 = exp(e, λ s_out m_out/2),
+//   level 2   β²_0 = exp(e, (1 − λ) s_in m_in),     β²_2 = exp(e, λ s_out m_out)
+//             (e.g. (1 − λ)(1 − λ/2) + λ (1 − λ)/2 = 1 − λ),   β²_1 = γ(β¹_1, β¹_2; λ),
+//   levels 3, 4   γ(β²_0, β²_1; λ), γ(β²_1, β²_2; λ) and the step between those,
+// γ(P, Q; λ) = exp(P, λ Log(P, Q)): four general steps and four along a leg instead of the
+// triangle's ten general ones, for the same curve.
 // Numerics. The blend is evaluated relative to its corner: both geometries are invariant
 // under left multiplication by a pose (Prop. 4.2.1), so β(t) = x_i · B(λ(t)) with B the
-// Bézier of the control points x_i⁻¹ c_k, computed from the identity as
-// exp(e, s Log(e, x_i⁻¹ x_{i±1})) and with the first de Casteljau level's logs written
-// exactly (Log along a geodesic from e is s times its initial log). Differences of nearby
-// absolute poses never enter, so a blend of radius 1e−12 m keeps full relative precision.
+// Bézier of the control points x_i⁻¹ c_k, all on subgroups from the identity. Differences of
+// nearby absolute poses never enter, so a blend of radius 1e−12 m keeps full relative precision.
 //
 // Requirements on G: Point = Pose<S>, invariant under left multiplication, tangents such
 // that Log(exp(e, s₁ v), exp(e, s₂ v)) = (s₂ − s₁) v (ScrewSe3, DoubleGeodesicSe3).
@@ -177,10 +187,8 @@ public:
       // A radius too small to move the blend's ends off t_i in floating point: a sharp corner.
       if (!(b.zone.start_time < times_[i] && times_[i] < b.zone.end_time))
         continue;
-      b.control = { G::exp(e, Tangent(m_in * s_in)), G::exp(e, Tangent(m_in * (0.5 * s_in))), e,
-                    G::exp(e, Tangent(m_out * (0.5 * s_out))), G::exp(e, Tangent(m_out * s_out)) };
-      b.logs = { Tangent(m_in * (-0.5 * s_in)), Tangent(m_in * (-0.5 * s_in)), Tangent(m_out * (0.5 * s_out)),
-                 Tangent(m_out * (0.5 * s_out)) };
+      b.leg_in = m_in * s_in;
+      b.leg_out = m_out * s_out;
       blends_.push_back(std::move(b));
     }
     // Two blends sharing a leg meet at its middle at most (r_i ≤ half of each leg); rounding
@@ -218,9 +226,7 @@ public:
     // λ = 0 and 1 however short the blend is next to the magnitude of t.
     const S u = valueOf(t) < times_[b.zone.corner] ? S(t - S(b.zone.start_time)) :
                                                      S(S(t - S(b.zone.end_time)) + S(b.tau_in + b.tau_out));
-    const S lambda = blendParameter(b, u);
-    const PointT<S> relative = deCasteljau<G>(b.control, b.logs, lambda);
-    return G::template cast<S>(b.corner_point) * relative;
+    return G::template cast<S>(b.corner_point) * blendFromCorner(b, blendParameter(b, u));
   }
 
   double startTime() const override { return times_.front(); }
@@ -252,8 +258,8 @@ private:
     Point corner_point;
     double tau_in = 0.0;
     double tau_out = 0.0;
-    std::vector<Point> control;  ///< relative to the corner: x_i⁻¹ c_k
-    std::vector<Tangent> logs;   ///< Log(c_k, c_{k+1}), exact
+    Tangent leg_in;   ///< s_in m_in: Log(e, x_i⁻¹ c_0), the blend's start from the corner
+    Tangent leg_out;  ///< s_out m_out: Log(e, x_i⁻¹ c_4), its end
   };
   /// A piece between consecutive breakpoints: a part of leg `segment` or blend `blend`.
   struct Piece
@@ -283,6 +289,21 @@ private:
         ++next_blend;
       }
     }
+  }
+
+  /// B(λ) = x_i⁻¹ β: the quartic's de Casteljau with the steps along a leg in closed form (see
+  /// "Evaluation" above).
+  template <class S>
+  static PointT<S> blendFromCorner(const Blend& b, const S& lambda)
+  {
+    const Point e = Point::Identity();
+    const S rest = S(1.0) - lambda;
+    const PointT<S> in_half = geodesicFromLog<G>(e, b.leg_in, S(rest * 0.5));     // β¹_1
+    const PointT<S> out_half = geodesicFromLog<G>(e, b.leg_out, S(lambda * 0.5));  // β¹_2
+    const PointT<S> in_level2 = geodesicFromLog<G>(e, b.leg_in, rest);            // β²_0
+    const PointT<S> out_level2 = geodesicFromLog<G>(e, b.leg_out, lambda);         // β²_2
+    const PointT<S> middle = geodesic<G>(in_half, out_half, lambda);               // β²_1
+    return geodesic<G>(geodesic<G>(in_level2, middle, lambda), geodesic<G>(middle, out_level2, lambda), lambda);
   }
 
   /// λ = ψ⁻¹(t) for u = t − (t_i − τ_in): Newton in double, then two Newton steps in S.

@@ -211,7 +211,7 @@ inline Pose<double> geodesic<DoubleGeodesicSe3, double>(const Pose<double>& a, c
 }
 
 /// The double-geodesic step between jet poses (levels ≥ 2 of the recursions when derivatives
-/// are sampled): the rotation by so3SlerpJet where its weights are accurate, else by the
+/// are sampled): the rotation by so3SlerpJet, else (a far extrapolation at a small angle) by the
 /// Log → Exp jet path; the translation on its line.
 template <>
 inline Pose<Jet<2>> geodesic<DoubleGeodesicSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b,

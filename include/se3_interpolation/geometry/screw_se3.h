@@ -105,12 +105,40 @@ struct Se3TangentConversion<ScrewSe3>
 
 namespace detail
 {
-/// The smallest sin²φ at which screwSlerpJet runs at jets of order K: so3SlerpJet's at second
-/// order; at third order 0.01 (θ ≥ 0.2 rad), since the 1/sin²φ of B amplifies the rounding of the
-/// last coefficient by about 1/sin³φ (measured against the Log → Exp jet path: up to 7e-12 of the
-/// coefficients' size at θ = 0.05, within 1e-12 from θ = 0.2).
+/// The smallest sin²φ at which screwSlerpJet takes its weights in closed form at jets of order K:
+/// so3SlerpJet's at second order; at third order 0.01 (θ ≥ 0.2 rad), since the 1/sin²φ of B
+/// amplifies the rounding of the last coefficient by about 1/sin³φ (measured against the
+/// Log → Exp jet path: up to 7e-12 of the coefficients' size at θ = 0.05, within 1e-12 from
+/// θ = 0.2). Below it the weights come from their series in φ² (slerpJetWeights, screwTranslationSeriesB).
 template <int K>
 constexpr double kScrewSlerpJetMinSine2 = K <= 2 ? kSlerpJetMinSine2 : 1e-2;
+
+/// B = (μ sin φ − sin μφ)/(2 sin³φ) (screwSlerpJet's translation weight, μ = 2λ − 1) from x = φ²:
+/// μ sin φ − sin μφ = φ³ Σ_{k≥1} (−1)^k μ (1 − μ^{2k}) x^{k−1}/(2k+1)! and sin φ = φ sinSqrtRatio(x),
+/// with 1 − μ^{2k} = (1 − μ²)(1 + μ² + … + μ^{2(k−1)}) summed without cancellation. Seven terms:
+/// the first left out is below 1e-19 for μ²x ≤ kSlerpSeriesMaxArgument.
+template <int K>
+Jet<K> screwTranslationSeriesB(const Jet<K>& mu, const Jet<K>& x, const Jet<K>& sinc_x)
+{
+  using J = Jet<K>;
+  static constexpr double kInverseOddFactorial[] = { 1.0 / 6.0,        1.0 / 120.0,       1.0 / 5040.0,
+                                                     1.0 / 362880.0,   1.0 / 39916800.0,  1.0 / 6227020800.0,
+                                                     1.0 / 1307674368000.0 };
+  constexpr std::size_t kTerms = sizeof(kInverseOddFactorial) / sizeof(kInverseOddFactorial[0]);
+  const J m = mu * mu;
+  // g_k = 1 + m + … + m^{k−1}; the sum Σ_k (−1)^k g_k x^{k−1}/(2k+1)! by Horner from the last term.
+  std::array<J, kTerms> g;
+  g[0] = J(1.0);
+  for (std::size_t k = 1; k < kTerms; ++k)
+    g[k] = J(1.0) + m * g[k - 1];
+  J sum(0.0);
+  for (std::size_t k = kTerms; k-- > 0;)
+  {
+    const double sign = k % 2 == 0 ? -1.0 : 1.0;
+    sum = sum * x + g[k] * (sign * kInverseOddFactorial[k]);
+  }
+  return mu * (J(1.0) - m) * sum / (J(2.0) * sinc_x * sinc_x * sinc_x);
+}
 
 /// The screw step between jet poses in slerp form (the jet specialisations of geodesic below). A screw
 /// motion's rotation is the slerp of the two rotations. Its translation: with the relative
@@ -118,9 +146,12 @@ constexpr double kScrewSlerpJetMinSine2 = K <= 2 ? kSlerpJetMinSine2 : 1e-2;
 /// the motion slides λ (Δ·n) along n and turns the rest of Δ about the screw axis, where
 /// (I − Rot(λ 2φ)) (I − Rot(2φ))⁻¹ = (sin(λφ)/sin φ) Rot((λ − 1)φ) in the plane normal to n; so
 ///   p(λ) = p_a + A Δ + B (Δ·u) u + C u × Δ,
-///   A = sin(λφ) cos((λ − 1)φ)/sin φ,  C = sin(λφ) sin((λ − 1)φ)/sin² φ,  B = (λ − A)/sin² φ
-/// (p(0) = p_a, p(1) = p_b). Returns false, leaving *out unchanged, below kScrewSlerpJetMinSine2:
-/// the caller takes the Log → Exp path with its series.
+///   A = sin(λφ) cos((λ − 1)φ)/sin φ = (1 + sin(μφ)/sin φ)/2,
+///   B = (λ − A)/sin² φ = (μ sin φ − sin μφ)/(2 sin³φ),
+///   C = sin(λφ) sin((λ − 1)φ)/sin² φ = −ka kb   (μ = 2λ − 1; ka, kb the slerp weights)
+/// (p(0) = p_a, p(1) = p_b). A and B in closed form from sin²φ ≥ kScrewSlerpJetMinSine2, else from
+/// their series in φ². Returns false, leaving *out unchanged, where slerpJetWeights does (a far
+/// extrapolation at a small angle): the caller takes the Log → Exp path with its series.
 template <int K>
 bool screwSlerpJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& lambda, Pose<Jet<K>>* out)
 {
@@ -133,10 +164,20 @@ bool screwSlerpJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& l
   const Vector3<J> vb = b.q.vec();
   const Vector3<J> u = (a.q.w() * vb - b.q.w() * va + va.cross(vb)) * J(k.sign);
   const Vector3<J> delta = b.p - a.p;
-  const J coefficient_a = k.s * (k.c * k.w + k.sl * k.n);
-  const J inverse_n2 = J(1.0) / (k.n * k.n);
-  const J coefficient_b = (lambda - coefficient_a) * inverse_n2;
-  const J coefficient_c = k.s * (k.sl * k.w - k.c * k.n) / k.n;
+  J coefficient_a;
+  J coefficient_b;
+  if (k.series)
+  {
+    const J mu = lambda * 2.0 - 1.0;
+    coefficient_a = (detail::sinRatioSeries(mu, k.x, k.sinc_x) + 1.0) * 0.5;
+    coefficient_b = screwTranslationSeriesB(mu, k.x, k.sinc_x);
+  }
+  else
+  {
+    coefficient_a = k.kb * (k.c * k.w + k.kb * k.n2);
+    coefficient_b = (lambda - coefficient_a) / k.n2;
+  }
+  const J coefficient_c = -(k.ka * k.kb);
   out->q = slerpFromWeights(a.q, b.q, k);
   out->p = a.p + delta * coefficient_a + u * (coefficient_b * delta.dot(u)) + u.cross(delta) * coefficient_c;
   return true;
@@ -241,8 +282,8 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
   }
 }
 
-/// The screw step between jet poses: screwSlerpJet where its weights are accurate, else the
-/// SE(3) Log → Exp in jets.
+/// The screw step between jet poses: screwSlerpJet, else (a far extrapolation at a small angle)
+/// the SE(3) Log → Exp in jets.
 template <int K>
 Pose<Jet<K>> screwGeodesicJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& lambda)
 {

@@ -19,6 +19,7 @@
 // any order flow through them exactly.
 #pragma once
 
+#include <algorithm>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -310,27 +311,64 @@ inline Quaternion<double> so3Slerp(const Quaternion<double>& qa, const Quaternio
   return r;
 }
 
-/// At or above this sin²φ (sin φ ≥ 0.025, θ ≥ 0.05 rad) so3SlerpJet runs the slerp weights in
-/// jets. The derivatives of sin φ = |q_b − cos φ q_a| and of s = sin(λφ)/sin φ amplify rounding
-/// by about 1/sin φ (measured: disagreement with the Log → Exp jet path 1e-15/θ, 7e-14 at
-/// θ = 0.05), so below it the caller takes the Log → Exp path with its series.
+/// At or above this sin²φ (sin φ ≥ 0.025, θ ≥ 0.05 rad) so3SlerpJet computes the slerp weights
+/// in closed form. The derivatives of sin φ = |q_b − cos φ q_a| and of s = sin(λφ)/sin φ amplify
+/// rounding by about 1/sin φ (measured: disagreement with the Log → Exp jet path 1e-15/θ, 7e-14
+/// at θ = 0.05), so below it the weights come from their series in φ² (detail::sinSqrtRatio),
+/// which involve neither sin φ nor its square root.
 constexpr double kSlerpJetMinSine2 = 6.25e-4;
 
+/// The largest argument z = ν²φ² at which the weights' series are summed (ν ∈ {λ, 1 − λ, 2λ − 1}):
+/// their seven terms leave out z⁷/15! < 1e-21 there. Every λ of the de Casteljau and de Boor
+/// recursions (λ ∈ [0, 1], ν² ≤ 1) qualifies up to φ² = 0.05, beyond every caller's closed-form
+/// threshold (sin²φ ≤ 1e-2, φ² < 0.0101); far extrapolation (ν² φ² > 0.05 with a small φ) takes the
+/// caller's Log → Exp path.
+constexpr double kSlerpSeriesMaxArgument = 0.05;
+
+namespace detail
+{
+/// sin(√z)/√z = Σ_k (−1)^k z^k/(2k+1)! for 0 ≤ z ≤ kSlerpSeriesMaxArgument (seven terms).
+template <class S>
+S sinSqrtRatio(const S& z)
+{
+  static constexpr double k[] = { 1.0,           -1.0 / 6.0,        1.0 / 120.0,         -1.0 / 5040.0,
+                                  1.0 / 362880.0, -1.0 / 39916800.0, 1.0 / 6227020800.0 };
+  return horner(z, k);
+}
+
+/// sin(νφ)/sin φ from ν and x = φ²: ν sinSqrtRatio(ν² x)/sinSqrtRatio(x) (a slerp weight, and
+/// even in φ, so a function of φ² without the removable singularity at φ = 0).
+template <class S>
+S sinRatioSeries(const S& nu, const S& x, const S& sinc_x)
+{
+  return nu * sinSqrtRatio(S(nu * nu * x)) / sinc_x;
+}
+}  // namespace detail
+
 /// The slerp weights of so3Slerp in jet arithmetic: with φ the half angle between q_a and
-/// sign · q_b (sign making cos φ = w ≥ 0), n = sin φ, sl = sin(λφ), c = cos(λφ) and s = sl/n,
-/// slerp is (c − w s) q_a + s sign q_b.
+/// sign · q_b (sign making cos φ = w ≥ 0), slerp is ka q_a + kb sign q_b with
+/// ka = sin((1 − λ)φ)/sin φ = cos λφ − w kb and kb = sin(λφ)/sin φ. From sin²φ ≥ the closed-form
+/// threshold: c = cos λφ from atan2 and sincos; below it: x = φ² and the series in it.
 template <int K>
 struct SlerpJetWeights
 {
-  Jet<K> w, n, sl, c, s;
-  double sign;
+  Jet<K> ka, kb;  ///< the weights of q_a and sign q_b
+  Jet<K> w;       ///< cos φ
+  Jet<K> n2;      ///< sin² φ
+  Jet<K> c;       ///< cos λφ (closed form only)
+  Jet<K> x;       ///< φ² (series only)
+  Jet<K> sinc_x;  ///< sin φ/φ = sinSqrtRatio(x) (series only)
+  bool series = false;
+  double sign = 1.0;
 };
 
-/// The slerp weights of q_a, q_b at λ (SlerpJetWeights). Returns false, leaving *out unspecified,
-/// when sin²φ < min_sine2. Throws NonUniqueGeodesicError at θ = π.
+/// The slerp weights of q_a, q_b at λ (SlerpJetWeights): in closed form from sin²φ ≥ min_sine2,
+/// else from the series when every ν² φ² ≤ kSlerpSeriesMaxArgument. Returns false, leaving *out
+/// unspecified, otherwise (a far extrapolation at a small angle). Throws NonUniqueGeodesicError
+/// at θ = π.
 template <int K>
 SE3_JET_INLINE bool slerpJetWeights(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
-                     SlerpJetWeights<K>* out, double min_sine2 = kSlerpJetMinSine2)
+                                    SlerpJetWeights<K>* out, double min_sine2 = kSlerpJetMinSine2)
 {
   using J = Jet<K>;
   J w = qa.w() * qb.w() + qa.x() * qb.x() + qa.y() * qb.y() + qa.z() * qb.z();
@@ -342,33 +380,50 @@ SE3_JET_INLINE bool slerpJetWeights(const Quaternion<Jet<K>>& qa, const Quaterni
   const J dx = qb.x() * sign - w * qa.x();
   const J dy = qb.y() * sign - w * qa.y();
   const J dz = qb.z() * sign - w * qa.z();
-  const J n2 = dw * dw + dx * dx + dy * dy + dz * dz;  // sin² φ
-  if (n2.value() < min_sine2)
-    return false;
-  out->n = sqrt(n2);
-  sincos(J(lambda * atan2(out->n, w)), &out->sl, &out->c);
-  out->s = out->sl / out->n;
+  out->n2 = dw * dw + dx * dx + dy * dy + dz * dz;  // sin² φ
   out->w = w;
   out->sign = sign;
+  if (out->n2.value() >= min_sine2)
+  {
+    const J n = sqrt(out->n2);
+    J sl;
+    sincos(J(lambda * atan2(n, w)), &sl, &out->c);
+    out->kb = sl / n;
+    out->ka = out->c - w * out->kb;
+    out->series = false;
+    return true;
+  }
+  // φ = atan2(n, w) and φ/n = logFactor/2, so φ² = sin²φ (logFactor/2)², free of the square root.
+  const J half_factor = detail::logFactor(out->n2, w) * 0.5;
+  out->x = out->n2 * half_factor * half_factor;
+  const double l = lambda.value();
+  const double reach = std::max({ l * l, (1.0 - l) * (1.0 - l), (2.0 * l - 1.0) * (2.0 * l - 1.0) });
+  if (!(reach * out->x.value() <= kSlerpSeriesMaxArgument))
+    return false;
+  out->sinc_x = detail::sinSqrtRatio(out->x);
+  out->kb = detail::sinRatioSeries(lambda, out->x, out->sinc_x);
+  out->ka = detail::sinRatioSeries(J(J(1.0) - lambda), out->x, out->sinc_x);
+  out->series = true;
   return true;
 }
 
-/// (c − w s) q_a + s sign q_b: the slerp of q_a, q_b from its weights.
+/// ka q_a + kb sign q_b: the slerp of q_a, q_b from its weights.
 template <int K>
 SE3_JET_INLINE Quaternion<Jet<K>> slerpFromWeights(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb,
-                                    const SlerpJetWeights<K>& weights)
+                                                   const SlerpJetWeights<K>& weights)
 {
   using J = Jet<K>;
-  const J ka = weights.c - weights.w * weights.s;
-  const J kb = weights.s * weights.sign;
+  const J& ka = weights.ka;
+  const J kb = weights.kb * weights.sign;
   return Quaternion<J>(ka * qa.w() + kb * qb.w(), ka * qa.x() + kb * qb.x(), ka * qa.y() + kb * qb.y(),
                        ka * qa.z() + kb * qb.z());
 }
 
 /// so3Slerp at quaternions and parameter given as jets (the levels ≥ 2 of de Casteljau / de Boor
 /// when derivatives are sampled): the same weights in jet arithmetic, without the two
-/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, when
-/// sin²φ < kSlerpJetMinSine2. Throws NonUniqueGeodesicError at θ = π.
+/// quaternion products of the Log → Exp path. Returns false, leaving *out unchanged, where
+/// slerpJetWeights does (a far extrapolation at a small angle). Throws NonUniqueGeodesicError at
+/// θ = π.
 template <int K>
 SE3_JET_INLINE bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
                  Quaternion<Jet<K>>* out)

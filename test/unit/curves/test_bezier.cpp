@@ -191,13 +191,15 @@ MovingPair movingPair(std::mt19937& rng, double angle)
 
 TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
 {
-  // geodesic<G, Jet<2>> for DoubleGeodesicSe3 and So3 (so3SlerpJet above θ = 0.05, the Log/Exp
-  // jet path below) against exp(A, λ log(A, B)) written out in jets, between two jet poses moving
-  // along unrelated geodesics with a curved clock, at relative angles across the switch-over.
+  // geodesic<G, Jet<2>> for DoubleGeodesicSe3 and So3 (so3SlerpJet: closed-form weights above
+  // θ = 0.05, their series in φ² below, the Log/Exp jet path for far extrapolations at small
+  // angles) against exp(A, λ log(A, B)) written out in jets, between two jet poses moving along
+  // unrelated geodesics with a curved clock, at relative angles across the switch-over.
   using DG = DoubleGeodesicSe3;
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
-  for (const double angle : { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.2, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
+  for (const double angle :
+       { 0.0, 1e-12, 1e-4, 0.005, 0.02, 0.0499, 0.0501, 0.2, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
     for (int i = 0; i < 40; ++i)
     {
       const MovingPair pair = movingPair(rng, angle);
@@ -205,11 +207,16 @@ TEST(Geodesic, SlerpJetStepMatchesLogExpJetPath)
       alpha.coefficient(2) = u(rng);
       const Pose<Jet<2>> a = geodesicFromLogGeneric<DG>(pair.a, pair.la, alpha);
       const Pose<Jet<2>> b = geodesicFromLogGeneric<DG>(pair.b, pair.lb, Jet<2>(Jet<2>::variable(0.0) * u(rng)));
-      const Jet<2> lambda = Jet<2>::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      // Below θ = 0.1 every tenth λ far out (λ = ±40: beyond the series' reach from θ ≈ 0.01).
+      const double lambda0 =
+          i % 10 == 9 && angle < 0.1 ? (i % 20 == 9 ? 40.0 : -40.0) : std::uniform_real_distribution<double>(-0.5, 1.5)(rng);
+      const Jet<2> lambda = Jet<2>::variable(lambda0) * u(rng);
       const Pose<Jet<2>> ref = DG::exp(a, Vector6<Jet<2>>(DG::log(a, b) * lambda));
-      EXPECT_LE(jetPoseDifference(geodesic<DG>(a, b, lambda), ref), 1e-12) << "angle " << angle << " i " << i;
+      // (Relative to the coefficients' size: an extrapolation to λ = 40 scales them by 40.)
+      const double scale = 1.0 + std::abs(lambda0);
+      EXPECT_LE(jetPoseDifference(geodesic<DG>(a, b, lambda), ref), 1e-12 * scale) << "angle " << angle << " i " << i;
       const Quaternion<Jet<2>> q = geodesic<So3>(a.q, b.q, lambda);
-      EXPECT_LE(jetPoseDifference(Pose<Jet<2>>(q, ref.p), ref), 1e-12) << "angle " << angle << " i " << i;
+      EXPECT_LE(jetPoseDifference(Pose<Jet<2>>(q, ref.p), ref), 1e-12 * scale) << "angle " << angle << " i " << i;
     }
 }
 
@@ -238,9 +245,11 @@ double relativeJetPoseDifference(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b)
   return d / scale;
 }
 
-/// geodesic<ScrewSe3, Jet<K>> (the slerp form above θ = 0.05, the Log → Exp jet path below)
-/// against a Exp(λ Log(a⁻¹ b)) written out in jets, between two jet poses moving along unrelated
-/// screws with a curved clock, at relative angles across the switch-over and near π.
+/// geodesic<ScrewSe3, Jet<K>> (the slerp form: closed-form weights above θ = 0.05 at second order
+/// and 0.2 at third, their series in φ² below, the Log → Exp jet path for far extrapolations at
+/// small angles) against a Exp(λ Log(a⁻¹ b)) written out in jets, between two jet poses moving
+/// along unrelated screws with a curved clock, at relative angles across the switch-overs and
+/// near π.
 template <int K>
 void checkScrewSlerpJet(std::uint32_t seed)
 {
@@ -253,15 +262,19 @@ void checkScrewSlerpJet(std::uint32_t seed)
       alpha.coefficient(k) = u(rng);
     return alpha;
   };
-  // The switch-overs: θ = 0.05 at second order, 0.2 at third (kScrewSlerpJetMinSine2).
-  for (const double angle :
-       { 0.0, 1e-12, 1e-4, 0.0499, 0.0501, 0.1, 0.2, 0.201, 1.0, 2.5, M_PI - 1e-6, M_PI - 1e-9 })
+  // The switch-overs: θ = 0.05 at second order, 0.2 at third (kScrewSlerpJetMinSine2); θ = 0.005
+  // and 0.02 are inside the series' reach at λ = ±40 only for the first, not the second.
+  for (const double angle : { 0.0, 1e-12, 1e-4, 0.005, 0.02, 0.0499, 0.0501, 0.1, 0.199, 0.201, 1.0, 2.5,
+                              M_PI - 1e-6, M_PI - 1e-9 })
     for (int i = 0; i < 40; ++i)
     {
       const MovingPair pair = movingPair(rng, angle);
       const Pose<J> a = ScrewSe3::exp(pair.a.cast<J>(), Vector6<J>(pair.la.cast<J>() * clock()));
       const Pose<J> b = ScrewSe3::exp(pair.b.cast<J>(), Vector6<J>(pair.lb.cast<J>() * clock()));
-      const J lambda = J::variable(std::uniform_real_distribution<double>(-0.5, 1.5)(rng)) * u(rng);
+      // Below θ = 0.1 every tenth λ far out (λ = ±40: beyond the series' reach from θ ≈ 0.01).
+      const double lambda0 =
+          i % 10 == 9 && angle < 0.1 ? (i % 20 == 9 ? 40.0 : -40.0) : std::uniform_real_distribution<double>(-0.5, 1.5)(rng);
+      const J lambda = J::variable(lambda0) * u(rng);
       const Pose<J> ref = ScrewSe3::exp(a, Vector6<J>(ScrewSe3::log(a, b) * lambda));
       EXPECT_LE(relativeJetPoseDifference(geodesic<ScrewSe3>(a, b, lambda), ref), 1e-12)
           << "order " << K << " angle " << angle << " i " << i;

@@ -356,6 +356,76 @@ TYPED_TEST(CornerBlendTest, AnalyticDerivativesMatchFiniteDifferences)
   }
 }
 
+/// The full de Casteljau triangle (ten geodesic steps) of the five control points at λ.
+template <class G, class S>
+Pose<S> quarticTriangle(const std::vector<Pose<double>>& control, const S& lambda)
+{
+  std::vector<Pose<S>> b;
+  for (const Pose<double>& c : control)
+    b.push_back(c.cast<S>());
+  for (std::size_t level = 1; level < b.size(); ++level)
+    for (std::size_t i = 0; i + level < b.size(); ++i)
+      b[i] = geodesic<G>(b[i], b[i + 1], lambda);
+  return b[0];
+}
+
+TYPED_TEST(CornerBlendTest, GeneralCornersAreTheQuarticBezierOfTheirControlPoints)
+{
+  // The blend's evaluation takes the six steps along the legs in closed form: against the whole
+  // triangle of c_0 = a_i, c_1 = γ(a_i, x_i; ½), c_2 = x_i, c_3 = γ(x_i, b_i; ½), c_4 = b_i at
+  // λ = ψ⁻¹(t) (bisection), values and the jets at the jet λ(t) (dλ/dt = 1/ψ′, d²λ/dt² = −ψ″/ψ′³),
+  // on random corners between uneven times.
+  using G = TypeParam;
+  std::mt19937 rng(21);
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    const auto x = randomPolygon(rng, 5, 1.2);
+    const std::vector<double> times{ 0.0, 0.02, 2.9, 3.4, 40.0 };
+    const CornerBlendedGeodesic<G> c(x, times, 0.6, 0.8);
+    ASSERT_FALSE(c.zones().empty());
+    for (const CornerBlendZone& z : c.zones())
+    {
+      const std::size_t i = z.corner;
+      const Pose<double> a = c.value(z.start_time);
+      const Pose<double> b = c.value(z.end_time);
+      const std::vector<Pose<double>> control{ a, geodesic<G>(a, x[i], 0.5), x[i], geodesic<G>(x[i], b, 0.5), b };
+      const double tau_in = times[i] - z.start_time;
+      const double tau_out = z.end_time - times[i];
+      for (double f : { 0.0, 0.03, 0.3, 0.5, 0.77, 0.999 })
+      {
+        const double t = z.start_time + f * (z.end_time - z.start_time);
+        const double l = bisectBlendParameter(t - z.start_time, tau_in, tau_out);
+        const double dpsi = 2.0 * tau_in + 2.0 * (tau_out - tau_in) * (3.0 * l * l - 2.0 * l * l * l);
+        const double ddpsi = 2.0 * (tau_out - tau_in) * (6.0 * l - 6.0 * l * l);
+        Jet<2> lambda(l);
+        lambda.coefficient(1) = 1.0 / dpsi;
+        lambda.coefficient(2) = -0.5 * ddpsi / (dpsi * dpsi * dpsi);
+        Pose<Jet<2>> ref = quarticTriangle<G>(control, lambda);
+        const Pose<Jet<2>> got = c.jet(Jet<2>::variable(t), Side::kRight);
+        // (q and −q are one rotation: compare with the sign of the curve's quaternion.)
+        double dot = 0.0;
+        for (int j = 0; j < 4; ++j)
+          dot += got.q.coeffs()[j].value() * ref.q.coeffs()[j].value();
+        if (dot < 0.0)
+          for (int j = 0; j < 4; ++j)
+            ref.q.coeffs()[j] = -ref.q.coeffs()[j];
+        const Pose<double> value = quarticTriangle<G>(control, l);
+        EXPECT_LT(test::poseDistance(c.value(t), value), 1e-12) << "trial " << trial << " corner " << i << " f " << f;
+        for (int k = 0; k <= 2; ++k)
+        {
+          const double scale = 1.0 + (k == 0 ? 0.0 : std::abs(lambda.coefficient(1)) + std::abs(lambda.coefficient(2)));
+          for (int j = 0; j < 4; ++j)
+            EXPECT_NEAR(got.q.coeffs()[j].coefficient(k), ref.q.coeffs()[j].coefficient(k), 1e-11 * scale)
+                << "trial " << trial << " corner " << i << " f " << f << " order " << k;
+          for (int j = 0; j < 3; ++j)
+            EXPECT_NEAR(got.p[j].coefficient(k), ref.p[j].coefficient(k), 1e-11 * scale)
+                << "trial " << trial << " corner " << i << " f " << f << " order " << k;
+        }
+      }
+    }
+  }
+}
+
 TYPED_TEST(CornerBlendTest, CollinearCornerAtOneSpeedIsTheGeodesicItself)
 {
   // x_{i−1}, x_i, x_{i+1} on one geodesic, one speed: the blend's control points are equally
