@@ -318,11 +318,13 @@ inline Quaternion<double> so3Slerp(const Quaternion<double>& qa, const Quaternio
 /// which involve neither sin φ nor its square root.
 constexpr double kSlerpJetMinSine2 = 6.25e-4;
 
-/// The largest argument z = ν²φ² at which the weights' series are summed (ν ∈ {λ, 1 − λ, 2λ − 1}):
-/// their seven terms leave out z⁷/15! < 1e-21 there. Every λ of the de Casteljau and de Boor
-/// recursions (λ ∈ [0, 1], ν² ≤ 1) qualifies up to φ² = 0.05, beyond every caller's closed-form
-/// threshold (sin²φ ≤ 1e-2, φ² < 0.0101); far extrapolation (ν² φ² > 0.05 with a small φ) takes the
-/// caller's Log → Exp path.
+/// The largest argument z = ν²φ² at which the weights' series are summed (ν ∈ {λ, 1 − λ, 2λ − 1}).
+/// Their seven terms leave out z⁷/15! < 1e-21 there; in a jet of order K ≤ 3 the omitted term's
+/// k-th coefficient is of order C(7, k) z^{7−k} ż^k/15!, below 2e-16 of the series' own (of order
+/// ż^k). Fewer terms would not do: four leave ~1e-8 of it at z = 1e-3. Every λ of the de Casteljau
+/// and de Boor recursions (λ ∈ [0, 1], ν² ≤ 1) qualifies up to φ² = 0.05, beyond every caller's
+/// closed-form threshold (sin²φ ≤ 1e-2, φ² < 0.0101); far extrapolation (ν² φ² > 0.05 with a small
+/// φ) takes the caller's Log → Exp path.
 constexpr double kSlerpSeriesMaxArgument = 0.05;
 
 namespace detail
