@@ -91,6 +91,36 @@ inline Rates rates(const Kinematics& k)
            k.acceleration.angular.norm() };
 }
 
+/// |ṗ| and |ω| of a first-order pose jet (ω = 2 vec(q̇ q*), as kinematicsFromJet), in the first two
+/// entries of the rates (the accelerations' are 0).
+inline Rates speedsFromJet(const Pose<Jet<1>>& x)
+{
+  const Quaternion<double> q0(x.q.w().value(), x.q.x().value(), x.q.y().value(), x.q.z().value());
+  const Quaternion<double> q1(x.q.w().coefficient(1), x.q.x().coefficient(1), x.q.y().coefficient(1),
+                              x.q.z().coefficient(1));
+  const Eigen::Vector3d linear(x.p[0].coefficient(1), x.p[1].coefficient(1), x.p[2].coefficient(1));
+  return { linear.norm(), 2.0 * (q1 * q0.conjugate()).vec().norm(), 0.0, 0.0 };
+}
+
+/// The speeds |ṗ| and |ω| at t (the first two entries of rates(kinematicsAt(curve, t, side)), the
+/// others 0): kinematicsAt's closed forms where it has them, else the curve's first-order jets
+/// (jet1Of), about half the arithmetic of its second-order ones.
+template <class G>
+Rates speedsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
+{
+  bool closed_form = false;
+  if constexpr (HasExpKinematics<G>::value)
+    closed_form = closedFormKinematicsSpline(curve) != nullptr;
+  if constexpr (detail::HasExpLineKinematics<G>::value)
+    closed_form = closed_form || asFinalCurve<PiecewiseGeodesic<G>>(curve) != nullptr;
+  if (closed_form)
+  {
+    const Rates r = rates(kinematicsAt(curve, t, side));
+    return { r[kLinearSpeed], r[kAngularSpeed], 0.0, 0.0 };
+  }
+  return speedsFromJet(jet1Of(curve, Jet<1>::variable(t), side));
+}
+
 /// The energy density |p̈|² + (ρ|ω̇|)² (Crouch et al. eq. 32 with the product metric; ρ the
 /// rotation scale in m/rad). (ρ ω̇)², not ρ² |ω̇|²: a huge ρ times ω̇ = 0 is 0, not ∞ · 0 = NaN.
 inline double energyDensity(const Kinematics& k, double rotation_scale)
@@ -103,6 +133,17 @@ inline double energyDensity(const Kinematics& k, double rotation_scale)
 inline Rates rates(const SphereKinematics& k)
 {
   return { 0.0, k.velocity.norm(), 0.0, k.acceleration.norm() };
+}
+
+/// The sphere speeds at t (rates(kinematicsAt(curve, t, side)) without the accelerations): |ẋ| of
+/// the curve's first-order jet in the angular channel.
+inline Rates speedsAt(const Curve<Sphere>& curve, double t, Side side = Side::kRight)
+{
+  const VectorX<Jet<1>> x = jet1Of(curve, Jet<1>::variable(t), side);
+  double speed2 = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    speed2 += x[i].coefficient(1) * x[i].coefficient(1);
+  return { 0.0, std::sqrt(speed2), 0.0, 0.0 };
 }
 
 /// The energy density ⟨D²x/dt², D²x/dt²⟩ of eq. 32 (the round metric: no rotation scale).

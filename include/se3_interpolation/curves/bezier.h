@@ -46,15 +46,16 @@ constexpr std::size_t kDeCasteljauLevelsPerCheck = 32;
 
 namespace detail
 {
-/// Whether G has a closed-form second-order jet of exp(a, α L) for constant a and L (G::expLine).
-template <class G, class = void>
+/// Whether G has a closed-form jet of scalar S (Jet<1> or Jet<2>) of exp(a, α L) for constant a
+/// and L (G::expLine).
+template <class G, class S, class = void>
 struct HasExpLine : std::false_type
 {
 };
-template <class G>
-struct HasExpLine<G, std::void_t<decltype(G::expLine(std::declval<const typename G::template Point<double>&>(),
-                                                     std::declval<const typename G::template Tangent<double>&>(),
-                                                     std::declval<const Jet<2>&>()))>> : std::true_type
+template <class G, class S>
+struct HasExpLine<G, S, std::void_t<decltype(G::expLine(std::declval<const typename G::template Point<double>&>(),
+                                                        std::declval<const typename G::template Tangent<double>&>(),
+                                                        std::declval<const S&>()))>> : std::true_type
 {
 };
 
@@ -79,7 +80,7 @@ typename G::template Point<S> geodesicFromLogGeneric(const typename G::template 
   return G::exp(G::template cast<S>(p), typename G::template Tangent<S>(log * lambda));
 }
 
-/// interp_λ(p, p Exp(L)) = p Exp(λ L) with a precomputed L = Log(p, q). At a second-order jet λ
+/// interp_λ(p, p Exp(L)) = p Exp(λ L) with a precomputed L = Log(p, q). At a first- or second-order jet λ
 /// (the first de Casteljau / de Boor level when derivatives are sampled), geometries with a
 /// closed form (G::expLine: the Lie groups, whose geodesics are one-parameter subgroups) skip
 /// the jet arithmetic; the others run exp in jets.
@@ -87,7 +88,7 @@ template <class G, class S>
 typename G::template Point<S> geodesicFromLog(const typename G::template Point<double>& p,
                                               const typename G::template Tangent<double>& log, const S& lambda)
 {
-  if constexpr (std::is_same<S, Jet<2>>::value && detail::HasExpLine<G>::value)
+  if constexpr ((std::is_same<S, Jet<1>>::value || std::is_same<S, Jet<2>>::value) && detail::HasExpLine<G, S>::value)
     return G::expLine(p, log, lambda);
   else
     return geodesicFromLogGeneric<G>(p, log, lambda);

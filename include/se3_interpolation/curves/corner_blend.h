@@ -69,6 +69,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "se3_interpolation/curves/bezier.h"
@@ -226,7 +227,11 @@ public:
     // λ = 0 and 1 however short the blend is next to the magnitude of t.
     const S u = valueOf(t) < times_[b.zone.corner] ? S(t - S(b.zone.start_time)) :
                                                      S(S(t - S(b.zone.end_time)) + S(b.tau_in + b.tau_out));
-    return G::template cast<S>(b.corner_point) * blendFromCorner(b, blendParameter(b, u));
+    const PointT<S> relative = blendFromCorner(b, blendParameter(b, u));
+    if constexpr (std::is_same<S, double>::value)
+      return b.corner_point * relative;
+    else
+      return constantTimes(b.corner_point, relative);
   }
 
   double startTime() const override { return times_.front(); }

@@ -43,6 +43,11 @@ typename G::template Point<double> evaluateAt(const Curve<G>& c, double t, Side 
   return c.value(t);
 }
 template <class G>
+typename G::template Point<Jet<1>> evaluateAt(const Curve<G>& c, const Jet<1>& t, Side side)
+{
+  return jet1Of(c, t, side);
+}
+template <class G>
 typename G::template Point<Jet<2>> evaluateAt(const Curve<G>& c, const Jet<2>& t, Side side)
 {
   return c.jet(t, side);

@@ -33,15 +33,16 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
   {
     return Point<S>(a.q * so3Exp(Vector3<S>(v.template head<3>())), a.p + v.template tail<3>());
   }
-  /// exp(a, α v) at a second-order jet α of time, constant a and v, in closed form: the rotation
-  /// is a one-parameter subgroup through q_a (detail::rotationLineJet), the translation
-  /// p_a + α Δp has derivatives Δp and 0.
-  static Point<Jet<2>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  /// exp(a, α v) at a jet α of time (first or second order), constant a and v, in closed form:
+  /// the rotation is a one-parameter subgroup through q_a (detail::rotationLineJet), the
+  /// translation p_a + α Δp has derivatives Δp and 0.
+  template <int K>
+  static Point<Jet<K>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<K>& alpha)
   {
     const Vector3<double> omega = v.template head<3>();
     const Vector3<double> dp = v.template tail<3>();
     const Quaternion<double> q = a.q * so3Exp(Vector3<double>(omega * alpha.value()));
-    return Point<Jet<2>>(detail::rotationLineJet(q, omega, alpha),
+    return Point<Jet<K>>(detail::rotationLineJet(q, omega, alpha),
                          detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(), alpha));
   }
   /// kinematicsFromJet(expLine(a, v, α)) in closed form, without the quaternion jets: the rotation
@@ -210,17 +211,35 @@ inline Pose<double> geodesic<DoubleGeodesicSe3, double>(const Pose<double>& a, c
   return Pose<double>(so3Slerp(a.q, b.q, lambda), a.p + lambda * (b.p - a.p));
 }
 
+namespace detail
+{
 /// The double-geodesic step between jet poses (levels ≥ 2 of the recursions when derivatives
 /// are sampled): the rotation by so3SlerpJet, else (a far extrapolation at a small angle) by the
 /// Log → Exp jet path; the translation on its line.
+template <int K>
+Pose<Jet<K>> doubleGeodesicJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& lambda)
+{
+  Quaternion<Jet<K>> q;
+  if (!so3SlerpJet(a.q, b.q, lambda, &q))
+    q = a.q * so3Exp(Vector3<Jet<K>>(so3Log(Quaternion<Jet<K>>(a.q.conjugate() * b.q)) * lambda));
+  return Pose<Jet<K>>(q, a.p + lambda * (b.p - a.p));
+}
+}  // namespace detail
+
+/// detail::doubleGeodesicJet at first order (the speeds of the path's length, analysis/figures.h).
+template <>
+inline Pose<Jet<1>> geodesic<DoubleGeodesicSe3, Jet<1>>(const Pose<Jet<1>>& a, const Pose<Jet<1>>& b,
+                                                        const Jet<1>& lambda)
+{
+  return detail::doubleGeodesicJet(a, b, lambda);
+}
+
+/// detail::doubleGeodesicJet at second order.
 template <>
 inline Pose<Jet<2>> geodesic<DoubleGeodesicSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b,
                                                         const Jet<2>& lambda)
 {
-  Quaternion<Jet<2>> q;
-  if (!so3SlerpJet(a.q, b.q, lambda, &q))
-    q = a.q * so3Exp(Vector3<Jet<2>>(so3Log(Quaternion<Jet<2>>(a.q.conjugate() * b.q)) * lambda));
-  return Pose<Jet<2>>(q, a.p + lambda * (b.p - a.p));
+  return detail::doubleGeodesicJet(a, b, lambda);
 }
 
 }  // namespace se3_interpolation

@@ -33,15 +33,16 @@ struct ScrewSe3 : PoseGeometryTypes
   {
     return a * se3Exp(v);
   }
-  /// exp(a, α v) at a second-order jet α of time, constant a and v, in closed form: g(α) =
-  /// a Exp(α ξ) is a one-parameter subgroup through a, dg/dα = g ξ^ and d²g/dα² = g ξ^ ξ^, i.e.
-  /// (quaternion, translation) derivatives (q (0, ω/2), R v) and (−|ω|²/4 q, R (ω × v)).
-  static Point<Jet<2>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<2>& alpha)
+  /// exp(a, α v) at a jet α of time (first or second order), constant a and v, in closed form:
+  /// g(α) = a Exp(α ξ) is a one-parameter subgroup through a, dg/dα = g ξ^ and d²g/dα² = g ξ^ ξ^,
+  /// i.e. (quaternion, translation) derivatives (q (0, ω/2), R v) and (−|ω|²/4 q, R (ω × v)).
+  template <int K>
+  static Point<Jet<K>> expLine(const Point<double>& a, const Tangent<double>& v, const Jet<K>& alpha)
   {
     const Point<double> g = a * se3Exp(Tangent<double>(v * alpha.value()));
     const Vector3<double> omega = v.template head<3>();
     const Vector3<double> lin = v.template tail<3>();
-    return Point<Jet<2>>(detail::rotationLineJet(g.q, omega, alpha),
+    return Point<Jet<K>>(detail::rotationLineJet(g.q, omega, alpha),
                          detail::vectorJet(g.p, g.q * lin, g.q * Vector3<double>(omega.cross(lin)), alpha));
   }
   /// kinematicsFromJet(expLine(a, v, α)) in closed form, without the quaternion jets: with g = a Exp(α ξ),
@@ -114,11 +115,12 @@ template <int K>
 constexpr double kScrewSlerpJetMinSine2 = K <= 2 ? kSlerpJetMinSine2 : 1e-2;
 
 /// B = (μ sin φ − sin μφ)/(2 sin³φ) (screwSlerpJet's translation weight, μ = 2λ − 1) from x = φ²:
-/// μ sin φ − sin μφ = φ³ Σ_{k≥1} (−1)^k μ (1 − μ^{2k}) x^{k−1}/(2k+1)! and sin φ = φ sinSqrtRatio(x),
+/// μ sin φ − sin μφ = φ³ Σ_{k≥1} (−1)^k μ (1 − μ^{2k}) x^{k−1}/(2k+1)! and sin φ = φ sinSqrtRatio(x)
+/// (phi_over_sin = 1/sinSqrtRatio(x)),
 /// with 1 − μ^{2k} = (1 − μ²)(1 + μ² + … + μ^{2(k−1)}) summed without cancellation. Seven terms:
 /// the first left out is below 1e-19 for μ²x ≤ kSlerpSeriesMaxArgument.
 template <int K>
-Jet<K> screwTranslationSeriesB(const Jet<K>& mu, const Jet<K>& x, const Jet<K>& sinc_x)
+Jet<K> screwTranslationSeriesB(const Jet<K>& mu, const Jet<K>& x, const Jet<K>& phi_over_sin)
 {
   using J = Jet<K>;
   static constexpr double kInverseOddFactorial[] = { 1.0 / 6.0,        1.0 / 120.0,       1.0 / 5040.0,
@@ -137,7 +139,7 @@ Jet<K> screwTranslationSeriesB(const Jet<K>& mu, const Jet<K>& x, const Jet<K>& 
     const double sign = k % 2 == 0 ? -1.0 : 1.0;
     sum = sum * x + g[k] * (sign * kInverseOddFactorial[k]);
   }
-  return mu * (J(1.0) - m) * sum / (J(2.0) * sinc_x * sinc_x * sinc_x);
+  return mu * (J(1.0) - m) * sum * (phi_over_sin * phi_over_sin * phi_over_sin * 0.5);
 }
 
 /// The screw step between jet poses in slerp form (the jet specialisations of geodesic below). A screw
@@ -162,15 +164,15 @@ bool screwSlerpJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& l
   // u = sign vec(q_b q_a*) = sign (w_a v_b − w_b v_a + v_a × v_b).
   const Vector3<J> va = a.q.vec();
   const Vector3<J> vb = b.q.vec();
-  const Vector3<J> u = (a.q.w() * vb - b.q.w() * va + va.cross(vb)) * J(k.sign);
+  const Vector3<J> u = (a.q.w() * vb - b.q.w() * va + va.cross(vb)) * k.sign;
   const Vector3<J> delta = b.p - a.p;
   J coefficient_a;
   J coefficient_b;
   if (k.series)
   {
     const J mu = lambda * 2.0 - 1.0;
-    coefficient_a = (detail::sinRatioSeries(mu, k.x, k.sinc_x) + 1.0) * 0.5;
-    coefficient_b = screwTranslationSeriesB(mu, k.x, k.sinc_x);
+    coefficient_a = (detail::sinRatioSeries(mu, k.x, k.phi_over_sin) + 1.0) * 0.5;
+    coefficient_b = screwTranslationSeriesB(mu, k.x, k.phi_over_sin);
   }
   else
   {
@@ -298,6 +300,13 @@ Pose<Jet<K>> screwGeodesicJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, cons
 /// detail::screwGeodesicJet).
 template <>
 inline Pose<Jet<2>> geodesic<ScrewSe3, Jet<2>>(const Pose<Jet<2>>& a, const Pose<Jet<2>>& b, const Jet<2>& lambda)
+{
+  return detail::screwGeodesicJet(a, b, lambda);
+}
+
+/// The screw step between first-order jet poses (the speeds of the path's length, analysis/figures.h).
+template <>
+inline Pose<Jet<1>> geodesic<ScrewSe3, Jet<1>>(const Pose<Jet<1>>& a, const Pose<Jet<1>>& b, const Jet<1>& lambda)
 {
   return detail::screwGeodesicJet(a, b, lambda);
 }

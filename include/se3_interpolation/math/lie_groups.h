@@ -338,12 +338,12 @@ S sinSqrtRatio(const S& z)
   return horner(z, k);
 }
 
-/// sin(νφ)/sin φ from ν and x = φ²: ν sinSqrtRatio(ν² x)/sinSqrtRatio(x) (a slerp weight, and
-/// even in φ, so a function of φ² without the removable singularity at φ = 0).
+/// sin(νφ)/sin φ from ν, x = φ² and 1/sinSqrtRatio(x) = φ/sin φ: ν sinSqrtRatio(ν² x) φ/sin φ (a
+/// slerp weight, and even in φ, so a function of φ² without the removable singularity at φ = 0).
 template <class S>
-S sinRatioSeries(const S& nu, const S& x, const S& sinc_x)
+S sinRatioSeries(const S& nu, const S& x, const S& phi_over_sin)
 {
-  return nu * sinSqrtRatio(S(nu * nu * x)) / sinc_x;
+  return nu * sinSqrtRatio(S(nu * nu * x)) * phi_over_sin;
 }
 }  // namespace detail
 
@@ -358,8 +358,8 @@ struct SlerpJetWeights
   Jet<K> w;       ///< cos φ
   Jet<K> n2;      ///< sin² φ
   Jet<K> c;       ///< cos λφ (closed form only)
-  Jet<K> x;       ///< φ² (series only)
-  Jet<K> sinc_x;  ///< sin φ/φ = sinSqrtRatio(x) (series only)
+  Jet<K> x;             ///< φ² (series only)
+  Jet<K> phi_over_sin;  ///< φ/sin φ = 1/sinSqrtRatio(x) (series only)
   bool series = false;
   double sign = 1.0;
 };
@@ -402,9 +402,9 @@ SE3_JET_INLINE bool slerpJetWeights(const Quaternion<Jet<K>>& qa, const Quaterni
   const double reach = std::max({ l * l, (1.0 - l) * (1.0 - l), (2.0 * l - 1.0) * (2.0 * l - 1.0) });
   if (!(reach * out->x.value() <= kSlerpSeriesMaxArgument))
     return false;
-  out->sinc_x = detail::sinSqrtRatio(out->x);
-  out->kb = detail::sinRatioSeries(lambda, out->x, out->sinc_x);
-  out->ka = detail::sinRatioSeries(J(J(1.0) - lambda), out->x, out->sinc_x);
+  out->phi_over_sin = J(1.0) / detail::sinSqrtRatio(out->x);
+  out->kb = detail::sinRatioSeries(lambda, out->x, out->phi_over_sin);
+  out->ka = detail::sinRatioSeries(J(J(1.0) - lambda), out->x, out->phi_over_sin);
   out->series = true;
   return true;
 }
@@ -475,6 +475,24 @@ struct Pose
   }
 };
 
+/// a · b for a constant pose a and a jet pose b: (q_a q_b, R_a p_b + p_a) with products of a double
+/// and a jet only (a jet × jet product costs twice as much).
+template <int K>
+Pose<Jet<K>> constantTimes(const Pose<double>& a, const Pose<Jet<K>>& b)
+{
+  const Quaternion<double>& q = a.q;
+  const Quaternion<Jet<K>>& r = b.q;
+  const Quaternion<Jet<K>> product(r.w() * q.w() - r.x() * q.x() - r.y() * q.y() - r.z() * q.z(),
+                                   r.x() * q.w() + r.w() * q.x() + r.z() * q.y() - r.y() * q.z(),
+                                   r.y() * q.w() - r.z() * q.x() + r.w() * q.y() + r.x() * q.z(),
+                                   r.z() * q.w() + r.y() * q.x() - r.x() * q.y() + r.w() * q.z());
+  const Eigen::Matrix3d rotation = q.toRotationMatrix();
+  Vector3<Jet<K>> p;
+  for (int i = 0; i < 3; ++i)
+    p[i] = b.p[0] * rotation(i, 0) + b.p[1] * rotation(i, 1) + b.p[2] * rotation(i, 2) + a.p[i];
+  return Pose<Jet<K>>(product, p);
+}
+
 /// V(ω) v (left Jacobian of SO(3) applied to v).
 template <class S>
 Vector3<S> screwV(const Vector3<S>& omega, const Vector3<S>& v)
@@ -541,35 +559,40 @@ Eigen::Matrix<S, 3, 3> hat(const Vector3<S>& w)
 // with x, L constant and α a jet of time: closed forms, no jet × jet products).
 namespace detail
 {
-/// The second-order jet of f(α(t)) from f, f' and f'' at α_0 = α(t_0) (Faà di Bruno at order 2:
-/// c_1 = α_1 f', c_2 = α_2 f' + α_1² f''/2, with α = (α_0, α_1, α_2) the jet's coefficients).
-inline Jet<2> composeJet(double f, double d1, double d2, const Jet<2>& alpha)
+/// The jet of f(α(t)) from f, f' and f'' at α_0 = α(t_0) (Faà di Bruno at order 2:
+/// c_1 = α_1 f', c_2 = α_2 f' + α_1² f''/2, with α = (α_0, α_1, α_2) the jet's coefficients; a
+/// first-order jet keeps c_0 and c_1).
+template <int K>
+Jet<K> composeJet(double f, double d1, double d2, const Jet<K>& alpha)
 {
-  Jet<2> r{ Jet<2>::NoInit{} };
+  static_assert(K == 1 || K == 2, "jets along a subgroup are written to second order");
+  Jet<K> r{ typename Jet<K>::NoInit{} };
   const double a1 = alpha.coefficient(1);
   r.coefficient(0) = f;
   r.coefficient(1) = a1 * d1;
-  r.coefficient(2) = alpha.coefficient(2) * d1 + 0.5 * a1 * a1 * d2;
+  if constexpr (K == 2)
+    r.coefficient(2) = alpha.coefficient(2) * d1 + 0.5 * a1 * a1 * d2;
   return r;
 }
 
 /// The jet of a rotation q(α(t)) = q_a Exp(α ω) with constant q_a and ω: along a one-parameter
 /// subgroup dq/dα = q (0, ω/2) and d²q/dα² = q (0, ω/2)² = −(|ω|²/4) q, so the jet needs one
 /// double evaluation of q and one quaternion product of doubles (no jet × jet products).
-inline Quaternion<Jet<2>> rotationLineJet(const Quaternion<double>& q, const Vector3<double>& omega,
-                                          const Jet<2>& alpha)
+template <int K>
+Quaternion<Jet<K>> rotationLineJet(const Quaternion<double>& q, const Vector3<double>& omega, const Jet<K>& alpha)
 {
   const Quaternion<double> d1 = q * Quaternion<double>(0.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z());
   const double k2 = -0.25 * omega.squaredNorm();
-  return Quaternion<Jet<2>>(composeJet(q.w(), d1.w(), k2 * q.w(), alpha), composeJet(q.x(), d1.x(), k2 * q.x(), alpha),
+  return Quaternion<Jet<K>>(composeJet(q.w(), d1.w(), k2 * q.w(), alpha), composeJet(q.x(), d1.x(), k2 * q.x(), alpha),
                             composeJet(q.y(), d1.y(), k2 * q.y(), alpha), composeJet(q.z(), d1.z(), k2 * q.z(), alpha));
 }
 
 /// The jet of a vector p(α(t)) from p, dp/dα and d²p/dα² at α_0.
-inline Vector3<Jet<2>> vectorJet(const Vector3<double>& p, const Vector3<double>& d1, const Vector3<double>& d2,
-                                 const Jet<2>& alpha)
+template <int K>
+Vector3<Jet<K>> vectorJet(const Vector3<double>& p, const Vector3<double>& d1, const Vector3<double>& d2,
+                          const Jet<K>& alpha)
 {
-  return Vector3<Jet<2>>(composeJet(p.x(), d1.x(), d2.x(), alpha), composeJet(p.y(), d1.y(), d2.y(), alpha),
+  return Vector3<Jet<K>>(composeJet(p.x(), d1.x(), d2.x(), alpha), composeJet(p.y(), d1.y(), d2.y(), alpha),
                          composeJet(p.z(), d1.z(), d2.z(), alpha));
 }
 }  // namespace detail

@@ -290,3 +290,38 @@ TYPED_TEST(FiguresSe3, LengthsAloneAgreeWithTheChordSums)
     }
   }
 }
+
+TYPED_TEST(FiguresSe3, SpeedsFromFirstOrderJetsAreTheKinematicsSpeeds)
+{
+  // speedsAt (measureLengths' evaluation: the curve's first-order jets, or the second-order ones
+  // truncated for a curve without them, here a time-scaled wrapper) against |ṗ| and |ω| of
+  // kinematicsAt, on both sides of every breakpoint and between them.
+  using G = TypeParam;
+  std::mt19937 rng(906);
+  std::vector<Pose<double>> pts{ randomPose(rng, 2.0) };
+  std::vector<double> times{ 0.0 };
+  for (int i = 1; i < 8; ++i)
+  {
+    pts.push_back(pts.back() * Pose<double>(so3Exp<double>(1.5 * randomUnitVector<3>(rng)), randomUnitVector<3>(rng)));
+    times.push_back(times.back() + (i % 2 == 0 ? 2.0 : 0.01));
+  }
+  const auto blended = std::make_shared<CornerBlendedGeodesic<G>>(pts, times, 0.4, 0.7);
+  const auto spline = std::make_shared<BSplineCurve<G>>(pts, 3, randomKnots(rng, pts.size(), 3, true));
+  const TimeScaledCurve<G> scaled(spline, 2.5);
+  for (const Curve<G>* curve : { static_cast<const Curve<G>*>(blended.get()), static_cast<const Curve<G>*>(spline.get()),
+                                 static_cast<const Curve<G>*>(&scaled) })
+  {
+    std::vector<double> ts = curve->breakpoints();
+    for (std::size_t i = 0; i + 1 < curve->breakpoints().size(); ++i)
+      for (double f : { 0.1, 0.5, 0.93 })
+        ts.push_back(curve->breakpoints()[i] + f * (curve->breakpoints()[i + 1] - curve->breakpoints()[i]));
+    for (double t : ts)
+      for (const Side side : { Side::kLeft, Side::kRight })
+      {
+        const Rates fast = speedsAt(*curve, t, side);
+        const Rates full = rates(kinematicsAt(*curve, t, side));
+        EXPECT_NEAR(fast[kLinearSpeed], full[kLinearSpeed], 1e-12 * (1.0 + full[kLinearSpeed])) << "t " << t;
+        EXPECT_NEAR(fast[kAngularSpeed], full[kAngularSpeed], 1e-12 * (1.0 + full[kAngularSpeed])) << "t " << t;
+      }
+  }
+}

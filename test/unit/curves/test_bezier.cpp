@@ -127,6 +127,18 @@ TYPED_TEST(GeometryTest, ClosedFormFirstLevelJetMatchesJetArithmetic)
       EXPECT_LE(jetPoseDifference(closed, generic), 1e-12) << "angle " << angle << " i " << i;
       EXPECT_LE(kinematicsDifference(G::expLineKinematics(a, log, alpha), kinematicsFromJet(generic)), 1e-12)
           << "angle " << angle << " i " << i;
+      // The first-order closed form: the value and first coefficient of the generic second-order jet.
+      Jet<1> alpha1(alpha.value());
+      alpha1.coefficient(1) = alpha.coefficient(1);
+      const Pose<Jet<1>> closed1 = geodesicFromLog<G>(a, log, alpha1);
+      for (int k = 0; k <= 1; ++k)
+      {
+        for (int c = 0; c < 4; ++c)
+          EXPECT_NEAR(closed1.q.coeffs()[c].coefficient(k), generic.q.coeffs()[c].coefficient(k), 1e-12)
+              << "angle " << angle << " i " << i;
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(closed1.p[c].coefficient(k), generic.p[c].coefficient(k), 1e-12) << "angle " << angle << " i " << i;
+      }
     }
 }
 

@@ -153,6 +153,39 @@ TEST(Se3, PoseCompositionAndInverse)
   }
 }
 
+TEST(Se3, ConstantTimesJetPoseIsTheMatrixProductOfTheJets)
+{
+  // constantTimes(a, b) coefficient by coefficient against the 4×4 matrices: a's times each of b's
+  // jet coefficients (the product is linear in b).
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 50; ++i)
+  {
+    const Pose<double> a = test::randomPose(rng);
+    Pose<Jet<2>> b = test::randomPose(rng).cast<Jet<2>>();
+    for (int c = 0; c < 4; ++c)
+      for (int k = 1; k <= 2; ++k)
+        b.q.coeffs()[c].coefficient(k) = u(rng);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 1; k <= 2; ++k)
+        b.p[c].coefficient(k) = u(rng);
+    const Pose<Jet<2>> product = constantTimes(a, b);
+    for (int k = 0; k <= 2; ++k)
+    {
+      Eigen::Quaterniond qb(b.q.w().coefficient(k), b.q.x().coefficient(k), b.q.y().coefficient(k), b.q.z().coefficient(k));
+      const Eigen::Quaterniond expected_q = a.q * qb;
+      const Eigen::Vector3d pb(b.p[0].coefficient(k), b.p[1].coefficient(k), b.p[2].coefficient(k));
+      const Eigen::Vector3d expected_p = a.q.toRotationMatrix() * pb + (k == 0 ? a.p : Eigen::Vector3d::Zero());
+      EXPECT_NEAR(product.q.w().coefficient(k), expected_q.w(), 1e-14);
+      for (int c = 0; c < 3; ++c)
+      {
+        EXPECT_NEAR(product.q.vec()[c].coefficient(k), expected_q.vec()[c], 1e-14);
+        EXPECT_NEAR(product.p[c].coefficient(k), expected_p[c], 1e-13);
+      }
+    }
+  }
+}
+
 namespace
 {
 /// Interpolation parameters for the slerp tests: the ends, inside, and extrapolation.
