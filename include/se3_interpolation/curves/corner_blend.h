@@ -13,16 +13,22 @@
 //   * is C² with the constant-rate geodesic legs at both ends (pose, velocity, acceleration).
 // The interior waypoints are no longer passed through; the first and last are.
 //
-// Construction (written once over the geometry G):
-//   Path. The quartic geodesic Bézier curve (thesis Alg. 4.1.2) with control points
-//     c_0 = a_i, c_1 = midpoint of a_i x_i, c_2 = x_i, c_3 = midpoint of x_i b_i, c_4 = b_i,
-//   all on the two legs. Its k-jet at λ = 0 depends only on c_0 … c_k (the de Casteljau
-//   recursion β = interp_λ(P, Q) differentiated at λ = 0 involves P's k-jet and Q's
-//   (k−1)-jet, inductively); c_0, c_1, c_2 lie equally spaced on one geodesic, and the
-//   Bézier of equally spaced points on a geodesic is that geodesic traversed at constant
-//   rate (geodesic precision, Prop. 4.2.4), so at λ = 0 the curve has the 2-jet of
-//   λ ↦ geodesic(a_i, x_i)(2λ): velocity 4 Log(c_0, c_1) = 2 Log(a_i, x_i) (Prop. 4.2.8 /
-//   Crouch Thm 2.5) and zero geodesic acceleration (Crouch Thm 2.9); likewise at λ = 1.
+// Construction (written once over the geometry G), relative to the corner: both geometries are
+// invariant under left multiplication by a pose (Prop. 4.2.1), so β(t) = x_i · B(λ(t)).
+//   Path. With L_in = Log(e, x_i⁻¹ a_i) and L_out = Log(e, x_i⁻¹ b_i) (the legs from the corner
+//   are the one-parameter subgroups α ↦ exp(e, α L), so L_in = s_in Log(e, x_i⁻¹ x_{i−1}) for the
+//   leg parameter s_in of a_i, likewise L_out), the blend is the quartic Bézier curve in the
+//   exponential chart at the corner with the control points a_i, the midpoint of a_i x_i, x_i,
+//   the midpoint of x_i b_i and b_i, whose logs are L_in, L_in/2, 0, L_out/2, L_out:
+//     B(λ) = exp(e, α(λ) L_in + β(λ) L_out),   α = B₀ + B₁/2 = (1 − λ)³(1 + λ),
+//                                              β = B₃/2 + B₄ = λ³(2 − λ) = α(1 − λ)
+//   (B_k the quartic Bernstein polynomials). α = 1 − 2λ + 2λ³ − λ⁴ and β = O(λ³), so at λ = 0
+//   the curve has the 2-jet of λ ↦ exp(e, (1 − 2λ) L_in), the incoming leg from a_i at constant
+//   rate 2 L_in with zero geodesic acceleration (exp of a perturbation O(λ³) changes only the
+//   third and higher derivatives); by the symmetry β(λ) = α(1 − λ), at λ = 1 the outgoing leg's
+//   2-jet, exp(e, (2λ − 1) L_out). A collinear corner at one speed (L_out = −L_in) gives
+//   exp(e, (1 − 2λ) L_in): the leg itself. One exp per point, in closed form in every geometry,
+//   and bi-invariant for screw (Ad commutes with the linear combination).
 //   Timing. The legs move at constant rate: Log(a_i, x_i) in τ_in, Log(x_i, b_i) in τ_out.
 //   So dλ/dt must be 1/(2τ_in) at the start and 1/(2τ_out) at the end, with d²λ/dt² = 0 at
 //   both ends. With t = ψ(λ) = t_i − τ_in + 2τ_in λ + 2(τ_out − τ_in)(λ³ − λ⁴/2):
@@ -33,36 +39,22 @@
 //   arithmetic give its exact first and second derivatives (each step doubles the number
 //   of correct Taylor coefficients; implicit function theorem), so derivatives stay
 //   analytic.
-//   The classical construction in Rⁿ (pure translations): the Euclidean quartic Bézier
-//   curve with the control points above, at λ = ψ⁻¹(t); when τ_in = τ_out it is the quintic
-//   Hermite interpolant with zero end accelerations (its degree elevation has the quintic's
-//   control points a, a + 2v τ/5, a + 4v τ/5, …).
-//   Within the ball. In Rⁿ the curve lies in the convex hull of its control points, inside
-//   the ball of radius r_i. For double_geodesic the squared chord distance to x_i is the
-//   squared Riemannian distance of the product metric SO(3) × R³, convex along its geodesics
-//   where the rotation angles stay below π (here below π/2: every control point is at most
-//   half a leg from x_i), so each de Casteljau level stays in the ball. For screw (whose
-//   geodesics are helices, not straight lines) this is checked by the tests, not proven.
-//
-// Evaluation. The de Casteljau triangle of these control points has six of its ten steps
-// between two points of one leg. Relative to the corner (below) a leg is the one-parameter
-// subgroup α ↦ exp(e, α m) (m = Log(e, x_i⁻¹ x_{i±1})), and the geodesic between two of its
-// points is that subgroup again, exp(e, ((1 − λ) α₀ + λ α₁) m) (the requirement on G below). With
-// c_0, c_1, c_2 = exp(e, s_in m_in), exp(e, s_in m_in/2), e and c_2, c_3, c_4 = e,
-// exp(e, s_out m_out/2), exp(e, s_out m_out):
-//   level 1   β¹_1 = exp(e, (1 − λ) s_in m_in/2),   β¹_2 = exp(e, λ s_out m_out/2),
-//   level 2   β²_0 = exp(e, (1 − λ) s_in m_in),     β²_2 = exp(e, λ s_out m_out)
-//             (e.g. (1 − λ)(1 − λ/2) + λ (1 − λ)/2 = 1 − λ),   β²_1 = γ(β¹_1, β¹_2; λ),
-//   levels 3, 4   γ(β²_0, β²_1; λ), γ(β²_1, β²_2; λ) and the step between those,
-// γ(P, Q; λ) = exp(P, λ Log(P, Q)): four general steps and four along a leg instead of the
-// triangle's ten general ones, for the same curve.
-// Numerics. The blend is evaluated relative to its corner: both geometries are invariant
-// under left multiplication by a pose (Prop. 4.2.1), so β(t) = x_i · B(λ(t)) with B the
-// Bézier of the control points x_i⁻¹ c_k, all on subgroups from the identity. Differences of
-// nearby absolute poses never enter, so a blend of radius 1e−12 m keeps full relative precision.
+//   The classical construction in Rⁿ (pure translations): the chart is Rⁿ itself, so this is
+//   the Euclidean quartic Bézier curve with the control points above, at λ = ψ⁻¹(t); when
+//   τ_in = τ_out it is the quintic Hermite interpolant with zero end accelerations (its degree
+//   elevation has the quintic's control points a, a + 2v τ/5, a + 4v τ/5, …). Rotations about
+//   one axis likewise give the Euclidean quartic in the angle.
+//   Within the ball. α, β ≥ 0 and α + β ≤ 1. For double_geodesic exp(e, αL_in + βL_out) turns by
+//   at most α θ_in + β θ_out and translates by α Δp_in + β Δp_out, so by the triangle inequality
+//   in R⁴ its chord distance sqrt(|Δp|² + (ρθ)²) from the corner is at most α r_i + β r_i ≤ r_i.
+//   For screw (whose exp turns the translation, V(ω) v) this is checked by the tests, not proven.
+// Numerics. Differences of nearby absolute poses never enter (the chart is at the corner and its
+// logs are exact multiples of the legs' logs from the corner), so a blend of radius 1e−12 m keeps
+// full relative precision.
 //
 // Requirements on G: Point = Pose<S>, invariant under left multiplication, tangents such
-// that Log(exp(e, s₁ v), exp(e, s₂ v)) = (s₂ − s₁) v (ScrewSe3, DoubleGeodesicSe3).
+// that Log(e, exp(e, s v)) = s v for the legs' parameters s ≤ 1/2 (ScrewSe3, DoubleGeodesicSe3),
+// and G::expFromIdentity.
 #pragma once
 
 #include <algorithm>
@@ -263,8 +255,8 @@ private:
     Point corner_point;
     double tau_in = 0.0;
     double tau_out = 0.0;
-    Tangent leg_in;   ///< s_in m_in: Log(e, x_i⁻¹ c_0), the blend's start from the corner
-    Tangent leg_out;  ///< s_out m_out: Log(e, x_i⁻¹ c_4), its end
+    Tangent leg_in;   ///< L_in = s_in m_in = Log(e, x_i⁻¹ a_i), the blend's start from the corner
+    Tangent leg_out;  ///< L_out = s_out m_out = Log(e, x_i⁻¹ b_i), its end
   };
   /// A piece between consecutive breakpoints: a part of leg `segment` or blend `blend`.
   struct Piece
@@ -296,19 +288,17 @@ private:
     }
   }
 
-  /// B(λ) = x_i⁻¹ β: the quartic's de Casteljau with the steps along a leg in closed form (see
-  /// "Evaluation" above).
+  /// B(λ) = x_i⁻¹ β = exp(e, α(λ) L_in + β(λ) L_out) (see "Construction" above).
   template <class S>
   static PointT<S> blendFromCorner(const Blend& b, const S& lambda)
   {
-    const Point e = Point::Identity();
     const S rest = S(1.0) - lambda;
-    const PointT<S> in_half = geodesicFromLog<G>(e, b.leg_in, S(rest * 0.5));     // β¹_1
-    const PointT<S> out_half = geodesicFromLog<G>(e, b.leg_out, S(lambda * 0.5));  // β¹_2
-    const PointT<S> in_level2 = geodesicFromLog<G>(e, b.leg_in, rest);            // β²_0
-    const PointT<S> out_level2 = geodesicFromLog<G>(e, b.leg_out, lambda);         // β²_2
-    const PointT<S> middle = geodesic<G>(in_half, out_half, lambda);               // β²_1
-    return geodesic<G>(geodesic<G>(in_level2, middle, lambda), geodesic<G>(middle, out_level2, lambda), lambda);
+    const S in_weight = rest * rest * rest * (S(1.0) + lambda);          // α = (1 − λ)³(1 + λ)
+    const S out_weight = lambda * lambda * lambda * (S(2.0) - lambda);  // β = λ³(2 − λ)
+    typename G::template Tangent<S> log;
+    for (int k = 0; k < 6; ++k)
+      log[k] = in_weight * b.leg_in[k] + out_weight * b.leg_out[k];
+    return G::expFromIdentity(log);
   }
 
   /// λ = ψ⁻¹(t) for u = t − (t_i − τ_in): Newton in double, then two Newton steps in S.

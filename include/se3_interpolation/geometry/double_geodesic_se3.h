@@ -33,6 +33,12 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
   {
     return Point<S>(a.q * so3Exp(Vector3<S>(v.template head<3>())), a.p + v.template tail<3>());
   }
+  /// exp(e, v) from the identity, without the product with it.
+  template <class S>
+  static Point<S> expFromIdentity(const Tangent<S>& v)
+  {
+    return Point<S>(so3Exp(Vector3<S>(v.template head<3>())), Vector3<S>(v.template tail<3>()));
+  }
   /// exp(a, α v) at a jet α of time (first or second order), constant a and v, in closed form:
   /// the rotation is a one-parameter subgroup through q_a (detail::rotationLineJet), the
   /// translation p_a + α Δp has derivatives Δp and 0.

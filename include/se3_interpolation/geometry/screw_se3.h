@@ -33,6 +33,12 @@ struct ScrewSe3 : PoseGeometryTypes
   {
     return a * se3Exp(v);
   }
+  /// exp(e, v) from the identity, without the product with it.
+  template <class S>
+  static Point<S> expFromIdentity(const Tangent<S>& v)
+  {
+    return se3Exp(v);
+  }
   /// exp(a, α v) at a jet α of time (first or second order), constant a and v, in closed form:
   /// g(α) = a Exp(α ξ) is a one-parameter subgroup through a, dg/dα = g ξ^ and d²g/dα² = g ξ^ ξ^,
   /// i.e. (quaternion, translation) derivatives (q (0, ω/2), R v) and (−|ω|²/4 q, R (ω × v)).
