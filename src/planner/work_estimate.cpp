@@ -37,9 +37,11 @@ constexpr double kTimeOptimalUnitsPerInterval = 3.0;
 /// time_optimal's time per unit grows with its grid: the passes stream the grid's per-interval data
 /// (controllable sets, path jets), which outgrows the caches. bench_work_estimate measured the time
 /// per estimated unit at 100 waypoints 0.7 times, at 10⁴ 1.1 to 2.5 times that at 10³ (every family,
-/// both geometries); the units of the timing are scaled by (G / G₁₀₀₀)^0.15, G its grid intervals and
-/// G₁₀₀₀ those of a curve of 1000 pieces (the calibration's size).
-constexpr double kTimeOptimalGridExponent = 0.15;
+/// both geometries, on a loaded machine); on an idle one, after the path jets became cheaper, the
+/// time of 10⁴ waypoints was 9.4 to 13.3 times that of 10³. The units of the timing are scaled by
+/// (G / G₁₀₀₀)^0.1, G its grid intervals and G₁₀₀₀ those of a curve of 1000 pieces (the
+/// calibration's size): 1.26 at 10⁴ waypoints.
+constexpr double kTimeOptimalGridExponent = 0.1;
 constexpr double kTimeOptimalReferenceIntervals = kTimeOptimalIntervalsPerPiece * 1000.0 + kTimeOptimalMinIntervals;
 
 /// The jerk-limited timing (timing/jerk_limited.h): up to three runs of the acceleration-only

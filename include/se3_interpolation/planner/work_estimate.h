@@ -25,7 +25,7 @@
 // blends in turn, and an evaluation costs PiecewiseGeodesicFamily::kBlendEvaluationCost (measured).
 // Timing adds (timing/time_optimal.h): time_optimal runs TOPP-RA on a grid of at most
 // G = 17 P + 512 intervals, with 6 G + 4096 curve evaluations and 3 units of its own (the
-// passes' bisections, the checks) per interval, all scaled by (G / 17 512)^0.15 (its time per unit
+// passes' bisections, the checks) per interval, all scaled by (G / 17 512)^0.1 (its time per unit
 // grows with the grid, which outgrows the caches; 17 512 intervals are those of 1000 pieces);
 // replanning (start_state) measures again on the curve joined to the start state: the figures
 // twice more under stretch (before and after the stretch, P pieces), the lengths once more under

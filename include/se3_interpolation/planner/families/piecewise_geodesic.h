@@ -17,9 +17,9 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   static constexpr CurveType kType = CurveType::kPiecewiseGeodesic;
   static constexpr const char* kName = "piecewise_geodesic";
   static constexpr unsigned kFields = kBlendRadiusField;
-  /// Work units of one evaluation of a corner-blended polyline (blend_radius), measured like
-  /// blended's 2: 1.7 us per evaluation over its legs and blends against blended's 1.3 us
-  /// (piecewise_geodesic alone: 0.08 us) on the loaded development machine.
+  /// Work units of one evaluation of a corner-blended polyline (blend_radius): its legs are one
+  /// geodesic step, its blends one exp and the blend parameter's Newton steps; the seconds per
+  /// unit of secondsPerUnit's corner-blend row are calibrated against this count.
   static constexpr double kBlendEvaluationCost = 3.0;
 
   /// @param r a validated request of the family
@@ -55,8 +55,8 @@ struct PiecewiseGeodesicFamily : CurveFamilyDefaults
   static SecondsPerUnit secondsPerUnit(const WorkShape& shape)
   {
     if (shape.corner_blends)
-      return { 1.54e-07, 1.16e-07, 3.54e-07, 1.78e-07 };
-    return { 7e-08, 3.14e-08, 7.74e-08, 4.71e-08 };
+      return { 3.54e-08, 4.01e-08, 4.89e-08, 4.8e-08 };
+    return { 3.7e-08, 2.62e-08, 7.3e-08, 3.62e-08 };
   }
 };
 
