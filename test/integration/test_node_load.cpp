@@ -48,13 +48,14 @@ const std::string kLimitParam = "/se3_interpolation_node/max_work_seconds";
 /// it passes the up-front check and only the deadline inside the computation (deadline.h) stops it:
 /// time_optimal timing of a corner-blended (blend_radius) screw polyline whose legs alternate
 /// between a rotation with a translation of ~0.5 m and the same kind of rotation with a
-/// translation of ~1e-8 m. 3000 waypoints: accepted by the estimate under the default limit of
-/// 1 s, measured 3.4 s through the CLI without a limit (over 3 times the limit), refused with "ran
-/// past its work limit" under the limit after 1.7 s. Sized again whenever the timing gets faster:
-/// 1000 waypoints with 1e-6 m legs took 3.3 s when this test was written, 1.5 s after the
-/// time-optimal timing's speed-ups, and then finished within the deadline of a CI run; 2000 took
-/// 4.1 s, and 2.2 s once the timings measured only the path's lengths.
-se3_interpolation::GenerateTrajectory overLimitRequest(int n = 3000)
+/// translation of ~1e-8 m. 15000 waypoints: accepted by the estimate under the default limit of
+/// 1 s, measured 3.4 s through the CLI without a limit (3.0 s of it generate(): 3 times the
+/// limit), refused with "ran past its work limit" under the limit after 1.5 s. Sized again
+/// whenever the timing gets faster: 1000 waypoints with 1e-6 m legs took 3.3 s when this test was
+/// written, 1.5 s after the time-optimal timing's speed-ups, and then finished within the deadline
+/// of a CI run; 2000 took 4.1 s, and 2.2 s once the timings measured only the path's lengths; 3000
+/// took 3.4 s, and 0.65 s once a corner blend became one exp per point.
+se3_interpolation::GenerateTrajectory overLimitRequest(int n = 15000)
 {
   se3_interpolation::GenerateTrajectory srv;
   srv.request.waypoints.header.frame_id = "map";
@@ -254,7 +255,7 @@ TEST(NodeLoad, RequestPastTheWorkLimitIsStoppedWhileAnotherClientIsServed)
   });
 
   auto heavy = overLimitRequest();
-  ASSERT_EQ(heavy.request.waypoints.poses.size(), 3000u);
+  ASSERT_EQ(heavy.request.waypoints.poses.size(), 15000u);
   const ros::WallTime start = ros::WallTime::now();
   const bool called = node_test::callService(kService, heavy);
   const double elapsed = (ros::WallTime::now() - start).toSec();

@@ -20,12 +20,12 @@
 //   leg parameter s_in of a_i, likewise L_out), the blend is the quartic Bézier curve in the
 //   exponential chart at the corner with the control points a_i, the midpoint of a_i x_i, x_i,
 //   the midpoint of x_i b_i and b_i, whose logs are L_in, L_in/2, 0, L_out/2, L_out:
-//     B(λ) = exp(e, α(λ) L_in + β(λ) L_out),   α = B₀ + B₁/2 = (1 − λ)³(1 + λ),
-//                                              β = B₃/2 + B₄ = λ³(2 − λ) = α(1 − λ)
-//   (B_k the quartic Bernstein polynomials). α = 1 − 2λ + 2λ³ − λ⁴ and β = O(λ³), so at λ = 0
+//     B(λ) = exp(e, w_in(λ) L_in + w_out(λ) L_out),   w_in = B₀ + B₁/2 = (1 − λ)³(1 + λ),
+//                                                     w_out = B₃/2 + B₄ = λ³(2 − λ) = w_in(1 − λ)
+//   (B_k the quartic Bernstein polynomials). w_in = 1 − 2λ + 2λ³ − λ⁴ and w_out = O(λ³), so at λ = 0
 //   the curve has the 2-jet of λ ↦ exp(e, (1 − 2λ) L_in), the incoming leg from a_i at constant
 //   rate 2 L_in with zero geodesic acceleration (exp of a perturbation O(λ³) changes only the
-//   third and higher derivatives); by the symmetry β(λ) = α(1 − λ), at λ = 1 the outgoing leg's
+//   third and higher derivatives); by the symmetry w_out(λ) = w_in(1 − λ), at λ = 1 the outgoing leg's
 //   2-jet, exp(e, (2λ − 1) L_out). A collinear corner at one speed (L_out = −L_in) gives
 //   exp(e, (1 − 2λ) L_in): the leg itself. One exp per point, in closed form in every geometry,
 //   and bi-invariant for screw (Ad commutes with the linear combination).
@@ -44,9 +44,10 @@
 //   τ_in = τ_out it is the quintic Hermite interpolant with zero end accelerations (its degree
 //   elevation has the quintic's control points a, a + 2v τ/5, a + 4v τ/5, …). Rotations about
 //   one axis likewise give the Euclidean quartic in the angle.
-//   Within the ball. α, β ≥ 0 and α + β ≤ 1. For double_geodesic exp(e, αL_in + βL_out) turns by
-//   at most α θ_in + β θ_out and translates by α Δp_in + β Δp_out, so by the triangle inequality
-//   in R⁴ its chord distance sqrt(|Δp|² + (ρθ)²) from the corner is at most α r_i + β r_i ≤ r_i.
+//   Within the ball. w_in, w_out ≥ 0 and w_in + w_out ≤ 1. For double_geodesic
+//   exp(e, w_in L_in + w_out L_out) turns by at most w_in θ_in + w_out θ_out and translates by
+//   w_in Δp_in + w_out Δp_out, so by the triangle inequality in R⁴ its chord distance
+//   sqrt(|Δp|² + (ρθ)²) from the corner is at most (w_in + w_out) r_i ≤ r_i.
 //   For screw (whose exp turns the translation, V(ω) v) this is checked by the tests, not proven.
 // Numerics. Differences of nearby absolute poses never enter (the chart is at the corner and its
 // logs are exact multiples of the legs' logs from the corner), so a blend of radius 1e−12 m keeps
@@ -288,13 +289,13 @@ private:
     }
   }
 
-  /// B(λ) = x_i⁻¹ β = exp(e, α(λ) L_in + β(λ) L_out) (see "Construction" above).
+  /// B(λ) = x_i⁻¹ β = exp(e, w_in(λ) L_in + w_out(λ) L_out) (see "Construction" above).
   template <class S>
   static PointT<S> blendFromCorner(const Blend& b, const S& lambda)
   {
     const S rest = S(1.0) - lambda;
-    const S in_weight = rest * rest * rest * (S(1.0) + lambda);          // α = (1 − λ)³(1 + λ)
-    const S out_weight = lambda * lambda * lambda * (S(2.0) - lambda);  // β = λ³(2 − λ)
+    const S in_weight = rest * rest * rest * (S(1.0) + lambda);          // w_in = (1 − λ)³(1 + λ)
+    const S out_weight = lambda * lambda * lambda * (S(2.0) - lambda);  // w_out = λ³(2 − λ)
     typename G::template Tangent<S> log;
     for (int k = 0; k < 6; ++k)
       log[k] = in_weight * b.leg_in[k] + out_weight * b.leg_out[k];
