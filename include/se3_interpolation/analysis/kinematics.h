@@ -104,7 +104,7 @@ inline Rates speedsFromJet(const Pose<Jet<1>>& x)
 
 /// The speeds |ṗ| and |ω| at t (the first two entries of rates(kinematicsAt(curve, t, side)), the
 /// others 0): kinematicsAt's closed forms where it has them, else the curve's first-order jets
-/// (jet1Of), about half the arithmetic of its second-order ones.
+/// (Curve::jet1), about half the arithmetic of its second-order ones.
 template <class G>
 Rates speedsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
@@ -118,7 +118,7 @@ Rates speedsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
     const Rates r = rates(kinematicsAt(curve, t, side));
     return { r[kLinearSpeed], r[kAngularSpeed], 0.0, 0.0 };
   }
-  return speedsFromJet(jet1Of(curve, Jet<1>::variable(t), side));
+  return speedsFromJet(curve.jet1(Jet<1>::variable(t), side));
 }
 
 /// The energy density |p̈|² + (ρ|ω̇|)² (Crouch et al. eq. 32 with the product metric; ρ the
@@ -139,7 +139,7 @@ inline Rates rates(const SphereKinematics& k)
 /// the curve's first-order jet in the angular channel.
 inline Rates speedsAt(const Curve<Sphere>& curve, double t, Side side = Side::kRight)
 {
-  const VectorX<Jet<1>> x = jet1Of(curve, Jet<1>::variable(t), side);
+  const VectorX<Jet<1>> x = curve.jet1(Jet<1>::variable(t), side);
   double speed2 = 0.0;
   for (Eigen::Index i = 0; i < x.size(); ++i)
     speed2 += x[i].coefficient(1) * x[i].coefficient(1);

@@ -76,15 +76,52 @@ enum class Side
   kRight
 };
 
+namespace detail
+{
+/// A second-order jet's value and first coefficient, for each point type of the geometries.
+inline Jet<1> firstOrderOf(const Jet<2>& x)
+{
+  Jet<1> r(x.value());
+  r.coefficient(1) = x.coefficient(1);
+  return r;
+}
+inline VectorX<Jet<1>> firstOrderOf(const VectorX<Jet<2>>& x)
+{
+  VectorX<Jet<1>> r(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    r[i] = firstOrderOf(x[i]);
+  return r;
+}
+inline Quaternion<Jet<1>> firstOrderOf(const Quaternion<Jet<2>>& q)
+{
+  return Quaternion<Jet<1>>(firstOrderOf(q.w()), firstOrderOf(q.x()), firstOrderOf(q.y()), firstOrderOf(q.z()));
+}
+inline Pose<Jet<1>> firstOrderOf(const Pose<Jet<2>>& x)
+{
+  return Pose<Jet<1>>(firstOrderOf(x.q), Vector3<Jet<1>>(firstOrderOf(x.p[0]), firstOrderOf(x.p[1]), firstOrderOf(x.p[2])));
+}
+}  // namespace detail
+
 template <class G>
 class Curve
 {
 public:
   using Point = typename G::template Point<double>;
+  using Jet1Point = typename G::template Point<Jet<1>>;
   using Jet2Point = typename G::template Point<Jet<2>>;
 
   virtual ~Curve() = default;
   virtual Point value(double t) const = 0;
+  /// The curve at a first-order jet of time (value and velocity), for the measures that need only
+  /// speeds (analysis/figures.h, measureLengths). Here the second-order jet at (t, ṫ, 0) with its
+  /// last coefficient dropped; every construction of CurveBase computes it directly, with about
+  /// half the arithmetic.
+  virtual Jet1Point jet1(const Jet<1>& t, Side side = Side::kRight) const
+  {
+    Jet<2> t2(t.value());
+    t2.coefficient(1) = t.coefficient(1);
+    return detail::firstOrderOf(jet(t2, side));
+  }
   /// The curve at a second-order jet of time: value, velocity and acceleration.
   virtual Jet2Point jet(const Jet<2>& t, Side side = Side::kRight) const = 0;
   virtual double startTime() const = 0;
@@ -120,66 +157,14 @@ typename ThirdOrderJets<G>::Jet3Point jet3Of(const Curve<G>& curve, const Jet<3>
   return jets->jet3(t, side);
 }
 
-/// The first-order jets of a curve (value and velocity), for the measures that need only speeds
-/// (analysis/figures.h, measureLengths): about half the arithmetic of a second-order jet. Every
-/// construction of CurveBase provides them; jet1Of truncates the second-order jet of any other curve.
-template <class G>
-class FirstOrderJets
-{
-public:
-  using Jet1Point = typename G::template Point<Jet<1>>;
-
-  virtual ~FirstOrderJets() = default;
-  /// The curve at a first-order jet of time (one-sided at a breakpoint).
-  virtual Jet1Point jet1(const Jet<1>& t, Side side) const = 0;
-};
-
-namespace detail
-{
-/// A second-order jet's value and first coefficient, for each point type of the geometries.
-inline Jet<1> firstOrderOf(const Jet<2>& x)
-{
-  Jet<1> r(x.value());
-  r.coefficient(1) = x.coefficient(1);
-  return r;
-}
-inline VectorX<Jet<1>> firstOrderOf(const VectorX<Jet<2>>& x)
-{
-  VectorX<Jet<1>> r(x.size());
-  for (Eigen::Index i = 0; i < x.size(); ++i)
-    r[i] = firstOrderOf(x[i]);
-  return r;
-}
-inline Quaternion<Jet<1>> firstOrderOf(const Quaternion<Jet<2>>& q)
-{
-  return Quaternion<Jet<1>>(firstOrderOf(q.w()), firstOrderOf(q.x()), firstOrderOf(q.y()), firstOrderOf(q.z()));
-}
-inline Pose<Jet<1>> firstOrderOf(const Pose<Jet<2>>& x)
-{
-  return Pose<Jet<1>>(firstOrderOf(x.q), Vector3<Jet<1>>(firstOrderOf(x.p[0]), firstOrderOf(x.p[1]), firstOrderOf(x.p[2])));
-}
-}  // namespace detail
-
-/// The first-order jet of a curve at t: its own (FirstOrderJets) where it has them, else its
-/// second-order jet at (t, ṫ, 0) with the last coefficient dropped.
-template <class G>
-typename FirstOrderJets<G>::Jet1Point jet1Of(const Curve<G>& curve, const Jet<1>& t, Side side)
-{
-  if (const auto* jets = dynamic_cast<const FirstOrderJets<G>*>(&curve))
-    return jets->jet1(t, side);
-  Jet<2> t2(t.value());
-  t2.coefficient(1) = t.coefficient(1);
-  return detail::firstOrderOf(curve.jet(t2, side));
-}
-
 /// CRTP adapter: Derived provides `template <class S> Point<S> evaluate(const S& t, Side) const`.
 template <class G, class Derived>
-class CurveBase : public Curve<G>, public FirstOrderJets<G>, public ThirdOrderJets<G>
+class CurveBase : public Curve<G>, public ThirdOrderJets<G>
 {
 public:
   using typename Curve<G>::Point;
+  using typename Curve<G>::Jet1Point;
   using typename Curve<G>::Jet2Point;
-  using typename FirstOrderJets<G>::Jet1Point;
   using typename ThirdOrderJets<G>::Jet3Point;
 
   Point value(double t) const final { return self().template evaluate<double>(t, Side::kRight); }

@@ -45,7 +45,7 @@ typename G::template Point<double> evaluateAt(const Curve<G>& c, double t, Side 
 template <class G>
 typename G::template Point<Jet<1>> evaluateAt(const Curve<G>& c, const Jet<1>& t, Side side)
 {
-  return jet1Of(c, t, side);
+  return c.jet1(t, side);
 }
 template <class G>
 typename G::template Point<Jet<2>> evaluateAt(const Curve<G>& c, const Jet<2>& t, Side side)
