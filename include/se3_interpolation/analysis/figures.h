@@ -397,9 +397,8 @@ inline std::size_t lengthSubintervalsPerPiece(std::size_t pieces)
 /// analytic piece (kFigureSubintervals in all at least), halved by measureCurve's rule where a
 /// channel's speed at the nodes and ends varies by more than kFigureSpeedRatio: a quarter of
 /// measureCurve's evaluations (no peak searches) on a curve of many pieces, each of the speeds
-/// alone (speedsAt: first-order jets). Within 1e-6 of chord
-/// sums on corner blends between uneven times, and agrees with measureCurve to rounding on
-/// splines (test_figures).
+/// alone (speedsAt: first-order jets). Within 1e-6 of chord sums on corner blends between uneven
+/// times, and agrees with measureCurve to rounding on splines (test_figures).
 template <class G>
 std::pair<double, double> measureLengths(const Curve<G>& curve)
 {

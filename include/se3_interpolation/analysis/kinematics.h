@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <type_traits>
@@ -53,18 +54,28 @@ const ChartCubicSpline<G>* closedFormKinematicsSpline(const Curve<G>& curve)
     return nullptr;
 }
 
-/// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint).
+/// The pose kinematics at t without the jets, where the curve has them in closed form; else none.
 template <class G>
-Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
+std::optional<Kinematics> closedFormKinematicsAt(const Curve<G>& curve, double t, Side side)
 {
-  // The C² spline's pieces in a geometry whose exp has closed-form kinematics: without the jets.
+  // The C² spline's pieces in a geometry whose exp has closed-form kinematics.
   if constexpr (HasExpKinematics<G>::value)
     if (const ChartCubicSpline<G>* chart = closedFormKinematicsSpline(curve))
       return chart->kinematics(t, side);
-  // The geodesic polygon of a geometry with closed-form line kinematics: without the jets.
+  // The geodesic polygon of a geometry with closed-form line kinematics.
   if constexpr (detail::HasExpLineKinematics<G>::value)
     if (const auto* polygon = asFinalCurve<PiecewiseGeodesic<G>>(curve))
       return polygon->kinematics(t, side);
+  return std::nullopt;
+}
+
+/// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint): the closed form
+/// where there is one, else from the second-order jet.
+template <class G>
+Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
+{
+  if (const std::optional<Kinematics> k = closedFormKinematicsAt(curve, t, side))
+    return *k;
   return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
 }
 
@@ -108,14 +119,9 @@ inline Rates speedsFromJet(const Pose<Jet<1>>& x)
 template <class G>
 Rates speedsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
-  bool closed_form = false;
-  if constexpr (HasExpKinematics<G>::value)
-    closed_form = closedFormKinematicsSpline(curve) != nullptr;
-  if constexpr (detail::HasExpLineKinematics<G>::value)
-    closed_form = closed_form || asFinalCurve<PiecewiseGeodesic<G>>(curve) != nullptr;
-  if (closed_form)
+  if (const std::optional<Kinematics> k = closedFormKinematicsAt(curve, t, side))
   {
-    const Rates r = rates(kinematicsAt(curve, t, side));
+    const Rates r = rates(*k);
     return { r[kLinearSpeed], r[kAngularSpeed], 0.0, 0.0 };
   }
   return speedsFromJet(curve.jet1(Jet<1>::variable(t), side));
