@@ -132,7 +132,10 @@ class Example:
         req.timing = "time_optimal"  # within the node's ~max_* bounds
         req.from_current = True
         req.publish = False  # the goal moves the frame, not ~generate
-        req.sample_period = 0.01
+        # Ten samples, and more wherever the goal's interpolation between them would stray from the
+        # motion by over 0.1 mm or exceed a bound (docs/timing.md, "Samples a goal executes faithfully").
+        req.sample_count = 10
+        req.sample_tolerance = 1e-4
         req.outputs = ["trajectory"]
         res = self.generate(req)
         if not res.success:

@@ -191,7 +191,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
                 "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
                 "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
                 "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "speed", "control_period", "smoothing", "loss", "loss_scale", "sample_times", "sample_period",
-                "sample_count", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
+                "sample_count", "sample_tolerance", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
   // The service's from_current starts from the motion the node plays; the CLI plays none.
   if (root["from_current"] && toBool(root["from_current"], "from_current"))
     throw InvalidInputError("from_current: the CLI plays no trajectory, so there is no current motion to start "
@@ -248,6 +248,8 @@ void readCommonFields(const YAML::Node& root, Request* r)
     r->sample_period = toDouble(root["sample_period"], "sample_period");
   if (root["sample_count"])
     r->sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
+  if (root["sample_tolerance"])
+    r->sample_tolerance = toDouble(root["sample_tolerance"], "sample_tolerance");
   if (root["publish"])
     toBool(root["publish"], "publish");
   // The service's choice of response arrays: checked as the service does, so that one request

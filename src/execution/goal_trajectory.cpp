@@ -289,8 +289,12 @@ RatePeak refinedPeak(F f, double lo, double hi, std::size_t segment, double f0, 
   return best;
 }
 
-/// The peaks of the six rates (file comment of the header).
-MotionPeaks peaksOf(const GoalTrajectory::Interpolant& m)
+/// The peaks of the six rates (file comment of the header). With `ceilings`, only as far as telling
+/// whether a peak exceeds its ceiling: a rate whose ceiling is 0 is not refined, nor a subinterval
+/// whose values already exceed it, and the margin of refinement is taken below the ceiling instead
+/// of below the largest value so far (the result is then a lower bound of the peaks, exact where
+/// they come within kPeakRefineMargin of their ceilings from below).
+MotionPeaks peaksOf(const GoalTrajectory::Interpolant& m, const SixRates* ceilings = nullptr)
 {
   MotionPeaks peaks{};
   const std::vector<double>& b = m.times();
@@ -330,9 +334,11 @@ MotionPeaks peaksOf(const GoalTrajectory::Interpolant& m)
   for (const Span& span : spans)
     for (std::size_t c = 0; c < peaks.size(); ++c)
     {
-      const double threshold = peaks[c].value * (1.0 - kPeakRefineMargin);
-      if (std::max({ span.f0[c], span.fm[c], span.f1[c] }) < threshold &&
-          !timing::detail::parabolaPeaksInside(span.f0[c], span.fm[c], span.f1[c], threshold))
+      const double largest = std::max({ span.f0[c], span.fm[c], span.f1[c] });
+      if (ceilings && (!((*ceilings)[c] > 0.0) || largest > (*ceilings)[c]))
+        continue;
+      const double threshold = (ceilings ? (*ceilings)[c] : peaks[c].value) * (1.0 - kPeakRefineMargin);
+      if (largest < threshold && !timing::detail::parabolaPeaksInside(span.f0[c], span.fm[c], span.f1[c], threshold))
         continue;
       const RatePeak p = refinedPeak([&m, c](double t) { return m.ratesAt(t, Side::kRight)[c]; }, span.lo, span.hi,
                                      span.segment, span.f0[c], span.fm[c], span.f1[c]);
@@ -448,19 +454,20 @@ MotionPeaks GoalTrajectory::peaks() const
   return peaksOf(*interpolant_);
 }
 
-void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) const
+namespace
 {
-  const SixRates bounds = boundsOf(limits);
-  requireNoJumps(*interpolant_, bounds);
-  MotionPeaks peaks = peaksOf(*interpolant_);
-  // Jerk: the mean of each segment, |Δp̈| / h and |Δω̇| / h between its points (file comment).
-  const std::vector<double>& b = interpolant_->times();
+/// The peaks checkLimits compares with the bounds: the velocities' and accelerations' of the
+/// motion, the jerks as each segment's mean |Δp̈| / h and |Δω̇| / h between its points (file comment).
+MotionPeaks checkedPeaks(const GoalTrajectory::Interpolant& m, const SixRates* ceilings)
+{
+  MotionPeaks peaks = peaksOf(m, ceilings);
+  const std::vector<double>& b = m.times();
   peaks[4] = RatePeak();
   peaks[5] = RatePeak();
   for (std::size_t i = 0; i + 1 < b.size(); ++i)
   {
-    const Kinematics k0 = interpolant_->at(b[i], Side::kRight);
-    const Kinematics k1 = interpolant_->at(b[i + 1], Side::kLeft);
+    const Kinematics k0 = m.at(b[i], Side::kRight);
+    const Kinematics k1 = m.at(b[i + 1], Side::kLeft);
     const double h = b[i + 1] - b[i];
     const double linear = (k1.acceleration.linear - k0.acceleration.linear).norm() / h;
     const double angular = (k1.acceleration.angular - k0.acceleration.angular).norm() / h;
@@ -469,6 +476,29 @@ void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) c
     if (angular > peaks[5].value)
       peaks[5] = { angular, b[i], i };
   }
+  return peaks;
+}
+}  // namespace
+
+double GoalTrajectory::boundExcess(const MotionLimits& limits, double tolerance) const
+{
+  const SixRates bounds = boundsOf(limits);
+  SixRates ceilings;
+  for (std::size_t c = 0; c < bounds.size(); ++c)
+    ceilings[c] = bounds[c] * (1.0 + tolerance);
+  const MotionPeaks peaks = checkedPeaks(*interpolant_, &ceilings);
+  double excess = -1.0;
+  for (std::size_t c = 0; c < bounds.size(); ++c)
+    if (bounds[c] > 0.0)
+      excess = std::max(excess, peaks[c].value / bounds[c] - 1.0);
+  return excess;
+}
+
+void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) const
+{
+  const SixRates bounds = boundsOf(limits);
+  requireNoJumps(*interpolant_, bounds);
+  const MotionPeaks peaks = checkedPeaks(*interpolant_, nullptr);
   std::size_t worst = bounds.size();
   double worst_ratio = 1.0 + tolerance;
   for (std::size_t c = 0; c < bounds.size(); ++c)

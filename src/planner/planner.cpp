@@ -14,6 +14,7 @@
 #include "se3_interpolation/curves/braked_start.h"
 #include "se3_interpolation/curves/start_join.h"
 #include "se3_interpolation/deadline.h"
+#include "se3_interpolation/execution/sample_refinement.h"
 #include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
@@ -47,15 +48,23 @@ double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*ro
   return Sphere::log<double>(a, b).norm();
 }
 
+/// Flips s's quaternion to the sign of `previous`'s (the first w ≥ 0); a sphere point has no sign.
+void alignSign(TrajectorySample* s, const TrajectorySample* previous)
+{
+  const Quaternion<double> before = previous ? previous->pose.q : Quaternion<double>(1.0, 0.0, 0.0, 0.0);
+  if (s->pose.q.coeffs().dot(before.coeffs()) < 0.0)
+    s->pose.q.coeffs() = -s->pose.q.coeffs();
+}
+
+void alignSign(SphereSample* /*s*/, const SphereSample* /*previous*/) {}
+
 /// One sample of a pose curve; quaternions sign-continuous with `previous` (the first w ≥ 0).
 template <class G>
 TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySample* previous, Side side = Side::kRight)
 {
   const Kinematics k = kinematicsAt(curve, t, side);
   TrajectorySample s{ t, k.pose, k.velocity, k.acceleration };
-  const Quaternion<double> before = previous ? previous->pose.q : Quaternion<double>(1.0, 0.0, 0.0, 0.0);
-  if (s.pose.q.coeffs().dot(before.coeffs()) < 0.0)
-    s.pose.q.coeffs() = -s.pose.q.coeffs();
+  alignSign(&s, previous);
   return s;
 }
 
@@ -64,6 +73,27 @@ SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* 
 {
   const SphereKinematics k = kinematicsAt(curve, t, side);
   return SphereSample{ t, k.point, k.velocity, k.acceleration };
+}
+
+/// The refinement of the samples that sample_tolerance asks for (execution/sample_refinement.h), on
+/// the request's geometry and bounds; none without it, and none on the sphere (refused by validation).
+template <class Space, class G>
+std::optional<SampleRefiner> refinerFor(const BasicValidatedRequest<Space>& r,
+                                        const std::shared_ptr<const Curve<G>>& curve, std::size_t budget)
+{
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+  {
+    if (!(r.sampling.sample_tolerance > 0.0))
+      return std::nullopt;
+    SampleRefinement settings;
+    settings.tolerance = r.sampling.sample_tolerance;
+    settings.rotation_scale = r.rotation_scale;
+    settings.geometry = r.geometry;
+    settings.limits = motionLimitsOf(r);
+    return SampleRefiner(settings, [curve](double t) { return sampleAt(*curve, t, nullptr); }, budget);
+  }
+  else
+    return std::nullopt;
 }
 
 bool allFinite(const TrajectorySample& s)
@@ -719,23 +749,39 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   std::vector<typename Space::Sample> block;
   block.reserve(sink ? std::min(ts.size(), kSamplesPerBlock) : ts.size());
   std::optional<typename Space::Sample> handed_on;  // the last sample of the blocks handed on
-  for (std::size_t i = 0; i < ts.size(); ++i)
-  {
-    checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "sampling");
+  auto last = [&]() -> const typename Space::Sample* {
+    return !block.empty() ? &block.back() : handed_on ? &*handed_on : nullptr;
+  };
+  auto push = [&](typename Space::Sample s) {
     if (sink && block.size() == kSamplesPerBlock)
     {
       handed_on = block.back();
       handOn(*sink, block);
       block.clear();
     }
+    if (!allFinite(s))
+      throw InterpolationError("the curve is not finite at t = " + formatNumber(s.time) +
+                               " s (the input is too close to a singular configuration)");
+    alignSign(&s, last());
+    block.push_back(std::move(s));
+  };
+  // With sample_tolerance, the samples it inserts before each one (up to ~max_samples in all).
+  std::optional<SampleRefiner> refiner =
+      refinerFor(r, curve, limits.max_samples - std::min(limits.max_samples, ts.size()));
+  for (std::size_t i = 0; i < ts.size(); ++i)
+  {
+    checkDeadlineEvery(i, kSamplesPerDeadlineCheck, "sampling");
     // The first sample from the left: the state the motion starts from (a time-optimal motion
     // from rest starts its acceleration there; timing/time_optimal.h, pathParameter).
-    const typename Space::Sample* previous = !block.empty() ? &block.back() : handed_on ? &*handed_on : nullptr;
-    block.push_back(sampleAt(*curve, ts[i], previous,
-                             i == 0 && ts[0] == curve->startTime() ? Side::kLeft : Side::kRight));
-    if (!allFinite(block.back()))
-      throw InterpolationError("the curve is not finite at t = " + formatNumber(ts[i]) +
-                               " s (the input is too close to a singular configuration)");
+    typename Space::Sample s =
+        sampleAt(*curve, ts[i], last(), i == 0 && ts[0] == curve->startTime() ? Side::kLeft : Side::kRight);
+    if constexpr (std::is_same_v<Space, PoseSpace>)
+      if (refiner && i > 0)
+      {
+        const typename Space::Sample previous = *last();
+        refiner->between(previous, s, push);
+      }
+    push(std::move(s));
   }
   if (!sink)
     out.samples = std::move(block);

@@ -429,6 +429,12 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
   validateFitFields(r, &v);
 
   v.sampling = validateSampling(r.sample_times, r.sample_period, r.sample_count, limits);
+  requireFiniteNonNegative(r.sample_tolerance, "sample_tolerance");
+  if constexpr (std::is_same_v<Space, SphereSpace>)
+    if (r.sample_tolerance > 0.0)
+      throw InvalidInputError("sample_tolerance: " + formatNumber(r.sample_tolerance) +
+                              " is for poses (the samples of a ~follow_trajectory goal); on the sphere give 0");
+  v.sampling.sample_tolerance = r.sample_tolerance;
   if (r.start_state)
     applyStartState(*r.start_state, r.degree, &v);
   return v;

@@ -157,7 +157,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   w.samples = samples;
   w.construction_units = visitFamily(r.curve, [&r](auto family) { return decltype(family)::constructionUnits(r); });
   w.total = (w.figure_evaluations + w.samples) * w.evaluation_cost + w.timing_units + w.construction_units;
-  w.seconds = w.total * secondsPerUnit(r);
+  w.refinement_tests = r.refine_samples ? kRefinementTestsPerSample * samples : 0.0;
+  w.seconds = w.total * secondsPerUnit(r) + w.refinement_tests * kRefinementTestSeconds;
   return w;
 }
 
@@ -174,7 +175,10 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
     return;
   const std::string n = std::to_string(r.waypoints);
   std::string what;
-  if (w.samples > w.figure_evaluations && w.samples * w.evaluation_cost > w.timing_units)
+  if (w.refinement_tests * kRefinementTestSeconds > 0.5 * w.seconds)
+    what = "sample_tolerance: about " + formatNumber(w.refinement_tests) + " interval tests of " + formatNumber(w.samples) +
+           " samples";
+  else if (w.samples > w.figure_evaluations && w.samples * w.evaluation_cost > w.timing_units)
     what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
   else if (w.timing_units > w.figure_evaluations * w.evaluation_cost)
     what = std::string("timing: '") + toString(r.timing) + "' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +

@@ -111,6 +111,7 @@ TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vec
   r.sample_times = msg.sample_times;
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;
+  r.sample_tolerance = msg.sample_tolerance;
   return r;
 }
 

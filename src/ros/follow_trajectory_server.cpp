@@ -18,19 +18,6 @@ Nanoseconds nanosecondsOf(const ros::Time& t)
   return static_cast<Nanoseconds>(t.toNSec());
 }
 
-/// The goal's motion limits: the node's ~max_* bounds in effect.
-MotionLimits limitsOf(const NodeParameters& p)
-{
-  MotionLimits l;
-  l.max_linear_velocity = p.max_linear_velocity;
-  l.max_angular_velocity = p.max_angular_velocity;
-  l.max_linear_acceleration = p.max_linear_acceleration;
-  l.max_angular_acceleration = p.max_angular_acceleration;
-  l.max_linear_jerk = p.max_linear_jerk;
-  l.max_angular_jerk = p.max_angular_jerk;
-  return l;
-}
-
 /// A goal's tolerances, its zeros taken from the node's parameters.
 GoalTolerances tolerancesOf(const FollowTrajectoryGoal& goal, const NodeParameters& p)
 {
@@ -166,7 +153,7 @@ void FollowTrajectoryServer::start(GoalHandle handle)
     requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
     GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
     trajectory.requireEndsAtRest();
-    trajectory.checkLimits(limitsOf(params), kGoalLimitTolerance);
+    trajectory.checkLimits(motionLimitsOf(params), kGoalLimitTolerance);
 
     const auto& names = goal.trajectory.joint_names;
     if (names.size() != 1)

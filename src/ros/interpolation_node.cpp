@@ -270,6 +270,7 @@ std::vector<std::string> InterpolationNode::applyRequestDefaults(const NodeParam
   fill(&r.duration, params.duration, r.duration == 0.0, "duration");
   fill(&r.sample_count, static_cast<std::uint32_t>(params.sample_count),
        r.sample_count == 0 && r.sample_times.empty() && r.sample_period == 0.0, "sample_count");
+  fill(&r.sample_tolerance, params.sample_tolerance, r.sample_tolerance == 0.0, "sample_tolerance");
   return filled;
 }
 

@@ -90,12 +90,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     r.smoothing = smoothing;
     r.loss = loss;
   }
+  // sample_tolerance: for poses only, refused on the sphere when positive.
+  r.sample_tolerance = in.optionalNumber();
   PlannerLimits limits;
   limits.max_samples = kMaxSamples;
   limits.max_waypoints = kMaxWaypoints;
   try
   {
     const SphereResult out = generate(r, limits);
+    if (r.sample_tolerance > 0.0)
+      fail("a sphere request with sample_tolerance > 0 is served");
     if (out.samples.empty() || out.samples.size() > limits.max_samples)
       fail("a successful sphere result has " + std::to_string(out.samples.size()) + " samples");
     for (const SphereSample& s : out.samples)

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -138,9 +139,11 @@ protected:
   }
 
   /// A rest-to-rest motion from the frame's current state (from_current) through `targets`,
-  /// jerk-limited time-optimal, sampled every 10 ms (not published).
+  /// jerk-limited time-optimal, sampled every 10 ms, or `sample_count` times with
+  /// `sample_tolerance` (not published).
   GenerateTrajectory::Response generate(const std::vector<geometry_msgs::Pose>& targets, bool from_current = true,
-                                        bool expect_success = true)
+                                        bool expect_success = true, std::uint32_t sample_count = 0,
+                                        double sample_tolerance = 0.0)
   {
     GenerateTrajectory srv;
     srv.request.waypoints.header.frame_id = "map";
@@ -148,7 +151,9 @@ protected:
     srv.request.curve = "piecewise_geodesic";
     srv.request.timing = "time_optimal";
     srv.request.from_current = from_current;
-    srv.request.sample_period = kSamplePeriod;
+    srv.request.sample_period = sample_count > 0 ? 0.0 : kSamplePeriod;
+    srv.request.sample_count = sample_count;
+    srv.request.sample_tolerance = sample_tolerance;
     srv.request.child_frame_id = childFrame();
     EXPECT_TRUE(node_test::callService(nodeName() + "/generate", srv));
     if (expect_success)
@@ -340,6 +345,43 @@ TEST_F(NodeAction, SplicesAReplanWithoutAJump)
   const std::vector<Command> around = commandsBetween(switch_time - 0.2, switch_time + 0.2);
   ASSERT_GE(around.size(), 20u);
   expectAccelerationWithinTheBound(around);
+}
+
+/// Four samples of a motion of several seconds, sent as a goal, are rejected: the quintic between
+/// them exceeds the node's bounds. The same request with sample_tolerance gets the samples it needs,
+/// is accepted and succeeds, and ~command follows the motion (its 10 ms samples) within the tolerance.
+TEST_F(NodeAction, SampleToleranceMakesSparseSamplesExecutable)
+{
+  auto c = client();
+  const std::vector<geometry_msgs::Pose> targets{ node_test::pose(0.0, 0.0, 0.3, 0.0),
+                                                  node_test::pose(1.2, 0.6, 0.5, 0.9),
+                                                  node_test::pose(0.2, 1.0, 0.4, -0.4) };
+  const GenerateTrajectory::Response sparse = generate(targets, true, true, 4);
+  ASSERT_EQ(sparse.trajectory.points.size(), 4u);
+  c->sendGoal(goalOf(sparse));
+  ASSERT_TRUE(c->waitForResult(ros::Duration(10.0)));
+  EXPECT_EQ(c->getState(), State::REJECTED);
+  EXPECT_EQ(c->getResult()->error_code, FollowTrajectoryResult::INVALID_GOAL);
+  EXPECT_NE(c->getResult()->error_string.find("~max_"), std::string::npos) << c->getResult()->error_string;
+
+  const double tolerance = 1e-4;
+  const GenerateTrajectory::Response refined = generate(targets, true, true, 4, tolerance);
+  EXPECT_GT(refined.trajectory.points.size(), 4u);
+  // The same motion (from the same resting state) every 10 ms, as the reference.
+  const GenerateTrajectory::Response dense = generate(targets, true, true);
+  EXPECT_NEAR(dense.duration, refined.duration, 1e-9);
+  c->sendGoal(goalOf(refined));
+  ASSERT_TRUE(c->waitForResult(ros::Duration(refined.duration + 10.0)));
+  EXPECT_EQ(c->getState(), State::SUCCEEDED) << c->getResult()->error_string;
+  const double t0 = refined.trajectory.header.stamp.toSec();
+  const std::vector<Command> played = commandsBetween(t0, t0 + refined.duration);
+  ASSERT_GE(played.size(), static_cast<std::size_t>(50.0 * refined.duration)) << "~command at 100 Hz";
+  double worst = 0.0;
+  for (const Command& cmd : played)
+    worst = std::max(worst, (cmd.p - sampledPosition(dense, cmd.t - t0)).norm());
+  // The tolerance, plus the reference's own error (linear between 10 ms samples at up to 2 m/s²:
+  // 2 · 0.01² / 8 = 2.5e-5 m).
+  EXPECT_LT(worst, tolerance + 5e-5) << "~command vs the motion's 10 ms samples";
 }
 
 /// A goal that would make the frame jump is rejected while the motion goes on untouched.

@@ -479,6 +479,8 @@ std::vector<CopiedField> copiedFields()
                 [](const T& r) { return r.sample_period == 0.03125; } });
   f.push_back({ "sample_count", [](R& m) { m.sample_count = 4000000007u; },
                 [](const T& r) { return r.sample_count == 4000000007u; } });
+  f.push_back({ "sample_tolerance", [](R& m) { m.sample_tolerance = 2.5e-4; },
+                [](const T& r) { return r.sample_tolerance == 2.5e-4; } });
   return f;
 }
 

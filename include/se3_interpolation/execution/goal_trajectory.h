@@ -102,6 +102,22 @@ struct MotionLimits
   double max_angular_jerk = 0.0;          ///< rad/s³, bound on |ω̈|
 };
 
+/// The six bounds of anything that names them as the ~generate request and the node's ~max_*
+/// parameters do (max_linear_velocity … max_angular_jerk): TrajectoryRequest, a validated request,
+/// NodeParameters.
+template <class Bounds>
+MotionLimits motionLimitsOf(const Bounds& b)
+{
+  MotionLimits l;
+  l.max_linear_velocity = b.max_linear_velocity;
+  l.max_angular_velocity = b.max_angular_velocity;
+  l.max_linear_acceleration = b.max_linear_acceleration;
+  l.max_angular_acceleration = b.max_angular_acceleration;
+  l.max_linear_jerk = b.max_linear_jerk;
+  l.max_angular_jerk = b.max_angular_jerk;
+  return l;
+}
+
 /// The peak of one rate of the motion.
 struct RatePeak
 {
@@ -183,6 +199,16 @@ public:
   ///         largest excess; or naming the point where the velocity (with an acceleration bound) or
   ///         the acceleration (with a jerk bound) jumps
   void checkLimits(const MotionLimits& limits, double tolerance = 0.0) const;
+
+  /// How far the motion exceeds `limits`, as checkLimits counts the peaks, searched only as far as
+  /// telling whether the excess is above `tolerance`: a subinterval is refined only where a bounded
+  /// rate comes within kPeakRefineMargin below bound × (1 + tolerance) without exceeding it
+  /// (execution/sample_refinement.h asks this of every interval it tests). Unlike checkLimits it
+  /// does not look for jumps at the points (a two-point goal has none).
+  /// @return the largest peak / bound − 1 over the bounded rates: exact within the peak search's
+  ///         1e-6 where it is near `tolerance`, a lower bound of the true excess elsewhere; −1
+  ///         without bounds
+  double boundExcess(const MotionLimits& limits, double tolerance) const;
 
   /// Checks that the motion ends at rest: the velocity at the end (from the left) within
   /// kRestLinear and kRestAngular.

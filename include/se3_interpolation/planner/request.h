@@ -121,6 +121,9 @@ struct Sampling
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = RequestDefaults::kSampleCount;
+  /// m of chord distance; > 0: samples inserted until a goal made of them executes the motion
+  /// (execution/sample_refinement.h). Poses only.
+  double sample_tolerance = 0.0;
 };
 
 struct TrajectorySample
@@ -211,6 +214,10 @@ struct BasicRequest
   std::vector<double> sample_times;
   double sample_period = 0.0;
   std::uint32_t sample_count = 0;
+  /// m of chord distance √(|Δp|² + ρ²θ²) (0 = only the samples asked for): samples are inserted
+  /// between those until a ~follow_trajectory goal made of them stays within this distance of the
+  /// motion and within its bounds (execution/sample_refinement.h). Poses only.
+  double sample_tolerance = 0.0;
   /// m (chord distance, see corner_blend.h); 0 = sharp corners. Only for piecewise_geodesic.
   double blend_radius = 0.0;
   /// curve fit (fitting/bspline_fit.h): s between knots (0 = kDefaultControlPeriod), the jerk

@@ -59,8 +59,12 @@ struct WorkEstimate
   double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations
   double samples = 0.0;
   double construction_units = 0.0;    ///< building the curve (the family's constructionUnits)
+  /// sample_tolerance's interval tests (execution/sample_refinement.h): kRefinementTestsPerSample per
+  /// sample, each costing kRefinementTestSeconds whatever the family (0 without sample_tolerance)
+  double refinement_tests = 0.0;
   double total = 0.0;                 ///< work units
-  double seconds = 0.0;               ///< total × the family's calibrated seconds per unit
+  /// total × the family's calibrated seconds per unit, plus the refinement's tests
+  double seconds = 0.0;
 };
 
 /// What the estimate needs of a request, pose or sphere: the curve, its size, the sampling.
@@ -80,7 +84,19 @@ struct WorkShape
   double fit_intervals = 0.0;  ///< curve fit: the knot intervals M (fitting/bspline_fit.h)
   bool fit_smoothing = false;  ///< curve fit: smoothing > 0
   bool fit_huber = false;      ///< curve fit: loss huber
+  bool refine_samples = false;  ///< sample_tolerance > 0 (samples inserted, execution/sample_refinement.h)
 };
+
+/// The refinement of sample_tolerance tests the interval before each sample and two more per sample
+/// it inserts: counted as one insertion per sample asked for. A refinement that inserts more (a
+/// tight tolerance, sparse samples) runs into the request's deadline (deadline.h), naming
+/// sample_tolerance.
+constexpr double kRefinementTestsPerSample = 3.0;
+/// One interval test: a motion evaluation, the two-point goal and its bound-aware peak search
+/// (GoalTrajectory::boundExcess). Measured 32 µs with bounds on the screw geometry (a jerk-limited
+/// 30-waypoint interpolating motion, 64 samples refined to 802 by the CLI), doubled as the other
+/// work estimates are (within 2× of measured).
+constexpr double kRefinementTestSeconds = 6.4e-5;
 
 /// Building the curve costs about this many work units per waypoint (times, logs, the C² solve's
 /// sweeps); families that do more say so (CurveFamilyDefaults::constructionUnits).
@@ -101,6 +117,7 @@ WorkShape workShape(const BasicValidatedRequest<Space>& r)
   w.timing = r.timing;
   w.start_state = r.start_state.has_value();
   w.jerk = r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
+  w.refine_samples = r.sampling.sample_tolerance > 0.0;
   if constexpr (std::is_same_v<Space, PoseSpace>)
   {
     w.screw = r.geometry == GeometryType::kScrew;

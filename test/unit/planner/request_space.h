@@ -57,7 +57,7 @@ inline const std::vector<std::string>& requestFieldNames()
     "parameterization",  "rotation_scale",  "duration",       "max_linear_velocity",
     "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk",
     "max_angular_jerk",  "timing",          "speed",
-    "sample_times",      "sample_period",   "sample_count",   "blend_radius",
+    "sample_times",      "sample_period",   "sample_count",   "sample_tolerance", "blend_radius",
     "start_state",       "from_current",    "outputs",        "control_period",
     "smoothing",         "loss",            "loss_scale",
   };
@@ -841,7 +841,9 @@ inline std::vector<GoalPoint> goalPointsOf(const TrajectoryResult& result)
 ///      points' accelerations) stays within bound × (1 + kGoalLimitTolerance) (+ 1e-6 relative,
 ///      the accuracy checkLimits' peak search promises, and rounding): the node's acceptance
 ///      checked independently of its peak search; where it refuses, its message names a "~max_"
-///      bound and "trajectory.points[".
+///      bound and "trajectory.points[";
+///  (e) with sample_tolerance, the goal's pose stays within 1.5 × the tolerance of the motion's
+///      (result.state_at) at options.goal_evaluations_per_segment points of every segment.
 /// Runs when options.goal is set and the result has 1 … options.goal_max_samples samples.
 inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryResult& result,
                            const CheckOptions& options, std::vector<Violation>& v)
@@ -948,14 +950,38 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
       fail("goal rest message", 0.0, std::string("requireEndsAtRest's refusal does not name ") + last_point + ": " + e.what());
   }
 
+  // (e) With sample_tolerance, the goal follows the motion: its pose within the tolerance (× 1.5: the
+  // refinement tests the eighths of each interval) of result.state_at's at
+  // options.goal_evaluations_per_segment points of every segment, in the chord distance of the
+  // request's rotation_scale; (rounding: the times' nanoseconds at the motion's speed).
+  if (request.sample_tolerance > 0.0 && result.state_at)
+  {
+    const double rho = request.rotation_scale > 0.0 ? request.rotation_scale : RequestDefaults::kRotationScale;
+    const std::size_t per = std::max<std::size_t>(options.goal_evaluations_per_segment, 1);
+    double deviation = 0.0, deviation_t = 0.0;
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      for (std::size_t k = 1; k < per; ++k)
+      {
+        const double ta = result.samples[i].time, tb = result.samples[i + 1].time;
+        const double t = ta + (tb - ta) * static_cast<double>(k) / static_cast<double>(per);
+        const Pose<double> g = goal->stateAt(points[i].time_from_start + (t - ta)).pose;
+        const Pose<double> m = result.state_at(t).pose;
+        const double theta = rho * m.q.angularDistance(g.q);
+        const double d = std::sqrt((m.p - g.p).squaredNorm() + theta * theta);
+        if (d > deviation)
+        {
+          deviation = d;
+          deviation_t = t;
+        }
+      }
+    if (deviation > 1.5 * request.sample_tolerance + 1e-9 * (1.0 + result.duration))
+      fail("goal deviation", deviation / request.sample_tolerance,
+           "with sample_tolerance " + num(request.sample_tolerance) + " the goal is " + num(deviation) +
+               " from the motion at t = " + num(deviation_t) + " (" + std::to_string(n) + " points)");
+  }
+
   // (d) The bounds: checkLimits' verdict, and where it accepts, a brute-force evaluation.
-  MotionLimits limits;
-  limits.max_linear_velocity = request.max_linear_velocity;
-  limits.max_angular_velocity = request.max_angular_velocity;
-  limits.max_linear_acceleration = request.max_linear_acceleration;
-  limits.max_angular_acceleration = request.max_angular_acceleration;
-  limits.max_linear_jerk = request.max_linear_jerk;
-  limits.max_angular_jerk = request.max_angular_jerk;
+  const MotionLimits limits = motionLimitsOf(request);
   try
   {
     goal->checkLimits(limits, kGoalLimitTolerance);

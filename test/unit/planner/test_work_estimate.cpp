@@ -253,6 +253,19 @@ TEST(WorkEstimate, ExpensiveRequestsAreRefusedNamingTheField)
   period.max_linear_velocity = 0.1;
   EXPECT_TRUE(startsWith(limitErrorOf(period, medium), "sample_period: 20001 samples"));
 
+  // sample_tolerance's tests are counted (kRefinementTestsPerSample per sample, kRefinementTestSeconds
+  // each): 10⁴ samples of a short straight line take 1.9 s of tests, refused naming it; the same
+  // without it are accepted.
+  TrajectoryRequest refined = polygonRequest(3, "interpolating");
+  refined.sample_count = 10000;
+  EXPECT_EQ(estimateErrorOf(refined, PlannerLimits()), "");
+  refined.sample_tolerance = 1e-3;
+  const std::string tolerance = limitErrorOf(refined, PlannerLimits());
+  EXPECT_TRUE(startsWith(tolerance, "sample_tolerance: about 30000 interval tests of 10000 samples would take about"))
+      << tolerance;
+  refined.sample_count = 1000;
+  EXPECT_EQ(estimateErrorOf(refined, PlannerLimits()), "");
+
   // Corner blends and time-optimal timing are counted: 10⁵ blended corners are refused, under
   // time_optimal naming timing.
   TrajectoryRequest blended = polygonRequest(100000, "piecewise_geodesic");
