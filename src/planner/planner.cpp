@@ -48,15 +48,13 @@ double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*ro
   return Sphere::log<double>(a, b).norm();
 }
 
-/// Flips s's quaternion to the sign of `previous`'s (the first w ≥ 0); a sphere point has no sign.
+/// Flips s's quaternion to the sign of `previous`'s (without one: w ≥ 0).
 void alignSign(TrajectorySample* s, const TrajectorySample* previous)
 {
   const Quaternion<double> before = previous ? previous->pose.q : Quaternion<double>(1.0, 0.0, 0.0, 0.0);
   if (s->pose.q.coeffs().dot(before.coeffs()) < 0.0)
     s->pose.q.coeffs() = -s->pose.q.coeffs();
 }
-
-void alignSign(SphereSample* /*s*/, const SphereSample* /*previous*/) {}
 
 /// One sample of a pose curve; quaternions sign-continuous with `previous` (the first w ≥ 0).
 template <class G>
@@ -762,7 +760,6 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
     if (!allFinite(s))
       throw InterpolationError("the curve is not finite at t = " + formatNumber(s.time) +
                                " s (the input is too close to a singular configuration)");
-    alignSign(&s, last());
     block.push_back(std::move(s));
   };
   // With sample_tolerance, the samples it inserts before each one (up to ~max_samples in all).
@@ -778,8 +775,13 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
     if constexpr (std::is_same_v<Space, PoseSpace>)
       if (refiner && i > 0)
       {
+        // Inserted samples, and the one after them, sign-continuous with the last one pushed.
         const typename Space::Sample previous = *last();
-        refiner->between(previous, s, push);
+        refiner->between(previous, s, [&](TrajectorySample m) {
+          alignSign(&m, last());
+          push(std::move(m));
+        });
+        alignSign(&s, last());
       }
     push(std::move(s));
   }

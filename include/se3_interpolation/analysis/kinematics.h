@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <optional>
 #include <vector>
 
 #include <type_traits>
@@ -54,19 +53,20 @@ const ChartCubicSpline<G>* closedFormKinematicsSpline(const Curve<G>& curve)
     return nullptr;
 }
 
-/// The pose kinematics at t without the jets, where the curve has them in closed form; else none.
-template <class G>
-std::optional<Kinematics> closedFormKinematicsAt(const Curve<G>& curve, double t, Side side)
+/// The one place that finds a curve's closed-form kinematics: `closed(c)` with the curve as the
+/// class whose kinematics(t, side) are closed-form (the C² spline's pieces in a geometry whose exp
+/// has them, or the geodesic polygon of a geometry with closed-form line kinematics), else
+/// `otherwise()`. Both return the same type, handed back without a copy (kinematicsAt, speedsAt).
+template <class G, class Closed, class Otherwise>
+auto withClosedFormKinematics(const Curve<G>& curve, Closed&& closed, Otherwise&& otherwise)
 {
-  // The C² spline's pieces in a geometry whose exp has closed-form kinematics.
   if constexpr (HasExpKinematics<G>::value)
     if (const ChartCubicSpline<G>* chart = closedFormKinematicsSpline(curve))
-      return chart->kinematics(t, side);
-  // The geodesic polygon of a geometry with closed-form line kinematics.
+      return closed(*chart);
   if constexpr (detail::HasExpLineKinematics<G>::value)
     if (const auto* polygon = asFinalCurve<PiecewiseGeodesic<G>>(curve))
-      return polygon->kinematics(t, side);
-  return std::nullopt;
+      return closed(*polygon);
+  return otherwise();
 }
 
 /// The pose kinematics at t (both SE(3) geometries; one-sided at a breakpoint): the closed form
@@ -74,9 +74,9 @@ std::optional<Kinematics> closedFormKinematicsAt(const Curve<G>& curve, double t
 template <class G>
 Kinematics kinematicsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
-  if (const std::optional<Kinematics> k = closedFormKinematicsAt(curve, t, side))
-    return *k;
-  return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side));
+  return withClosedFormKinematics(
+      curve, [t, side](const auto& c) { return c.kinematics(t, side); },
+      [&curve, t, side] { return kinematicsFromJet(curve.jet(Jet<2>::variable(t), side)); });
 }
 
 /// The sphere kinematics at t: velocity and covariant acceleration (sphere.h).
@@ -119,12 +119,13 @@ inline Rates speedsFromJet(const Pose<Jet<1>>& x)
 template <class G>
 Rates speedsAt(const Curve<G>& curve, double t, Side side = Side::kRight)
 {
-  if (const std::optional<Kinematics> k = closedFormKinematicsAt(curve, t, side))
-  {
-    const Rates r = rates(*k);
-    return { r[kLinearSpeed], r[kAngularSpeed], 0.0, 0.0 };
-  }
-  return speedsFromJet(curve.jet1(Jet<1>::variable(t), side));
+  return withClosedFormKinematics(
+      curve,
+      [t, side](const auto& c) {
+        const Rates r = rates(c.kinematics(t, side));
+        return Rates{ r[kLinearSpeed], r[kAngularSpeed], 0.0, 0.0 };
+      },
+      [&curve, t, side] { return speedsFromJet(curve.jet1(Jet<1>::variable(t), side)); });
 }
 
 /// The energy density |p̈|² + (ρ|ω̇|)² (Crouch et al. eq. 32 with the product metric; ρ the
