@@ -53,11 +53,6 @@ SampleRefiner::SampleRefiner(SampleRefinement settings, std::function<Trajectory
 {
 }
 
-std::size_t SampleRefiner::inserted() const
-{
-  return inserted_;
-}
-
 SampleRefiner::Verdict SampleRefiner::test(const TrajectorySample& a, const TrajectorySample& b,
                                            const TrajectorySample& middle) const
 {

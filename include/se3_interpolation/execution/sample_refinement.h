@@ -83,9 +83,6 @@ public:
   void between(const TrajectorySample& a, const TrajectorySample& b,
                const std::function<void(const TrajectorySample&)>& emit);
 
-  /// @return the samples inserted so far
-  std::size_t inserted() const;
-
 private:
   /// The test of one interval: (D) and the bound excess of (B).
   struct Verdict
