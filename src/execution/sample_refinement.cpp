@@ -1,7 +1,5 @@
 #include "se3_interpolation/execution/sample_refinement.h"
 
-#include <algorithm>
-#include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
@@ -18,7 +16,7 @@ namespace
 {
 /// (D) tests the interval at its eighths (sample_refinement.h).
 constexpr double kDeviationPoints = 8.0;
-/// Interval tests between two checks of the request's deadline (deadline.h): ~50 µs each.
+/// Interval tests between two checks of the request's deadline (deadline.h): ~30 µs each.
 constexpr std::uint64_t kTestsPerDeadlineCheck = 64;
 
 /// A sample as a goal's point, its time counted from `origin` (the goal's polynomial depends only
@@ -31,13 +29,6 @@ GoalPoint pointOf(const TrajectorySample& s, double origin)
   p.velocity = s.velocity;
   p.acceleration = s.acceleration;
   return p;
-}
-
-/// The chord distance √(|Δp|² + ρ² θ²) between two poses (m).
-double chordDistance(const Pose<double>& x, const Pose<double>& y, double rotation_scale)
-{
-  const double theta = rotation_scale * rotationAngle(Quaternion<double>(x.q.conjugate() * y.q));
-  return std::sqrt((y.p - x.p).squaredNorm() + theta * theta);
 }
 
 bool anyBound(const MotionLimits& l)
@@ -76,7 +67,7 @@ SampleRefiner::Verdict SampleRefiner::test(const TrajectorySample& a, const Traj
       break;
     const TrajectorySample m = k == 4 ? middle : sample_at_(a.time + h * k / kDeviationPoints);
     const TrajectorySample g = goal->stateAt(m.time - a.time);
-    v.deviates = !(chordDistance(g.pose, m.pose, settings_.rotation_scale) <= settings_.tolerance);
+    v.deviates = !(chordDistance(m.pose, g.pose, settings_.rotation_scale) <= settings_.tolerance);
   }
   if (!bounded_)
     return v;

@@ -38,8 +38,7 @@ using planner_detail::stretchFactor;
 /// The chord distance between consecutive waypoints (docs/timing.md).
 double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
 {
-  const double dtheta = rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
-  return std::sqrt((b.p - a.p).squaredNorm() + dtheta * dtheta);
+  return chordDistance(a, b, rotation_scale);
 }
 
 /// On the sphere: the great-circle angle.

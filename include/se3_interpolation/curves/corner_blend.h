@@ -75,8 +75,7 @@ namespace detail
 /// The chord distance of a pose from the identity: sqrt(|p|² + (ρ θ)²).
 inline double chordFromIdentity(const Pose<double>& x, double rotation_scale)
 {
-  const double rho_theta = rotation_scale * rotationAngle(x.q);
-  return std::sqrt(x.p.squaredNorm() + rho_theta * rho_theta);
+  return chordDistance(Pose<double>::Identity(), x, rotation_scale);
 }
 
 /// The parameter s ∈ [0, 1/2] at which exp(e, s v) is at chord distance r from e, given

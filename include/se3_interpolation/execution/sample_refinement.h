@@ -14,8 +14,8 @@
 //       a smooth motion peaks, and it is tested first; the other eighths catch the errors of
 //       coarse intervals, where the motion is no polynomial on the quintic's scale, and of kinks
 //       (the velocity jumps of piecewise_geodesic's corners), whose errors peak off the middle; or
-//   (B) the goal's peaks between a and b (GoalTrajectory::peaks; the jerk as the mean |Δa| / h, as
-//       checkLimits counts it) exceed a bound by more than kRefinementLimitTolerance, half the
+//   (B) the goal's peaks between a and b (GoalTrajectory::boundExcess; the jerk as the mean
+//       |Δa| / h, as checkLimits counts it) exceed a bound by more than kRefinementLimitTolerance, half the
 //       node's kGoalLimitTolerance (room for the rounding of time_from_start to ns) — as long as
 //       halving helps: an excess that has not fallen below kExcessConvergence times the smallest of
 //       the intervals it was split from for kExcessPatience halvings stops (B). Where the motion

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -474,6 +475,15 @@ struct Pose
                    Vector3<T>(T(p.x()), T(p.y()), T(p.z())));
   }
 };
+
+/// The chord distance √(|p_b − p_a|² + (ρ θ)²) between two poses (m): θ the angle of the relative
+/// rotation q_a* q_b, ρ = rotation_scale (m per rad). The distance of the chord parameterization
+/// (docs/timing.md) and of sample_tolerance (execution/sample_refinement.h).
+inline double chordDistance(const Pose<double>& a, const Pose<double>& b, double rotation_scale)
+{
+  const double rho_theta = rotation_scale * rotationAngle(Quaternion<double>(a.q.conjugate() * b.q));
+  return std::sqrt((b.p - a.p).squaredNorm() + rho_theta * rho_theta);
+}
 
 /// a · b for a constant pose a and a jet pose b: (q_a q_b, R_a p_b + p_a) with products of a double
 /// and a jet only (a jet × jet product costs twice as much).
