@@ -4,13 +4,9 @@
 // is served, starts exactly in the state, keeps every bound on its samples (after a reported
 // recovery), reaches its target, and is no longer than braking to rest and going from there.
 //
-// The brake-and-go bound is the test's own: a valid brake of each channel written here (the start
-// acceleration ramped to zero at the jerk bound, then the closed-form stop of the double S or, without
-// a jerk bound, of constant deceleration, L. Biagiotti, C. Melchiorri, "Trajectory Planning for
-// Automatic Machines and Robots", §3.4), whose time and distance bound any reasonable brake's, plus
-// the planner's motion from rest at the start pose. The stop pose lies up to the brake's distance
-// from the start pose, so the bound allows the brake twice, and 20 % for the planner's own brake,
-// which shares the jerk bound between two axes (curves/jerk_brake.h).
+// The brake-and-go bound is the test's own (request_space.h, brakeAndGoBound, which the
+// request-space grid and sweep check too): a valid brake of each channel written in the test and the
+// planner's motion from rest at the start pose. Under the sanitizers every fifth state is replanned.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +17,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/planner.h"
+#include "request_space.h"
 #include "test_utils.h"
 
 namespace se3_interpolation
@@ -29,7 +26,6 @@ namespace
 {
 constexpr double kSwitchTolerance = 1e-9;
 constexpr double kBoundTolerance = 1e-6;
-constexpr double kDetourFactor = 1.2;
 
 Pose<double> pose(const Eigen::Vector3d& p, double angle, const Eigen::Vector3d& axis)
 {
@@ -50,30 +46,6 @@ void applyBounds(const Bounds& b, TrajectoryRequest* r)
   r->max_angular_acceleration = b.alpha;
   r->max_linear_jerk = b.j;
   r->max_angular_jerk = b.jw;
-}
-
-/// Time and distance of a valid brake of one channel from speed v and acceleration a (file comment).
-std::pair<double, double> referenceBrake(double v, double a, double a_max, double j_max)
-{
-  double ramp = 0.0, v1 = v;
-  if (j_max > 0.0)
-  {
-    ramp = a / j_max;
-    v1 = v + a * a / (2.0 * j_max);
-  }
-  double stop;
-  if (!(j_max > 0.0))
-    stop = v1 / a_max;
-  else if (!(a_max > 0.0) || v1 < a_max * a_max / j_max)
-    stop = 2.0 * std::sqrt(v1 / j_max);
-  else
-    stop = v1 / a_max + a_max / j_max;
-  return { ramp + stop, v1 * (ramp + stop) };
-}
-
-double pathLength(const TrajectoryResult& r, double rho)
-{
-  return r.figures.length + rho * r.figures.rotation_length;
 }
 
 struct Tally
@@ -130,23 +102,15 @@ void checkReplan(TrajectoryRequest r, const TrajectorySample& x, const Bounds& b
           << y.time;
     }
   }
-  // The brake-and-go bound.
-  const auto lin = referenceBrake(s.velocity.linear.norm(), s.acceleration.linear.norm(), b.a, b.j);
-  const auto ang = referenceBrake(s.velocity.angular.norm(), s.acceleration.angular.norm(), b.alpha, b.jw);
-  TrajectoryRequest rest = r;
-  rest.start_state = StartState{ s.pose, Twist{}, Twist{} };
-  const TrajectoryResult from_rest = generate(rest, test::unhurriedLimits());
-  const double rho = 1.0;
-  const double duration_bound = kDetourFactor * (2.0 * std::max(lin.first, ang.first) + from_rest.duration);
-  const double length_bound = kDetourFactor * (2.0 * (lin.second + rho * ang.second) + pathLength(from_rest, rho));
-  EXPECT_LE(out.duration, duration_bound + 1e-9)
-      << "from rest " << from_rest.duration << ", braked for " << out.stop_time << " s, reference brakes "
-      << lin.first << " s and " << ang.first << " s; start |v| " << s.velocity.linear.norm() << ", |w| "
+  // The brake-and-go bound (request_space.h).
+  const test::BrakeAndGo bound = test::brakeAndGoBound(r, test::unhurriedLimits());
+  EXPECT_LE(out.duration, bound.duration * (1.0 + 1e-9))
+      << "braked for " << out.stop_time << " s; start |v| " << s.velocity.linear.norm() << ", |w| "
       << s.velocity.angular.norm() << ", |a| " << s.acceleration.linear.norm() << ", |alpha| "
       << s.acceleration.angular.norm();
-  EXPECT_LE(pathLength(out, rho), length_bound + 1e-9) << "from rest " << pathLength(from_rest, rho);
-  tally->worst_duration_ratio = std::max(tally->worst_duration_ratio, out.duration / duration_bound);
-  tally->worst_length_ratio = std::max(tally->worst_length_ratio, pathLength(out, rho) / length_bound);
+  EXPECT_LE(test::chordLength(r, out.figures), bound.length * (1.0 + 1e-9));
+  tally->worst_duration_ratio = std::max(tally->worst_duration_ratio, out.duration / bound.duration);
+  tally->worst_length_ratio = std::max(tally->worst_length_ratio, test::chordLength(r, out.figures) / bound.length);
 }
 
 /// Targets ahead of, beside and behind a motion from `from` to `to`.
@@ -163,6 +127,8 @@ std::vector<Pose<double>> targets(const Pose<double>& from, const Pose<double>& 
 void replanAlong(const TrajectoryRequest& played_request, const Bounds& b, std::size_t step, bool rotate,
                  Tally* tally)
 {
+  if (test::kSanitized)
+    step *= 5;
   TrajectoryRequest first = played_request;
   applyBounds(b, &first);
   first.sample_period = 0.01;
@@ -204,7 +170,7 @@ TEST(Replanning, EveryTenMillisecondsOfAJerkLimitedMove)
   replanAlong(straightMove(), jerkBounds(), 1, false, &tally);
   std::cout << tally.tried << " replans; worst duration " << tally.worst_duration_ratio << ", length "
             << tally.worst_length_ratio << " of the brake-and-go bound\n";
-  EXPECT_GT(tally.tried, 400);
+  EXPECT_GT(tally.tried, test::kSanitized ? 100 : 500);
 }
 
 TEST(Replanning, EveryTenMillisecondsOfAnAccelerationLimitedMove)
@@ -213,7 +179,7 @@ TEST(Replanning, EveryTenMillisecondsOfAnAccelerationLimitedMove)
   replanAlong(straightMove(), Bounds(), 1, false, &tally);
   std::cout << tally.tried << " replans; worst duration " << tally.worst_duration_ratio << ", length "
             << tally.worst_length_ratio << " of the brake-and-go bound\n";
-  EXPECT_GT(tally.tried, 300);
+  EXPECT_GT(tally.tried, test::kSanitized ? 100 : 500);
 }
 
 TEST(Replanning, EveryFamilyBothGeometriesUnevenTimes)
