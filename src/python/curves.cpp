@@ -67,9 +67,6 @@ PyCurve makeCurve(const std::string& curve, const py::object& waypoints, double 
     throw py::value_error("max_work_seconds: " + formatNumber(max_work_seconds) + " is not a positive number");
   PyCurve out;
   out.fields = py::dict(fields);
-  for (const char* given : { "curve", "waypoints" })
-    if (out.fields.contains(given))
-      throw py::type_error(std::string(given) + ": given twice (it is an argument of make_curve)");
   out.fields["curve"] = curve;
   out.fields["waypoints"] = waypoints;
   const TrajectoryRequest request = requestFromMapping(out.fields, FieldSet::kCurve);
