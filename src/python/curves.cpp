@@ -66,7 +66,7 @@ PyCurve makeCurve(const std::string& curve, const py::object& waypoints, double 
   if (!(max_work_seconds > 0.0) || !std::isfinite(max_work_seconds))
     throw py::value_error("max_work_seconds: " + formatNumber(max_work_seconds) + " is not a positive number");
   PyCurve out;
-  out.fields = py::dict(fields);
+  out.fields = copyMapping(fields);
   out.fields["curve"] = curve;
   out.fields["waypoints"] = waypoints;
   const TrajectoryRequest request = requestFromMapping(out.fields, FieldSet::kCurve);
@@ -136,7 +136,7 @@ void bindCurves(py::module_& m)
   py::class_<PyCurve>(m, "Curve", "An untimed curve of a family (make_curve, or the family's function).")
       .def_property_readonly("start_time", &PyCurve::startTime)
       .def_property_readonly("end_time", &PyCurve::endTime)
-      .def_property_readonly("fields", [](const PyCurve& c) { return py::dict(c.fields); },
+      .def_property_readonly("fields", [](const PyCurve& c) { return copyMapping(c.fields); },
                              "the curve fields it was built from (a copy)")
       .def_property_readonly("family", [](const PyCurve& c) { return c.fields["curve"]; })
       .def_property_readonly("waypoint_times", [](const PyCurve& c) { return vectorArray(c.waypoint_times); })

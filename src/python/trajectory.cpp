@@ -75,7 +75,7 @@ TrajectoryRequest mergedRequest(const py::object& request, const py::kwargs& fie
     if (!isMapping(request))
       throw py::type_error("request: expected a dict of the service's fields, got " +
                            std::string(Py_TYPE(request.ptr())->tp_name));
-    merged = py::dict(request);
+    merged = copyMapping(request);
   }
   for (const auto& kv : fields)
   {

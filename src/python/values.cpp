@@ -111,6 +111,14 @@ bool isMapping(py::handle value)
   return py::isinstance(value, py::handle(mapping));
 }
 
+py::dict copyMapping(py::handle mapping)
+{
+  py::dict copy;
+  if (PyDict_Merge(copy.ptr(), mapping.ptr(), 1) != 0)
+    throw py::error_already_set();
+  return copy;
+}
+
 void requireKeys(py::handle mapping, const std::string& field, const std::vector<std::string>& allowed)
 {
   for (py::handle key : mapping)

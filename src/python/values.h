@@ -54,6 +54,10 @@ std::vector<Pose<double>> toPoses(py::handle value, const std::string& field);
 /// Twists: an (N, 6) array or a sequence of twists in any spelling.
 std::vector<Twist> toTwists(py::handle value, const std::string& field);
 
+/// A new dict with the items of `mapping` (py::dict(x) of a dict would be x itself, and the
+/// module never changes what it was given).
+py::dict copyMapping(py::handle mapping);
+
 /// Whether `value` is a mapping (dict or any collections.abc.Mapping).
 bool isMapping(py::handle value);
 

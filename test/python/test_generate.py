@@ -115,3 +115,13 @@ def test_the_gil_is_released_while_the_planner_works():
     # Holding the GIL, the worker would let this loop run only between its calls (a handful of
     # switches); released, the loop runs throughout the ~0.3 s of planning.
     assert spins > 10000
+
+
+def test_the_request_given_is_not_changed():
+    request = {"waypoints": WAYPOINTS, "curve": "bspline"}
+    s.generate(request, sample_count=5)
+    s.generate(request, sample_count=6)
+    assert sorted(request) == ["curve", "waypoints"]
+    curve = s.bspline(WAYPOINTS)
+    curve.fields["degree"] = 1
+    assert "degree" not in curve.fields
