@@ -129,3 +129,56 @@ def test_junk_in_any_field_raises_a_python_error_and_never_crashes():
             s.generate(request, max_work_seconds=0.2)
         except (TypeError, ValueError):
             pass
+
+
+CHOICES = {
+    "curve": list(s.CURVE_FAMILIES) + ["", "spline"],
+    "geometry": ["", "double_geodesic", "screw"],
+    "timing": ["", "stretch", "time_optimal", "constant_speed"],
+    "end_condition": ["", "natural", "clamped", "start"],
+    "parameterization": ["", "chord", "uniform", "centripetal"],
+}
+NUMBERS = [0.0, 1e-12, 0.3, 1.0, 4.0, 1e12, -1.0, float("nan"), float("inf")]
+NUMBER_FIELDS = ["duration", "rotation_scale", "max_linear_velocity", "max_angular_velocity", "max_linear_acceleration",
+                 "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "speed", "blend_radius",
+                 "sample_period", "control_period", "smoothing"]
+
+
+def random_request(rng):
+    """Plausible requests with random choices, extreme numbers, repeated and antipodal waypoints."""
+    n = int(rng.integers(1, 7))
+    waypoints = np.hstack([rng.normal(size=(n, 3)), rng.normal(size=(n, 4))])
+    waypoints[:, 3:] /= np.linalg.norm(waypoints[:, 3:], axis=1)[:, None]
+    if n > 2 and rng.random() < 0.2:
+        waypoints[2] = waypoints[1]
+    if n > 1 and rng.random() < 0.1:
+        waypoints[1, 3:] = [1, 0, 0, 0]
+        waypoints[0, 3:] = [0, 0, 0, 1]
+    request = {"waypoints": waypoints, "sample_count": int(rng.choice([0, 2, 7, 50]))}
+    for field, names in CHOICES.items():
+        if rng.random() < 0.5:
+            request[field] = str(rng.choice(names))
+    for field in rng.choice(NUMBER_FIELDS, size=int(rng.integers(0, 5)), replace=False):
+        request[str(field)] = float(rng.choice(NUMBERS))
+    if rng.random() < 0.3:
+        request["times"] = np.cumsum(rng.uniform(-0.1, 2.0, size=n))
+    if rng.random() < 0.2:
+        request["degree"] = int(rng.integers(0, 6))
+    return request
+
+
+def test_random_requests_are_served_with_finite_samples_or_refused():
+    rng = np.random.default_rng(5300)
+    served = 0
+    for _ in range(2000):
+        request = random_request(rng)
+        try:
+            r = s.generate(request, max_work_seconds=0.2)
+        except ValueError:
+            continue
+        served += 1
+        assert len(r.t) >= 2 and r.pose.shape == (len(r.t), 7)
+        for a in (r.t, r.pose, r.velocity, r.acceleration):
+            assert np.all(np.isfinite(a))
+        assert np.all(np.diff(r.t) >= 0.0)
+    assert served > 200  # enough of them are valid for the checks above to mean something
