@@ -87,13 +87,18 @@ TrajectoryRequest mergedRequest(const py::object& request, const py::kwargs& fie
   return requestFromMapping(merged, FieldSet::kRequest);
 }
 
+/// The most samples reserved before the planner has validated the request (a larger answer grows
+/// its vectors): a sample_count far beyond the limits must meet the planner's refusal, not an
+/// allocation.
+constexpr std::size_t kMaxReservedSamples = std::size_t(1) << 20;
+
 /// The samples a request will have when it says (sample_times, sample_count), for reserving.
 std::size_t expectedSamples(const TrajectoryRequest& r, const PlannerLimits& limits)
 {
   std::size_t n = r.sample_period > 0.0 ? 0 : r.sample_times.size();
   if (n == 0 && r.sample_period <= 0.0)
     n = r.sample_count > 0 ? r.sample_count : RequestDefaults::kSampleCount;
-  return std::min(n, limits.max_samples);
+  return std::min({ n, limits.max_samples, kMaxReservedSamples });
 }
 
 Trajectory generateTrajectory(const py::object& request, double max_work_seconds, std::size_t max_samples,

@@ -182,3 +182,8 @@ def test_random_requests_are_served_with_finite_samples_or_refused():
             assert np.all(np.isfinite(a))
         assert np.all(np.diff(r.t) >= 0.0)
     assert served > 200  # enough of them are valid for the checks above to mean something
+
+
+def test_a_huge_sample_count_meets_the_planners_refusal_not_an_allocation():
+    with pytest.raises(s.LimitExceededError, match="^sample_count: 4294967295 samples"):
+        s.generate(waypoints=W, sample_count=4294967295, max_samples=10**15)
