@@ -24,16 +24,20 @@ std::string listText(const std::vector<std::string>& names)
   return text + "]";
 }
 
-/// A list or tuple of two items: the (position, orientation) and (linear, angular) spellings.
-bool isPair(py::handle value)
-{
-  return (PyList_Check(value.ptr()) || PyTuple_Check(value.ptr())) && PySequence_Size(value.ptr()) == 2;
-}
-
 /// A list, tuple or array: what a list field may be given as (a string is a sequence, not a list).
 bool isListLike(py::handle value)
 {
   return PyList_Check(value.ptr()) || PyTuple_Check(value.ptr()) || py::isinstance<py::array>(value);
+}
+
+/// A list or tuple of two vectors: the (position, orientation) and (linear, angular) spellings (two
+/// numbers are a row of the wrong length instead).
+bool isPair(py::handle value)
+{
+  if (!(PyList_Check(value.ptr()) || PyTuple_Check(value.ptr())) || PySequence_Size(value.ptr()) != 2)
+    return false;
+  const py::handle first = PySequence_Fast_GET_ITEM(value.ptr(), 0);
+  return isListLike(first) || isMapping(first);
 }
 
 /// mapping[key], or a null object when the key is absent or None (None means "not given").

@@ -92,6 +92,7 @@ def test_wrong_types_and_shapes_name_the_field(fields, error, message):
         (np.zeros((2, 7), dtype=complex), TypeError, r"^waypoints: expected a numeric array"),
         ([[0, 0, 0, 0, 0, 0, 1], ([1, 0], [0, 0, 0, 1])], ValueError, r"^waypoints\[1\]\.position: expected 3"),
         ([[0, 0, 0, 0, 0, 0, 1], [1, 0, 0]], ValueError, r"^waypoints\[1\]: expected 7 numbers"),
+        ([[0, 0, 0, 0, 0, 0, 1], [1, 0]], ValueError, r"^waypoints\[1\]: expected 7 numbers .*, got 2"),
         ([[0, 0, 0, 0, 0, 0, 1], "pose"], TypeError, r"^waypoints\[1\]: expected \[x, y, z, qx"),
         ("poses", TypeError, r"^waypoints: expected an \(N, 7\) array or a list of poses, got str"),
         ({"poses": W, "frame": "map"}, ValueError, r"^waypoints\.frame: unknown field"),
