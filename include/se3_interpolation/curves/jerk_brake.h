@@ -183,7 +183,7 @@ struct ChannelStop
   Vector3<S> at(const S& tau, Side side) const
   {
     const double tv = valueOf(tau);
-    if (tv < ramp || (tv == ramp && side == Side::kLeft && ramp > 0.0))
+    if (ramp > 0.0 && (tv < ramp || (tv == ramp && side == Side::kLeft)))
       return v0.template cast<S>() * tau + a0.template cast<S>() * (tau * tau * (S(0.5) - tau / S(6.0 * ramp)));
     const S t = tau - S(ramp);
     return ramp_end.template cast<S>() + along_axis.template cast<S>() * along.positionAt(t, side) +
