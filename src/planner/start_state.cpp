@@ -394,10 +394,15 @@ constexpr int kBrakeSamplesPerPiece = 64;
 /// Scalings of the jerk brake's per-axis bounds tried (each by kBrakeScaleStep) before the start is
 /// left without one: the rotation's rates exceed the axes' by terms of the angle it turns.
 constexpr int kBrakeScalings = 32;
-constexpr double kBrakeScaleStep = 0.9;
+/// The most a scaling keeps of the bounds (at least 1 % off), and the margin beyond the measured
+/// excess it takes off (a rotation's rates do not scale exactly with its bounds).
+constexpr double kBrakeScaleStep = 0.99;
+constexpr double kBrakeScaleMargin = 1e-3;
 /// Steps of the along-axis share of the acceleration bound (curves/jerk_brake.h), down to the
 /// smallest before none (the share the sideways acceleration leaves at all times).
 constexpr double kShareStep = 0.6;
+/// The ramp time of a channel without a jerk bound when the other channel's gives none (s).
+constexpr double kDefaultRampTime = 0.1;
 constexpr double kSmallestShare = 0.02;
 
 /// The rates of a jerk brake at τ: |v|, |a|, |j| per channel.
@@ -416,8 +421,11 @@ struct JerkBrakeCheck
 {
   BrakeFigures figures;
   bool within = true;
-  bool acceleration_fails = false;  ///< an acceleration bound (which a smaller along-axis share helps)
-  bool jerk_fails = false;          ///< a jerk bound (which scaling the bounds down helps)
+  /// Per channel, the largest ratio of a rate to its bound where it must hold (velocity,
+  /// acceleration, jerk; 0 without a bound): an acceleration above its bound is helped by a smaller
+  /// along-axis share, a jerk (or an acceleration with no share left) by lower bounds; a velocity
+  /// by neither.
+  std::array<std::array<double, 3>, 2> worst{};
 };
 
 JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
@@ -442,10 +450,16 @@ JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
                                           start[1][1] > bounds[1][1] && bounds[1][1] > 0.0 } };
   std::array<std::array<double, 2>, 3> previous{};
   double previous_tau = 0.0;
+  bool recovery_pending = false;  // a sample above a bound the start exceeds: the recovery ends at a later one
   for (std::size_t piece = 0; piece + 1 < ends.size(); ++piece)
     for (int k = 0; k <= kBrakeSamplesPerPiece; ++k)
     {
       const double tau = ends[piece] + (ends[piece + 1] - ends[piece]) * k / kBrakeSamplesPerPiece;
+      if (recovery_pending && tau > f.recovery)
+      {
+        f.recovery = tau;
+        recovery_pending = false;
+      }
       const auto rates = brakeRates(b, tau, k == kBrakeSamplesPerPiece ? Side::kLeft : Side::kRight);
       for (int c = 0; c < 2; ++c)
       {
@@ -455,6 +469,8 @@ JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
         for (int order = 0; order < 3; ++order)
         {
           const double bound = bounds[order][c];
+          if (bound > 0.0 && !(order < 2 && recovering[order][c]))
+            check.worst[c][order] = std::max(check.worst[c][order], rates[order][c] / bound);
           if (!(bound > 0.0) || rates[order][c] <= bound * (1.0 + kNoLongerTolerance))
           {
             if (order < 2 && recovering[order][c] && rates[order][c] <= bound)
@@ -463,12 +479,11 @@ JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
           }
           if (order < 2 && recovering[order][c])
           {
-            f.recovery = tau;
+            f.recovery = std::max(f.recovery, tau);
+            recovery_pending = true;
             continue;
           }
           check.within = false;
-          check.acceleration_fails = check.acceleration_fails || order == 1;
-          check.jerk_fails = check.jerk_fails || order == 2;
         }
       }
       const double dt = tau - previous_tau;
@@ -493,14 +508,42 @@ JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
 /// with a bound moves, or none of these keeps every bound (a start within a velocity bound whose
 /// forward acceleration carries it past the bound, or a rotation whose ω₀ × ω̇₀ alone exceeds the
 /// jerk bound).
+/// The bounds a jerk brake is designed with: the request's, and for a channel without a jerk bound
+/// (while the other has one) a jerk that ramps its acceleration bound in the other channel's ramp
+/// time A/J (its acceleration stays continuous, as the jerk-limited timing keeps it), and for a
+/// channel with neither bound the acceleration that stops it about when the other stops.
+std::pair<std::array<double, 2>, std::array<double, 2>> brakeDesignBounds(const ValidatedRequest& r)
+{
+  const StartState& s = *r.start_state;
+  std::array<double, 2> a = { r.max_linear_acceleration, r.max_angular_acceleration };
+  std::array<double, 2> j = { r.max_linear_jerk, r.max_angular_jerk };
+  const double speed[2] = { s.velocity.linear.norm(), s.velocity.angular.norm() };
+  const double accel[2] = { s.acceleration.linear.norm(), s.acceleration.angular.norm() };
+  for (int c = 0; c < 2; ++c)
+  {
+    const int o = 1 - c;
+    if (j[c] > 0.0 || !(j[o] > 0.0))
+      continue;
+    double ramp = a[o] > 0.0 ? a[o] / j[o] : std::sqrt(speed[o] / j[o]);
+    if (!(ramp > 0.0) || !std::isfinite(ramp))
+      ramp = kDefaultRampTime;
+    if (!(a[c] > 0.0))
+    {
+      const double stop = std::max(JerkStop(speed[o], 0.0, a[o], j[o]).stopTime(), ramp);
+      a[c] = std::max(accel[c], 2.0 * speed[c] / stop);
+    }
+    j[c] = a[c] / ramp;
+  }
+  return { a, j };
+}
+
 std::optional<std::pair<JerkBrake, BrakeFigures>> jerkBrakeWithin(const ValidatedRequest& r,
                                                                    const std::array<StopDesign, 2>& design)
 {
   const StartState& s = *r.start_state;
-  const std::array<double, 2> a_max = { r.max_linear_acceleration, r.max_angular_acceleration };
-  const std::array<double, 2> j_max = { r.max_linear_jerk, r.max_angular_jerk };
-  double scale = 1.0;
-  double share = 1.0;
+  const auto [a_max, j_max] = brakeDesignBounds(r);
+  std::array<double, 2> scale = { 1.0, 1.0 };
+  std::array<double, 2> share = { 1.0, 1.0 };
   for (int attempt = 0; attempt < kBrakeScalings; ++attempt)
   {
     const JerkBrake b = makeJerkBrake(s.pose, s.velocity, s.acceleration, a_max, j_max, scale, share, design);
@@ -509,29 +552,42 @@ std::optional<std::pair<JerkBrake, BrakeFigures>> jerkBrakeWithin(const Validate
     const JerkBrakeCheck check = checkJerkBrake(r, b);
     if (check.within)
       return std::make_pair(b, check.figures);
-    if (check.acceleration_fails && share > 0.0)
-      share = share > kSmallestShare ? share * kShareStep : 0.0;
-    else if (check.acceleration_fails || check.jerk_fails)
-      scale *= kBrakeScaleStep;
-    else
-      return std::nullopt;
+    for (int c = 0; c < 2; ++c)
+    {
+      const std::array<double, 3>& w = check.worst[c];
+      if (w[0] > 1.0 + kNoLongerTolerance)
+        return std::nullopt;
+      if (w[1] > 1.0 + kNoLongerTolerance && share[c] > 0.0)
+        share[c] = share[c] > kSmallestShare ? share[c] * kShareStep : 0.0;
+      else if (w[1] > 1.0 + kNoLongerTolerance || w[2] > 1.0 + kNoLongerTolerance)
+        scale[c] *= std::min(kBrakeScaleStep, 1.0 / (std::max(w[1], w[2]) * (1.0 + kBrakeScaleMargin)));
+    }
   }
   return std::nullopt;
 }
 
-/// The fastest of the jerk brakes of both designs per channel (curves/jerk_brake.h) that holds every
-/// bound (jerkBrakeWithin).
-std::optional<std::pair<JerkBrake, BrakeFigures>> fastestJerkBrake(const ValidatedRequest& r)
+/// The jerk brakes to try (curves/jerk_brake.h): the fastest of both designs per channel that
+/// holds every bound (jerkBrakeWithin), and the acceleration ramped first in both channels (the
+/// stop along the velocity left, whose stopping pose the braked motion may prefer).
+std::vector<std::pair<JerkBrake, BrakeFigures>> jerkBrakes(const ValidatedRequest& r)
 {
   std::optional<std::pair<JerkBrake, BrakeFigures>> best;
+  std::optional<std::pair<JerkBrake, BrakeFigures>> ramp;
   for (StopDesign linear : { StopDesign::kSplit, StopDesign::kRamp })
     for (StopDesign angular : { StopDesign::kSplit, StopDesign::kRamp })
     {
       auto brake = jerkBrakeWithin(r, { linear, angular });
+      if (brake && linear == StopDesign::kRamp && angular == StopDesign::kRamp)
+        ramp = brake;
       if (brake && (!best || brake->first.stopTime() < best->first.stopTime()))
         best = std::move(brake);
     }
-  return best;
+  std::vector<std::pair<JerkBrake, BrakeFigures>> brakes;
+  if (best)
+    brakes.push_back(*best);
+  if (ramp && best && ramp->first.stopTime() != best->first.stopTime())
+    brakes.push_back(*ramp);
+  return brakes;
 }
 
 /// The braked motion (file comment): `brake` on [0, T], then the request's motion from rest at the
@@ -628,10 +684,14 @@ std::optional<Candidate<G>> brakedCandidate(const ValidatedRequest& r, bool* alo
   *alone = false;
   if (hasJerkBound(r))
   {
-    const auto brake = fastestJerkBrake(r);
-    if (!brake)
-      return std::nullopt;
-    return attempt<G>([&] { return brakedMotion<G>(r, brake->first, brake->second); });
+    std::optional<Candidate<G>> shortest;
+    for (const auto& brake : jerkBrakes(r))
+    {
+      Candidate<G> c = attempt<G>([&] { return brakedMotion<G>(r, brake.first, brake.second); });
+      if (!shortest || (c.motion && (!shortest->motion || noLonger(r, *c.motion, *shortest->motion))))
+        shortest = std::move(c);
+    }
+    return shortest;
   }
   const std::optional<BrakeToRest> brake = brakeToRest(r);
   if (!brake)

@@ -312,12 +312,13 @@ struct JerkBrake
 };
 
 /// The brake of a start state under bounds (a_max, j_max per channel: linear, angular; 0 =
-/// unbounded) with every bound scaled by `scale` ∈ (0, 1], the along-axis share `share` of the
-/// acceleration bounds and each channel's design (makeChannelStop). A channel with neither bound stops with the others.
+/// unbounded) with each channel's bounds scaled by its `scale` ∈ (0, 1], its along-axis share
+/// `share` of the acceleration bound and its design (makeChannelStop). A channel with neither bound stops with the others.
 /// Stop time 0: no channel with a bound moves.
 inline JerkBrake makeJerkBrake(const Pose<double>& pose, const Twist& velocity, const Twist& acceleration,
-                               const std::array<double, 2>& a_max, const std::array<double, 2>& j_max, double scale,
-                               double share, const std::array<StopDesign, 2>& design)
+                               const std::array<double, 2>& a_max, const std::array<double, 2>& j_max,
+                               const std::array<double, 2>& scale, const std::array<double, 2>& share,
+                               const std::array<StopDesign, 2>& design)
 {
   JerkBrake b;
   b.start = pose;
@@ -325,16 +326,16 @@ inline JerkBrake makeJerkBrake(const Pose<double>& pose, const Twist& velocity, 
   b.start_acceleration = acceleration;
   const bool bounded[2] = { a_max[0] > 0.0 || j_max[0] > 0.0, a_max[1] > 0.0 || j_max[1] > 0.0 };
   if (bounded[0])
-    b.linear = makeChannelStop(velocity.linear, acceleration.linear, a_max[0], j_max[0], scale, share, 0.0,
+    b.linear = makeChannelStop(velocity.linear, acceleration.linear, a_max[0], j_max[0], scale[0], share[0], 0.0,
                                design[0]);
   if (bounded[1])
-    b.angular = makeChannelStop(velocity.angular, acceleration.angular, a_max[1], j_max[1], scale, share, 0.0,
+    b.angular = makeChannelStop(velocity.angular, acceleration.angular, a_max[1], j_max[1], scale[1], share[1], 0.0,
                                 design[1]);
   const double stop = b.stopTime();
   if (!bounded[0])
-    b.linear = makeChannelStop(velocity.linear, acceleration.linear, 0.0, 0.0, scale, share, stop, StopDesign::kSplit);
+    b.linear = makeChannelStop(velocity.linear, acceleration.linear, 0.0, 0.0, 1.0, 1.0, stop, StopDesign::kSplit);
   if (!bounded[1])
-    b.angular = makeChannelStop(velocity.angular, acceleration.angular, 0.0, 0.0, scale, share, stop, StopDesign::kSplit);
+    b.angular = makeChannelStop(velocity.angular, acceleration.angular, 0.0, 0.0, 1.0, 1.0, stop, StopDesign::kSplit);
   return b;
 }
 }  // namespace se3_interpolation

@@ -135,7 +135,7 @@ TEST(JerkBrake, StartsInTheStateEndsAtRestTranslationWithinTheBounds)
       al *= 1.9 / std::max(1.9, al.norm());
       const Twist v = twist(Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.4, Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.4);
       const Twist a = twist(al, Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.5);
-      const JerkBrake b = makeJerkBrake(x0, v, a, a_max, j_max, 1.0, 1.0, { design, design });
+      const JerkBrake b = makeJerkBrake(x0, v, a, a_max, j_max, { 1.0, 1.0 }, { 1.0, 1.0 }, { design, design });
       const double T = b.stopTime();
       ASSERT_GT(T, 0.0);
       const timing::Kinematics3 k0 = timing::kinematics3FromJet(b.at(Jet<3>::variable(0.0), Side::kRight));
@@ -166,7 +166,7 @@ TEST(JerkBrake, RotationAboutOneAxisIsTheOneAxisStop)
   const Eigen::Vector3d axis = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
   const Pose<double> x0(Quaternion<double>(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())), Eigen::Vector3d::Zero());
   const JerkBrake b = makeJerkBrake(x0, twist(Eigen::Vector3d::Zero(), 1.2 * axis),
-                                    twist(Eigen::Vector3d::Zero(), -0.5 * axis), { 2.0, 3.0 }, { 20.0, 15.0 }, 1.0, 1.0,
+                                    twist(Eigen::Vector3d::Zero(), -0.5 * axis), { 2.0, 3.0 }, { 20.0, 15.0 }, { 1.0, 1.0 }, { 1.0, 1.0 },
                                     { StopDesign::kSplit, StopDesign::kSplit });
   const JerkStop s(1.2, -0.5, 3.0, 15.0);
   EXPECT_NEAR(b.stopTime(), s.stopTime(), 1e-15);

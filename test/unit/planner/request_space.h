@@ -443,6 +443,19 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
     exceeded_at_start[j] = request.start_state && b > 0.0 && rateOf(first, j) > b * (1.0 + 1e-6);
     any_exceeded = any_exceeded || exceeded_at_start[j];
   }
+  // A speed may grow in its recovery only where a jerk bound forces it: the start's acceleration,
+  // ramped to zero at most at the jerk bound, adds up to |a|²/(2J) to it.
+  double unavoidable[4] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                            std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
+  for (int j = 0; j < 2; ++j)
+  {
+    const double jerk = j == 0 ? request.max_linear_jerk : request.max_angular_jerk;
+    unavoidable[j] = 0.0;
+    if (jerk > 0.0)
+      unavoidable[j] = rateOf(first, j) + std::pow(rateOf(first, j + 2), 2) / (2.0 * jerk);
+  }
+  for (int j = 2; j < 4; ++j)
+    unavoidable[j] = 0.0;
   if (!std::isfinite(recovery) || recovery < 0.0 || recovery > T * (1.0 + 1e-12))
     fail("recovery_time", recovery, "recovery_time " + num(recovery) + " outside [0, duration " + num(T) + "]");
   if (!any_exceeded && recovery != 0.0)
@@ -487,7 +500,7 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
         {
           if (in_recovery && exceeded_at_start[j])
           {
-            if (in_recovery_prev && r > b && r > previous[j] * (1.0 + 1e-9) + 1e-12)
+            if (in_recovery_prev && r > b && r > previous[j] * (1.0 + 1e-9) + 1e-12 && r > unavoidable[j])
               worst_increase[j] = std::max(worst_increase[j], r / previous[j] - 1.0);
           }
           else if (r > b * (1.0 + 1e-6) && r / b > worst[j])
@@ -1037,36 +1050,61 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
   return g;
 }
 
-/// Time and distance of a valid brake of one channel from speed v and acceleration a (0 = unbounded
-/// bounds): the start acceleration ramped to zero at the jerk bound, then the closed-form stop of the
-/// double S or, without a jerk bound, of constant deceleration (L. Biagiotti, C. Melchiorri,
-/// "Trajectory Planning for Automatic Machines and Robots", §3.4). Without either bound the
-/// channel stops with the others: (0, 0).
-inline std::pair<double, double> referenceBrake(double v, double a, double a_max, double j_max)
+/// A valid brake of one channel of a start state (velocity v, acceleration a; bounds 0 = unbounded):
+/// the acceleration ramped linearly to zero at the jerk bound (T_r = |a|/J), then the velocity
+/// left, v + a T_r/2, stopped along its own direction by the closed-form double S or, without a jerk
+/// bound, at constant deceleration (L. Biagiotti, C. Melchiorri, "Trajectory Planning for Automatic
+/// Machines and Robots", §3.4); its duration, a bound of its distance, and its displacement (for
+/// the rotation, the rotation vector in the chart at the start). Without either bound the channel
+/// stops with the other: stopWithin fills it in.
+struct ReferenceBrake
 {
+  double duration = 0.0;
+  double distance = 0.0;
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+};
+
+inline ReferenceBrake referenceBrake(const Eigen::Vector3d& v, const Eigen::Vector3d& a, double a_max, double j_max)
+{
+  ReferenceBrake b;
   if (!(a_max > 0.0) && !(j_max > 0.0))
-    return { 0.0, 0.0 };
-  double ramp = 0.0, v1 = v;
+    return b;
+  Eigen::Vector3d v1 = v;
+  double ramp = 0.0;
   if (j_max > 0.0)
   {
-    ramp = a / j_max;
-    v1 = v + a * a / (2.0 * j_max);
+    ramp = a.norm() / j_max;
+    v1 = v + 0.5 * a * ramp;
+    b.displacement = v * ramp + a * (ramp * ramp / 3.0);
+    b.distance = (v.norm() + a.norm() * ramp) * ramp;
   }
+  const double speed = v1.norm();
   double stop;
   if (!(j_max > 0.0))
-    stop = v1 / a_max;
-  else if (!(a_max > 0.0) || v1 < a_max * a_max / j_max)
-    stop = 2.0 * std::sqrt(v1 / j_max);
+    stop = speed / a_max;
+  else if (!(a_max > 0.0) || speed < a_max * a_max / j_max)
+    stop = 2.0 * std::sqrt(speed / j_max);
   else
-    stop = v1 / a_max + a_max / j_max;
-  return { ramp + stop, v1 * (ramp + stop) };
+    stop = speed / a_max + a_max / j_max;
+  // The stop's speed is symmetric about its middle: it covers half its start speed times its duration.
+  b.duration = ramp + stop;
+  b.distance += 0.5 * speed * stop;
+  if (speed > 0.0)
+    b.displacement += v1 * (0.5 * stop);
+  return b;
+}
+
+/// A channel without bounds stopping uniformly within the other's duration T.
+inline void stopWithin(const Eigen::Vector3d& v, double T, ReferenceBrake* b)
+{
+  b->distance = 0.5 * v.norm() * T;
+  b->displacement = 0.5 * v * T;
 }
 
 /// The brake-and-go bound of a motion from a moving start (docs/timing.md "Start states and
 /// replanning"): the test's own valid brake of each channel (referenceBrake) and the planner's
-/// motion from rest at the start pose. The stop pose lies up to the brake's distance from the start
-/// pose, so the bound allows the brake twice, and kDetourFactor for the planner's own brake, which
-/// shares the jerk bound between two axes (curves/jerk_brake.h).
+/// motion from rest at its stopping pose, times kDetourFactor for the planner's own brake, which may
+/// stop elsewhere (curves/jerk_brake.h shares the jerk bound between two axes).
 struct BrakeAndGo
 {
   double duration = 0.0;
@@ -1084,17 +1122,22 @@ inline double chordLength(const TrajectoryRequest& r, const CurveFigures& f)
 inline BrakeAndGo brakeAndGoBound(const TrajectoryRequest& request, const PlannerLimits& limits)
 {
   const StartState& s = *request.start_state;
-  const auto lin = referenceBrake(s.velocity.linear.norm(), s.acceleration.linear.norm(),
-                                  request.max_linear_acceleration, request.max_linear_jerk);
-  const auto ang = referenceBrake(s.velocity.angular.norm(), s.acceleration.angular.norm(),
-                                  request.max_angular_acceleration, request.max_angular_jerk);
+  ReferenceBrake lin = referenceBrake(s.velocity.linear, s.acceleration.linear, request.max_linear_acceleration,
+                                      request.max_linear_jerk);
+  ReferenceBrake ang = referenceBrake(s.velocity.angular, s.acceleration.angular, request.max_angular_acceleration,
+                                      request.max_angular_jerk);
+  if (!(request.max_linear_acceleration > 0.0) && !(request.max_linear_jerk > 0.0))
+    stopWithin(s.velocity.linear, ang.duration, &lin);
+  if (!(request.max_angular_acceleration > 0.0) && !(request.max_angular_jerk > 0.0))
+    stopWithin(s.velocity.angular, lin.duration, &ang);
+  const Pose<double> stop(Quaternion<double>(so3Exp<double>(ang.displacement) * s.pose.q), s.pose.p + lin.displacement);
   TrajectoryRequest rest = request;
-  rest.start_state = StartState{ s.pose, Twist{}, Twist{} };
+  rest.start_state = StartState{ stop, Twist{}, Twist{} };
   const TrajectoryResult from_rest = generate(rest, limits);
   const double rho = request.rotation_scale > 0.0 ? request.rotation_scale : 1.0;
   BrakeAndGo b;
-  b.duration = kDetourFactor * (2.0 * std::max(lin.first, ang.first) + from_rest.duration);
-  b.length = kDetourFactor * (2.0 * (lin.second + rho * ang.second) + chordLength(request, from_rest.figures));
+  b.duration = kDetourFactor * (std::max(lin.duration, ang.duration) + from_rest.duration);
+  b.length = kDetourFactor * (lin.distance + rho * ang.distance + chordLength(request, from_rest.figures));
   return b;
 }
 
