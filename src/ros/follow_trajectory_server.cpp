@@ -207,7 +207,7 @@ void FollowTrajectoryServer::start(GoalHandle handle)
             return std::nullopt;
           return s;
         },
-        tolerances.path_linear, tolerances.path_angular);
+        params.start_tolerance_linear, params.start_tolerance_angular);
 
     std::lock_guard<std::mutex> lock(mutex_);
     const std::string tag = kGoalTagPrefix + std::to_string(next_goal_++);
@@ -224,6 +224,7 @@ void FollowTrajectoryServer::start(GoalHandle handle)
     Motion motion = trajectory.motion(frame, child);
     motion.tag = tag;
     playback_.play(std::move(motion), stamp, nanosecondsOf(ros::Time::now()));
+    owns_frame_ = true;
     active_.emplace(Active{ handle, tag, frame, stamp, last,
                             GoalSupervisor(tolerances, stamp + toNanoseconds(end_time), last) });
   }
@@ -241,13 +242,25 @@ void FollowTrajectoryServer::start(GoalHandle handle)
   }
 }
 
-Pose<double> FollowTrajectoryServer::stopFrame(Nanoseconds now, const NodeParameters& params)
+StopLimits stopLimitsOf(const NodeParameters& params)
 {
   StopLimits limits;
   limits.max_linear_acceleration = params.max_linear_acceleration;
   limits.max_angular_acceleration = params.max_angular_acceleration;
+  limits.max_linear_jerk = params.max_linear_jerk;
+  limits.max_angular_jerk = params.max_angular_jerk;
   limits.stop_time = params.stop_time;
-  const Nanoseconds rest = playback_.stop(now, limits);
+  return limits;
+}
+
+Nanoseconds stopStart(Nanoseconds now)
+{
+  return now + toNanoseconds(kStopLead);
+}
+
+Pose<double> FollowTrajectoryServer::stopFrame(Nanoseconds now, const NodeParameters& params)
+{
+  const Nanoseconds rest = playback_.stop(stopStart(now), stopLimitsOf(params));
   const std::optional<PlaybackState> held = playback_.at(rest);
   return held ? held->sample.pose : Pose<double>();
 }

@@ -11,8 +11,9 @@
 //
 // ~command (geometry_msgs/PoseStamped, world_T_body of the moving frame in the trajectory's frame,
 // the target convention of Cartesian controllers such as cartesian_motion_controller) carries the
-// setpoint at ~command_rate only while a goal is shown, or the pose held after one: a trajectory of
-// ~generate (publish, auto-generation) never reaches it, and replacing a goal by one ends the goal.
+// setpoint at ~command_rate from the first goal on: a goal's motion, its stop, or the pose held
+// after it. Once a goal has played, ~generate publications (publish, auto-generation) no longer
+// move the frame (ownsFrame), so ~command and the frame never part and never step.
 //
 // Threading: goals, cancels and the feedback timer run on one callback queue and thread (so a goal
 // is checked and started in order), ~command on another (a long goal check never delays the
@@ -25,6 +26,7 @@
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -39,6 +41,19 @@
 
 namespace se3_interpolation
 {
+/// The stop of a cancel, an abort or ~clear_waypoints: the node's ~max_*_acceleration and
+/// ~max_*_jerk, and ~stop_time where none is set (execution/stop_law.h).
+StopLimits stopLimitsOf(const NodeParameters& params);
+
+/// How far ahead of the present a stop starts (s): the stop law is computed from a snapshot while
+/// the motion plays on (milliseconds; execution/stop_law.h bounds its search), and must be in place
+/// before it starts, or the frame would jump from the motion to the law. 50 ms: well above that
+/// computation on a loaded machine, well below what a user notices in a cancel.
+constexpr double kStopLead = 0.05;
+
+/// The instant a stop asked for at `now` starts: now + kStopLead.
+Nanoseconds stopStart(Nanoseconds now);
+
 /// The tags of what the playback shows (Motion::tag): goals' start with this, so ~command knows them.
 constexpr const char* kGoalTagPrefix = "follow_trajectory goal ";
 
@@ -62,6 +77,11 @@ public:
   /// Something other than a goal took the moving frame (a ~generate publication, ~clear_waypoints):
   /// the running goal ends PREEMPTED, `why` in its error_string. Call with the publication mutex held.
   void interrupt(const std::string& why);
+
+  /// Whether a goal has played on the moving frame: from then on the frame is the setpoint
+  /// ~command carries, and nothing but goals may move it (a ~generate publication would make the
+  /// frame and ~command part, and the next goal jump).
+  bool ownsFrame() const { return owns_frame_; }
 
 private:
   /// A running goal.
@@ -101,6 +121,7 @@ private:
   std::mutex mutex_;  ///< guards active_ and next_goal_
   std::optional<Active> active_;
   std::uint64_t next_goal_ = 1;
+  std::atomic<bool> owns_frame_{ false };
 
   ros::CallbackQueue action_queue_;
   ros::CallbackQueue command_queue_;
