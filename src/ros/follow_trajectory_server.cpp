@@ -8,6 +8,7 @@
 #include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/ros/conversions.h"
+#include "se3_interpolation/ros/frame_memory.h"
 
 namespace se3_interpolation
 {
@@ -39,6 +40,19 @@ void requireTolerance(double value, const char* field)
                                                         " is not a finite tolerance >= 0 (0 = the node's default)");
 }
 
+/// The frame held at `pose`, at rest, tagged `tag`.
+Motion heldMotion(const std::string& frame, const std::string& child, const Pose<double>& pose, const std::string& tag)
+{
+  TrajectorySample held;
+  held.pose = pose;
+  Motion m;
+  m.state_at = [held](double) { return held; };
+  m.frame_id = frame;
+  m.child_frame_id = child;
+  m.tag = tag;
+  return m;
+}
+
 /// The node's ~geometry (validated by the parameter table, so always a known name).
 GeometryType geometryOf(const NodeParameters& p)
 {
@@ -49,8 +63,10 @@ GeometryType geometryOf(const NodeParameters& p)
 FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback,
                                                const tf2_ros::Buffer& tf, std::function<NodeParameters()> parameters,
                                                std::mutex& publish_mutex, const NodeParameters& initial)
-  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex)
+  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex),
+    private_nh_(private_nh)
 {
+  restoreFrame(initial);
   ros::NodeHandle action_nh(private_nh);
   action_nh.setCallbackQueue(&action_queue_);
   ros::NodeHandle command_nh(private_nh);
@@ -84,6 +100,54 @@ FollowTrajectoryServer::~FollowTrajectoryServer()
     active_->handle.setAborted(result, result.error_string);
     active_.reset();
   }
+}
+
+void FollowTrajectoryServer::restoreFrame(const NodeParameters& params)
+{
+  const std::optional<RememberedFrame> remembered = recallFrame(private_nh_);
+  if (!remembered)
+    return;
+  if (!remembered->at_rest)
+  {
+    state_unknown_ = true;
+    ROS_WARN_STREAM("~follow_trajectory: this node restarted while a goal moved the frame ~"
+                    << kFrameMemoryParameter << "): goals are refused until ~actual_frame is measured or a "
+                    << "~generate publication places the frame");
+    return;
+  }
+  const Nanoseconds now = nanosecondsOf(ros::Time::now());
+  playback_.play(heldMotion(remembered->frame_id, params.child_frame_id, remembered->pose, kGoalTagPrefix + std::string("0")),
+                 now, now);
+  owns_frame_ = true;
+  remembered_rest_ = true;
+  ROS_INFO_STREAM("~follow_trajectory: the frame is held where the previous instance left it (~" << kFrameMemoryParameter
+                                                                                                << ")");
+}
+
+void FollowTrajectoryServer::rememberShownFrame(Nanoseconds now)
+{
+  if (!owns_frame_)
+    return;
+  const std::optional<PlaybackState> shown = playback_.at(now);
+  if (!shown || (remembered_rest_ && *remembered_rest_ == !shown->moving))
+    return;
+  remembered_rest_ = !shown->moving;
+  rememberFrame(private_nh_, RememberedFrame{ shown->frame_id, shown->sample.pose, !shown->moving });
+}
+
+void FollowTrajectoryServer::placeFromMeasurement(const std::string& frame, const std::string& child, Nanoseconds now,
+                                                  const NodeParameters& params)
+{
+  const std::optional<Measurement> m = measured(frame, params);
+  if (!m)
+    throw InvalidGoalError(GoalError::kInvalidGoal,
+                           "trajectory.points[0]: this node restarted while a goal moved the frame (~" +
+                               std::string(kFrameMemoryParameter) +
+                               "), so where the setpoint stood is unknown: set ~actual_frame to the measured frame "
+                               "(the frame is then held at its pose), or place the frame with a ~generate "
+                               "publication (publish: true)");
+  playback_.play(heldMotion(frame, child, m->pose, kGoalTagPrefix + std::string("0")), now, now);
+  state_unknown_ = false;
 }
 
 void FollowTrajectoryServer::setRates(double command_rate, double feedback_rate)
@@ -199,6 +263,8 @@ void FollowTrajectoryServer::start(GoalHandle handle)
       throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.header.frame_id: " + quotedText(frame) +
                                                           " is neither ~frame_id " + quotedText(params.frame_id) +
                                                           " nor a frame TF knows");
+    if (!plays_here && state_unknown_)
+      placeFromMeasurement(frame, child, now, params);
     const GoalStart begin = checkGoalStart(
         trajectory, stamp, now,
         [&](Nanoseconds instant) -> std::optional<PlaybackState> {
@@ -299,6 +365,7 @@ std::optional<FollowTrajectoryServer::Measurement> FollowTrajectoryServer::measu
 
 void FollowTrajectoryServer::feedbackCallback(const ros::TimerEvent& /*event*/)
 {
+  rememberShownFrame(nanosecondsOf(ros::Time::now()));
   const NodeParameters params = parameters_();
   std::lock_guard<std::mutex> publishing(publish_mutex_);
   std::lock_guard<std::mutex> lock(mutex_);

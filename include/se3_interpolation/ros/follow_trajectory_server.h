@@ -101,6 +101,16 @@ private:
   void commandCallback(const ros::TimerEvent& event);
   /// Starts `handle` or rejects it with its code and message (never throws).
   void start(GoalHandle handle);
+  /// Holds the frame where ~executed_frame (ros/frame_memory.h) says a previous instance left it
+  /// at rest; marks the state unknown when it left it moving.
+  void restoreFrame(const NodeParameters& params);
+  /// Writes ~executed_frame when the frame executing goals starts moving or comes to rest (feedback
+  /// thread).
+  void rememberShownFrame(Nanoseconds now);
+  /// With the state unknown (restoreFrame): holds the frame at ~actual_frame's measured pose, or
+  /// refuses the goal (InvalidGoalError) when it is not measured.
+  void placeFromMeasurement(const std::string& frame, const std::string& child, Nanoseconds now,
+                            const NodeParameters& params);
   /// Brings the frame to rest from `now` and returns where it stops.
   Pose<double> stopFrame(Nanoseconds now, const NodeParameters& params);
   /// A pose of ~actual_frame and the instant it was measured at (its TF stamp).
@@ -122,6 +132,11 @@ private:
   std::optional<Active> active_;
   std::uint64_t next_goal_ = 1;
   std::atomic<bool> owns_frame_{ false };
+  ros::NodeHandle private_nh_;
+  /// A previous instance died while a goal moved the frame (ros/frame_memory.h); action thread.
+  bool state_unknown_ = false;
+  /// Whether ~executed_frame says at rest, as last written (feedback thread).
+  std::optional<bool> remembered_rest_;
 
   ros::CallbackQueue action_queue_;
   ros::CallbackQueue command_queue_;
