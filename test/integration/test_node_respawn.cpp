@@ -137,6 +137,7 @@ TEST_F(NodeRespawn, TheHeldSetpointSurvivesARespawn)
   ASSERT_EQ(c->getState(), State::SUCCEEDED) << c->getState().getText();
   const Eigen::Vector3d held(0.8, 0.2, 0.3);
   const GenerateTrajectory::Response res = generate(held, true, false);
+  ASSERT_TRUE(res.success) << res.message;
   c->sendGoal(goalOf(res));
   ASSERT_TRUE(c->waitForResult(ros::Duration(res.duration + 10.0)));
   ASSERT_EQ(c->getState(), State::SUCCEEDED) << c->getState().getText();
@@ -156,6 +157,7 @@ TEST_F(NodeRespawn, TheHeldSetpointSurvivesARespawn)
   EXPECT_EQ(far->getResult()->error_code, FollowTrajectoryResult::INVALID_GOAL) << far->getResult()->error_string;
   // ... and one from the frame's state runs.
   const GenerateTrajectory::Response back = generate(Eigen::Vector3d(0.2, 0.2, 0.3), true, false);
+  ASSERT_TRUE(back.success) << back.message;
   EXPECT_LT((Eigen::Vector3d(back.trajectory.points[0].transforms[0].translation.x,
                              back.trajectory.points[0].transforms[0].translation.y,
                              back.trajectory.points[0].transforms[0].translation.z) -
@@ -173,6 +175,7 @@ TEST_F(NodeRespawn, KilledDuringAGoalItRefusesGoalsUntilItHasAState)
 {
   auto c = client();
   const GenerateTrajectory::Response res = generate(Eigen::Vector3d(1.2, -0.4, 0.3), true, false);
+  ASSERT_TRUE(res.success) << res.message;
   c->sendGoal(goalOf(res));
   ros::WallDuration(res.trajectory.header.stamp.toSec() - ros::Time::now().toSec() + 0.5 * res.duration).sleep();
   killAndWaitForTheRespawn();
@@ -185,8 +188,10 @@ TEST_F(NodeRespawn, KilledDuringAGoalItRefusesGoalsUntilItHasAState)
       << d->getResult()->error_string;
   // A ~generate publication places the frame: goals from it are taken.
   const GenerateTrajectory::Response placed = generate(Eigen::Vector3d(0.5, 0.5, 0.3), false, true);
+  ASSERT_TRUE(placed.success) << placed.message;
   ros::WallDuration(placed.trajectory.header.stamp.toSec() - ros::Time::now().toSec() + placed.duration + 0.2).sleep();
   const GenerateTrajectory::Response from_there = generate(Eigen::Vector3d(0.3, 0.3, 0.3), true, false);
+  ASSERT_TRUE(from_there.success) << from_there.message;
   auto e = client();
   e->sendGoal(goalOf(from_there));
   ASSERT_TRUE(e->waitForResult(ros::Duration(from_there.duration + 10.0)));
