@@ -58,6 +58,73 @@ GeometryType geometryOf(const NodeParameters& p)
 {
   return parseName(p.geometry, "~geometry", RequestDefaults::kGeometry);
 }
+/// The goal's motion, checked in the order of docs/ros_interface.md ("How a goal ends"): its points,
+/// its tolerances, rest at its end and the node's bounds, then its joints, then its frame (`frame`:
+/// header.frame_id, else ~frame_id).
+/// @throws InvalidGoalError naming the field, or the core's std::invalid_argument
+GoalTrajectory checkedTrajectory(const FollowTrajectoryGoal& goal, const NodeParameters& params, std::string* frame)
+{
+  const auto& points = goal.trajectory.points;
+  if (points.empty())
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: empty (give at least one point)");
+  if (points.size() > static_cast<std::size_t>(params.max_waypoints))
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                        " points; the limit (~max_waypoints) is " +
+                                                        std::to_string(params.max_waypoints));
+  const double work = static_cast<double>(points.size()) * kGoalCheckSecondsPerPoint;
+  if (work > params.max_work_seconds)
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                        " points take about " + formatNumber(work) +
+                                                        " s to check; the limit (~max_work_seconds) is " +
+                                                        formatNumber(params.max_work_seconds) + " s");
+  std::vector<GoalPoint> goal_points;
+  goal_points.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (points[i].transforms.empty())
+      throw InvalidGoalError(GoalError::kInvalidJoints,
+                             indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
+                                 quotedText(params.child_frame_id) + ")");
+    goal_points.push_back(fromMsg(points[i]));
+  }
+  requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
+  requireTolerance(goal.path_tolerance_angular, "path_tolerance_angular");
+  requireTolerance(goal.goal_tolerance_linear, "goal_tolerance_linear");
+  requireTolerance(goal.goal_tolerance_angular, "goal_tolerance_angular");
+  requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
+  GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
+  trajectory.requireEndsAtRest();
+  trajectory.checkLimits(motionLimitsOf(params), kGoalLimitTolerance);
+
+  const auto& names = goal.trajectory.joint_names;
+  if (names.size() != 1)
+    throw InvalidGoalError(GoalError::kInvalidJoints,
+                           "trajectory.joint_names: " + std::to_string(names.size()) +
+                               " given; one is executed, the node's moving frame ~child_frame_id " +
+                               quotedText(params.child_frame_id));
+  if (names[0] != params.child_frame_id)
+    throw InvalidGoalError(GoalError::kInvalidJoints, "trajectory.joint_names[0]: " + quotedText(names[0]) +
+                                                          " is not this node's moving frame ~child_frame_id " +
+                                                          quotedText(params.child_frame_id));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].transforms.size() > 1 || points[i].velocities.size() > 1 || points[i].accelerations.size() > 1)
+      throw InvalidGoalError(GoalError::kInvalidJoints,
+                             indexedField("trajectory.points", i) + ": " + std::to_string(points[i].transforms.size()) +
+                                 " transforms, " + std::to_string(points[i].velocities.size()) + " velocities, " +
+                                 std::to_string(points[i].accelerations.size()) +
+                                 " accelerations for one joint (at most one each)");
+
+  *frame = goal.trajectory.header.frame_id.empty() ? params.frame_id : goal.trajectory.header.frame_id;
+  try
+  {
+    validateFrameId(*frame, "trajectory.header.frame_id");
+  }
+  catch (const InvalidInputError& e)
+  {
+    throw InvalidGoalError(GoalError::kInvalidGoal, e.what());
+  }
+  return trajectory;
+}
 }  // namespace
 
 FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback,
@@ -187,66 +254,8 @@ void FollowTrajectoryServer::start(GoalHandle handle)
   FollowTrajectoryResult result;
   try
   {
-    const auto& points = goal.trajectory.points;
-    if (points.empty())
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: empty (give at least one point)");
-    if (points.size() > static_cast<std::size_t>(params.max_waypoints))
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
-                                                          " points; the limit (~max_waypoints) is " +
-                                                          std::to_string(params.max_waypoints));
-    const double work = static_cast<double>(points.size()) * kGoalCheckSecondsPerPoint;
-    if (work > params.max_work_seconds)
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
-                                                          " points take about " + formatNumber(work) +
-                                                          " s to check; the limit (~max_work_seconds) is " +
-                                                          formatNumber(params.max_work_seconds) + " s");
-    std::vector<GoalPoint> goal_points;
-    goal_points.reserve(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      if (points[i].transforms.empty())
-        throw InvalidGoalError(GoalError::kInvalidJoints,
-                               indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
-                                   quotedText(params.child_frame_id) + ")");
-      goal_points.push_back(fromMsg(points[i]));
-    }
-    requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
-    requireTolerance(goal.path_tolerance_angular, "path_tolerance_angular");
-    requireTolerance(goal.goal_tolerance_linear, "goal_tolerance_linear");
-    requireTolerance(goal.goal_tolerance_angular, "goal_tolerance_angular");
-    requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
-    GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
-    trajectory.requireEndsAtRest();
-    trajectory.checkLimits(motionLimitsOf(params), kGoalLimitTolerance);
-
-    const auto& names = goal.trajectory.joint_names;
-    if (names.size() != 1)
-      throw InvalidGoalError(GoalError::kInvalidJoints,
-                             "trajectory.joint_names: " + std::to_string(names.size()) +
-                                 " given; one is executed, the node's moving frame ~child_frame_id " +
-                                 quotedText(params.child_frame_id));
-    if (names[0] != params.child_frame_id)
-      throw InvalidGoalError(GoalError::kInvalidJoints, "trajectory.joint_names[0]: " + quotedText(names[0]) +
-                                                            " is not this node's moving frame ~child_frame_id " +
-                                                            quotedText(params.child_frame_id));
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (points[i].transforms.size() > 1 || points[i].velocities.size() > 1 || points[i].accelerations.size() > 1)
-        throw InvalidGoalError(GoalError::kInvalidJoints,
-                               indexedField("trajectory.points", i) + ": " + std::to_string(points[i].transforms.size()) +
-                                   " transforms, " + std::to_string(points[i].velocities.size()) + " velocities, " +
-                                   std::to_string(points[i].accelerations.size()) +
-                                   " accelerations for one joint (at most one each)");
-
-    const std::string frame = goal.trajectory.header.frame_id.empty() ? params.frame_id : goal.trajectory.header.frame_id;
-    try
-    {
-      validateFrameId(frame, "trajectory.header.frame_id");
-    }
-    catch (const InvalidInputError& e)
-    {
-      throw InvalidGoalError(GoalError::kInvalidGoal, e.what());
-    }
-
+    std::string frame;
+    const GoalTrajectory trajectory = checkedTrajectory(goal, params, &frame);
     const Nanoseconds now = nanosecondsOf(ros::Time::now());
     const Nanoseconds stamp = goal.trajectory.header.stamp.isZero() ? now : nanosecondsOf(goal.trajectory.header.stamp);
     const GoalTolerances tolerances = tolerancesOf(goal, params);

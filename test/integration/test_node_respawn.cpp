@@ -1,14 +1,18 @@
-// Integration: a node killed and respawned (node_respawn.test, roslaunch's respawn) takes the
+// Integration: a node crashed (SIGKILL) and respawned (node_respawn.test, roslaunch's respawn) takes the
 // setpoint up where it was: ~command resumes at the pose held before the kill, a goal at rest far
 // from it is refused and one from the frame's state is accepted; killed during a goal, it refuses
 // goals until it has a state (no ~actual_frame here: a ~generate publication places the frame).
 #include <actionlib/client/simple_action_client.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
+#include <ros/master.h>
+#include <ros/network.h>
 #include <ros/ros.h>
+#include <signal.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <Eigen/Geometry>
-#include <cstdlib>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -102,10 +106,34 @@ protected:
     return goal;
   }
 
-  /// Kills the node (roslaunch respawns it) and waits for the new instance's action server.
+  /// The node's process id, from its XML-RPC API (getPid), found through the master.
+  static int nodePid()
+  {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    args[1] = kNode;
+    if (!ros::master::execute("lookupNode", args, result, payload, true))
+      return -1;
+    std::string host;
+    std::uint32_t port = 0;
+    if (!ros::network::splitURI(static_cast<std::string>(payload), host, port))
+      return -1;
+    XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+    XmlRpc::XmlRpcValue request, response;
+    request[0] = ros::this_node::getName();
+    if (!client.execute("getPid", request, response) || response.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+        response.size() < 3)
+      return -1;
+    return static_cast<int>(response[2]);
+  }
+
+  /// Crashes the node (SIGKILL: no shutdown of its own; roslaunch respawns it) and waits for the
+  /// new instance's action server.
   void killAndWaitForTheRespawn()
   {
-    ASSERT_EQ(std::system(("rosnode kill " + kNode + " > /dev/null").c_str()), 0);
+    const int pid = nodePid();
+    ASSERT_GT(pid, 0) << "the node's pid";
+    ASSERT_EQ(kill(pid, SIGKILL), 0);
     ASSERT_TRUE(node_test::waitFor([] { return !ros::service::exists(kNode + "/generate", false); }, 30.0));
     ASSERT_TRUE(ros::service::waitForService(kNode + "/generate", ros::Duration(60.0)));
     killed_ = ros::Time::now();
