@@ -177,7 +177,7 @@ void FollowTrajectoryServer::restoreFrame(const NodeParameters& params)
   if (!remembered->at_rest)
   {
     state_unknown_ = true;
-    ROS_WARN_STREAM("~follow_trajectory: this node restarted while a goal moved the frame ~"
+    ROS_WARN_STREAM("~follow_trajectory: this node restarted while a goal moved the frame (~"
                     << kFrameMemoryParameter << "): goals are refused until ~actual_frame is measured or a "
                     << "~generate publication places the frame");
     return;
