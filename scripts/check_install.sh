@@ -5,7 +5,8 @@
 # space, no source tree, run from a scratch directory):
 #   - the install holds the node, the CLI, the libraries, the nodelet plugin and its XML, every
 #     launch and config file, every executable scripts/*.py, and what the launch files refer to;
-#   - rospack, the nodelet plugin index, Python and the dynamic linker find the package there only;
+#   - rospack, the nodelet plugin index, Python (the messages and the module se3_interpolation) and
+#     the dynamic linker find the package there only;
 #   - the demo (launch/demo.launch, rviz:=false) on its own master at a free port: the node's
 #     ~generate service answers a light request with success, and the demo client's summary has
 #     every curve and geometry and no failure;
@@ -95,7 +96,8 @@ contents() {
   done
   for f in "$prefix"/lib/libse3_interpolation_{core,ros,nodelet}.so "$share"/{package.xml,nodelet_plugins.xml} \
            "$share/cfg/InterpolationNode.cfg" "$prefix"/include/se3_interpolation/{InterpolationNodeConfig.h,GenerateTrajectory.h} \
-           "$prefix/include/se3_interpolation/planner/planner.h" "$prefix/include/se3_interpolation/node_parameter_table.h"; do
+           "$prefix/include/se3_interpolation/planner/planner.h" "$prefix/include/se3_interpolation/node_parameter_table.h" \
+           "$prefix"/lib/python3/dist-packages/se3_interpolation/{__init__.py,_core.cpython-*.so}; do
     [ -f "$f" ] || { echo "missing file: $f"; missing=1; }
   done
   # Every launch and config file of the tree.
@@ -143,6 +145,11 @@ environment() {
     [ "$plugin" = "se3_interpolation $SE3_PREFIX/share/se3_interpolation/nodelet_plugins.xml" ]
     python3 -c "import se3_interpolation.srv as s, se3_interpolation.cfg.InterpolationNodeConfig as c; print(s.__file__); print(c.__file__)" |
       tee /dev/stderr | grep -v "^$SE3_PREFIX/" && exit 1
+    # The Python module (package and compiled core) beside the messages, generating a motion.
+    module=$(python3 -c "import se3_interpolation as m, se3_interpolation._core as k; print(m.__file__); print(k.__file__)
+m.generate(waypoints=[[0, 0, 0, 0, 0, 0, 1], [1, 0, 0, 0, 0, 0, 1]])") || exit 1
+    echo "$module"
+    [ "$(echo "$module" | grep -c "^$SE3_PREFIX/lib/python3/dist-packages/se3_interpolation/")" -eq 2 ] || exit 1
     ldd "$SE3_PREFIX/lib/se3_interpolation/se3_interpolation_node" | grep se3_interpolation | tee /dev/stderr |
       grep -v "=> $SE3_PREFIX/lib/" && exit 1
     true

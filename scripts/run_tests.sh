@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, runs every test (unit, CLI, rostest integration, the rviz
-# screenshot, the README's command blocks, catkin_lint and the install space, sanitizers) and
-# prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
+# screenshot, the README's command blocks, the Python module's pytest suite, catkin_lint and the
+# install space, sanitizers) and prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 se3_build
@@ -73,6 +73,8 @@ count_stage() {
 # Every ```bash block of README.md and of docs/*.md, run verbatim in order (scripts/check_readme.sh):
 # each block is a test.
 run_counted_stage readme "$SE3_ROOT/scripts/check_readme.sh" "$SE3_WS/readme_summary.log"
+# The Python module's tests (scripts/run_python_tests.sh: pytest over test/python/): each test case is a test.
+run_counted_stage python "$SE3_ROOT/scripts/run_python_tests.sh" "$SE3_WS/python_tests.log"
 # The API reference (scripts/build_api_docs.sh): Doxygen over the public headers without a warning.
 run_counted_stage apidocs "$SE3_ROOT/scripts/build_api_docs.sh" "$SE3_WS/api_docs.log"
 # catkin_lint --strict, then the install space (scripts/check_install.sh): `catkin_make install` into

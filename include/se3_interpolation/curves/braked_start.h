@@ -65,6 +65,13 @@ struct BrakeToRest
   /// T = max(T_l, T_a): when both channels have stopped.
   double stopTime() const { return std::max(linear.stopTime(), angular.stopTime()); }
 
+  /// The earlier channel's stop, where its deceleration ends, within (0, T) (empty if none).
+  std::vector<double> breakpoints() const
+  {
+    const double first = std::min(linear.stopTime(), angular.stopTime());
+    return first > 0.0 && first < stopTime() ? std::vector<double>{ first } : std::vector<double>{};
+  }
+
   /// The pose where the motion comes to rest.
   Pose<double> stopPose() const
   {
@@ -94,17 +101,19 @@ struct BrakeToRest
   }
 };
 
-/// The braking (B1, B2) on [0, T], then `rest` (from its start time) shifted to begin at T.
-/// Throws InvalidInputError when the braking does not stop in a positive, finite time.
-template <class G>
-class BrakedStartCurve final : public CurveBase<G, BrakedStartCurve<G>>
+/// The braking on [0, T] (`Brake`: BrakeToRest's B1, B2, or curves/jerk_brake.h's JerkBrake: its
+/// stopTime(), breakpoints() within (0, T) and at(τ, side)), then `rest` (from its start time)
+/// shifted to begin at T. Throws InvalidInputError when the braking does not stop in a positive,
+/// finite time.
+template <class G, class Brake = BrakeToRest>
+class BrakedStartCurve final : public CurveBase<G, BrakedStartCurve<G, Brake>>
 {
 public:
   template <class S>
   using PointT = typename G::template Point<S>;
   using Point = PointT<double>;
 
-  BrakedStartCurve(const BrakeToRest& brake, std::shared_ptr<const Curve<G>> rest)
+  BrakedStartCurve(const Brake& brake, std::shared_ptr<const Curve<G>> rest)
     : brake_(brake), stop_(brake.stopTime()), rest_(std::move(rest)), rest_snap_(rest_->breakpoints())
   {
     if (!(stop_ > 0.0) || !std::isfinite(stop_))
@@ -132,10 +141,8 @@ public:
   std::vector<double> breakpoints() const override
   {
     std::vector<double> b{ 0.0 };
-    for (double x : { brake_.linear.stopTime(), brake_.angular.stopTime() })
-      if (x > 0.0 && x < stop_)
-        b.push_back(x);
-    std::sort(b.begin(), b.end());
+    for (double x : brake_.breakpoints())
+      b.push_back(x);
     b.push_back(stop_);
     for (double x : rest_->breakpoints())
       if (x + offset() > stop_)
@@ -156,7 +163,7 @@ private:
   /// Curve time minus the rest's time after the stop.
   double offset() const { return stop_ - rest_->startTime(); }
 
-  BrakeToRest brake_;
+  Brake brake_;
   double stop_;
   std::shared_ptr<const Curve<G>> rest_;
   BreakpointSnap rest_snap_;

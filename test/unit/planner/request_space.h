@@ -1037,6 +1037,102 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
   return g;
 }
 
+/// Time and distance of a valid brake of one channel from speed v and acceleration a (0 = unbounded
+/// bounds): the start acceleration ramped to zero at the jerk bound, then the closed-form stop of the
+/// double S or, without a jerk bound, of constant deceleration (L. Biagiotti, C. Melchiorri,
+/// "Trajectory Planning for Automatic Machines and Robots", §3.4). Without either bound the
+/// channel stops with the others: (0, 0).
+inline std::pair<double, double> referenceBrake(double v, double a, double a_max, double j_max)
+{
+  if (!(a_max > 0.0) && !(j_max > 0.0))
+    return { 0.0, 0.0 };
+  double ramp = 0.0, v1 = v;
+  if (j_max > 0.0)
+  {
+    ramp = a / j_max;
+    v1 = v + a * a / (2.0 * j_max);
+  }
+  double stop;
+  if (!(j_max > 0.0))
+    stop = v1 / a_max;
+  else if (!(a_max > 0.0) || v1 < a_max * a_max / j_max)
+    stop = 2.0 * std::sqrt(v1 / j_max);
+  else
+    stop = v1 / a_max + a_max / j_max;
+  return { ramp + stop, v1 * (ramp + stop) };
+}
+
+/// The brake-and-go bound of a motion from a moving start (docs/timing.md "Start states and
+/// replanning"): the test's own valid brake of each channel (referenceBrake) and the planner's
+/// motion from rest at the start pose. The stop pose lies up to the brake's distance from the start
+/// pose, so the bound allows the brake twice, and kDetourFactor for the planner's own brake, which
+/// shares the jerk bound between two axes (curves/jerk_brake.h).
+struct BrakeAndGo
+{
+  double duration = 0.0;
+  double length = 0.0;  ///< |p| length + ρ · rotation length
+};
+
+constexpr double kDetourFactor = 1.2;
+
+inline double chordLength(const TrajectoryRequest& r, const CurveFigures& f)
+{
+  const double rho = r.rotation_scale > 0.0 ? r.rotation_scale : 1.0;
+  return f.length + (f.rotation_length > 0.0 ? rho * f.rotation_length : 0.0);
+}
+
+inline BrakeAndGo brakeAndGoBound(const TrajectoryRequest& request, const PlannerLimits& limits)
+{
+  const StartState& s = *request.start_state;
+  const auto lin = referenceBrake(s.velocity.linear.norm(), s.acceleration.linear.norm(),
+                                  request.max_linear_acceleration, request.max_linear_jerk);
+  const auto ang = referenceBrake(s.velocity.angular.norm(), s.acceleration.angular.norm(),
+                                  request.max_angular_acceleration, request.max_angular_jerk);
+  TrajectoryRequest rest = request;
+  rest.start_state = StartState{ s.pose, Twist{}, Twist{} };
+  const TrajectoryResult from_rest = generate(rest, limits);
+  const double rho = request.rotation_scale > 0.0 ? request.rotation_scale : 1.0;
+  BrakeAndGo b;
+  b.duration = kDetourFactor * (2.0 * std::max(lin.first, ang.first) + from_rest.duration);
+  b.length = kDetourFactor * (2.0 * (lin.second + rho * ang.second) + chordLength(request, from_rest.figures));
+  return b;
+}
+
+/// Whether a served request is a moving start under a timing that replans by braking when the
+/// joined motion is longer (time_optimal, constant_speed; docs/timing.md).
+inline bool replansByBraking(const TrajectoryRequest& r)
+{
+  if (!r.start_state || (r.timing != "time_optimal" && r.timing != "constant_speed"))
+    return false;
+  const StartState& s = *r.start_state;
+  return !(s.velocity.linear.isZero(0.0) && s.velocity.angular.isZero(0.0) && s.acceleration.linear.isZero(0.0) &&
+           s.acceleration.angular.isZero(0.0));
+}
+
+/// A served motion from a moving start is no longer than the brake-and-go bound (duration, path).
+inline void checkNoDetour(const TrajectoryRequest& request, const TrajectoryResult& result, const PlannerLimits& limits,
+                          std::vector<Violation>& v)
+{
+  if (!replansByBraking(request))
+    return;
+  BrakeAndGo bound;
+  try
+  {
+    bound = brakeAndGoBound(request, limits);
+  }
+  catch (const std::invalid_argument&)
+  {
+    return;  // no motion from rest at the start pose: no bound to hold it to
+  }
+  if (result.duration > bound.duration * (1.0 + 1e-9))
+    v.push_back({ "detour duration", result.duration / bound.duration,
+                  "duration " + num(result.duration) + " above the brake-and-go bound " + num(bound.duration) });
+  const double length = chordLength(request, result.figures);
+  if (length > bound.length * (1.0 + 1e-9) + 1e-12)
+    v.push_back({ "detour length", length / bound.length,
+                  "path length " + num(length) + " above the brake-and-go bound " + num(bound.length) });
+}
+
 /// The outcome of one request: served (with the invariants it broke) or refused (with its message).
 struct Outcome
 {
@@ -1058,6 +1154,7 @@ inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits
     const TrajectoryResult result = generate(request, limits);
     out.served = true;
     out.violations = checkInvariants(request, result, options);
+    checkNoDetour(request, result, limits, out.violations);
     try
     {
       out.goal = checkGoal(request, result, options, out.violations);

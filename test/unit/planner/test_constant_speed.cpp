@@ -329,7 +329,19 @@ TEST(ConstantSpeed, WhatCannotBeHeldIsRefusedNamingItsField)
   start.pose = moving.waypoints[0];
   start.velocity.linear = Eigen::Vector3d(0.8, 0.0, 0.0);
   moving.start_state = start;
-  expectRefused(moving, "start_state", "does not recover");
+  // A start beyond the velocity bound brakes to rest first (B1: 0.8 s at 1 m/s², back within
+  // 0.5 m/s after 0.3 s), then ramps to the speed from rest.
+  const TrajectoryResult braked = generate(moving, unhurriedLimits());
+  EXPECT_NEAR(braked.stop_time, 0.8, 1e-12);
+  EXPECT_NEAR(braked.recovery_time, 0.3, 1e-12);
+  EXPECT_LT((braked.samples.front().velocity.linear - start.velocity.linear).norm(), 1e-12);
+  EXPECT_GT(braked.constant_speed_start, braked.stop_time);
+  for (const TrajectorySample& x : braked.samples)
+    if (x.time > braked.recovery_time)
+    {
+      EXPECT_LE(x.velocity.linear.norm(), 0.5 * (1.0 + 1e-6)) << x.time;
+      EXPECT_LE(x.acceleration.linear.norm(), 1.0 * (1.0 + 1e-6)) << x.time;
+    }
   // Bad speeds: nothing is served.
   for (double bad : { 0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity() })
   {
