@@ -23,24 +23,6 @@ struct Playback::Entry
 
 namespace
 {
-/// Fraction of an acceleration bound the bounded stop aims at: the 5 % left absorbs the
-/// variation of a(τ), v(τ) and τ̇ within one step (checked at the step's middle and end).
-constexpr double kStopBoundFraction = 0.95;
-/// The bounded stop's step (s): fine against the motions' own time scales (their segments last
-/// tenths of seconds), and 10⁵ steps (kMaxStopSteps) still cover a 100 s stop.
-constexpr double kStopStep = 1e-3;
-/// The shortest step: ten halvings of kStopStep (~1 µs), where a step is accepted as it is.
-constexpr double kMinStopStep = kStopStep / 1024.0;
-/// A bounded stop longer than this (s) or of more steps falls back to the smooth ramp (a table
-/// of 10⁵ steps is 3.2 MB and a few tens of ms to compute).
-constexpr double kMaxStopSeconds = 60.0;
-constexpr std::size_t kMaxStopSteps = 100000;
-/// Relative rounding allowed on the norms compared with a bound (a motion braking at exactly A
-/// computes |a| = A to ~1e-16).
-constexpr double kBoundRounding = 1e-9;
-/// The smooth ramp's peak |τ̈| T: |6 (σ² − σ)| at σ = 1/2.
-constexpr double kRampPeakRateDot = 1.5;
-
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 /// The motion time shown at `now`, and whether it moves there: wrapped into the span when
@@ -115,221 +97,23 @@ struct StoppedMotion
   }
 };
 
-/// The path time law at one instant of a stop: τ − τ_c, τ̇, τ̈.
-struct PathPoint
-{
-  double advance = 0.0;
-  double rate = 0.0;
-  double rate_dot = 0.0;
-};
-
-/// The smooth ramp of T s at t s after its start (file comment of playback.h).
-PathPoint smoothRamp(double T, double t)
-{
-  const double sigma = std::min(std::max(t / T, 0.0), 1.0);
-  PathPoint p;
-  p.rate = 1.0 - 3.0 * sigma * sigma + 2.0 * sigma * sigma * sigma;
-  p.rate_dot = sigma < 1.0 ? 6.0 * (sigma * sigma - sigma) / T : 0.0;
-  p.advance = T * (sigma - sigma * sigma * sigma + 0.5 * sigma * sigma * sigma * sigma);
-  return p;
-}
-
-/// The bounded stop's law: τ̈ constant per step, hence τ̇ linear and τ quadratic in each, exact.
-class StopTable
-{
-public:
-  struct Step
-  {
-    double time = 0.0;  ///< s after the stop's start
-    double advance = 0.0;
-    double rate = 0.0;
-    double rate_dot = 0.0;
-  };
-
-  std::vector<Step> steps;
-  double end_time = 0.0;     ///< s after the stop's start: at rest from here on
-  double end_advance = 0.0;  ///< τ − τ_c at rest
-
-  PathPoint at(double t) const
-  {
-    if (!(t < end_time) || steps.empty())
-      return { end_advance, 0.0, 0.0 };
-    const auto after =
-        std::upper_bound(steps.begin(), steps.end(), t, [](double time, const Step& s) { return time < s.time; });
-    const Step& k = after == steps.begin() ? steps.front() : *(after - 1);
-    const double s = std::max(t - k.time, 0.0);
-    return { k.advance + k.rate * s + 0.5 * k.rate_dot * s * s, k.rate + k.rate_dot * s, k.rate_dot };
-  }
-};
-
-/// The fallback bound of one step for a part whose own played term |c| = |a τ̇²| leaves no
-/// braking within kStopBoundFraction A (file comment of playback.h): A in the band up to A (a
-/// motion braking at the bound keeps its rate), |c| + kStopBoundFraction A beyond (the stop still
-/// brakes on top of the motion's own excess). Always ≥ |c|, so that x = 0 is admissible.
-double fallbackBound(double own, double bound)
-{
-  const double target = kStopBoundFraction * bound;
-  if (own <= target)
-    return target;
-  if (own <= bound * (1.0 + kBoundRounding))
-    return std::max(bound, own);
-  return own + target;
-}
-
-/// {x : |c + v x| ≤ B}: the roots of |v|² x² + 2 (c·v) x + |c|² − B² ≤ 0, an interval [lo, hi]
-/// (the whole line when v = 0 and |c| ≤ B); false when empty. Roots in the cancellation-free
-/// form q/|v|², (|c|² − B²)/q.
-bool admissibleRateDots(const Eigen::Vector3d& c, const Eigen::Vector3d& v, double B, double* lo, double* hi)
-{
-  const double vv = v.squaredNorm();
-  const double k = c.squaredNorm() - B * B;
-  if (vv == 0.0)
-  {
-    *lo = -kInfinity;
-    *hi = kInfinity;
-    return k <= 0.0;
-  }
-  const double cv = c.dot(v);
-  const double discriminant = cv * cv - vv * k;
-  if (discriminant < 0.0)
-    return false;
-  const double q = -(cv + std::copysign(std::sqrt(discriminant), cv));
-  if (q == 0.0)
-  {
-    *lo = 0.0;
-    *hi = 0.0;
-    return true;
-  }
-  const double r1 = q / vv, r2 = k / q;
-  *lo = std::min(r1, r2);
-  *hi = std::max(r1, r2);
-  return true;
-}
-
-/// One bounded part of the played acceleration: own term c = a τ̇², path term v τ̈.
-struct Part
-{
-  const Eigen::Vector3d& (*acceleration)(const TrajectorySample&);
-  const Eigen::Vector3d& (*velocity)(const TrajectorySample&);
-  double bound;
-};
-
-const Eigen::Vector3d& linearAcceleration(const TrajectorySample& s)
-{
-  return s.acceleration.linear;
-}
-const Eigen::Vector3d& linearVelocity(const TrajectorySample& s)
-{
-  return s.velocity.linear;
-}
-const Eigen::Vector3d& angularAcceleration(const TrajectorySample& s)
-{
-  return s.acceleration.angular;
-}
-const Eigen::Vector3d& angularVelocity(const TrajectorySample& s)
-{
-  return s.velocity.angular;
-}
-
 /// @throws std::invalid_argument for limits stop() refuses (see its comment)
+bool boundsSomething(const StopLimits& l)
+{
+  return l.max_linear_acceleration > 0.0 || l.max_angular_acceleration > 0.0 || l.max_linear_jerk > 0.0 ||
+         l.max_angular_jerk > 0.0;
+}
+
 void checkLimits(const StopLimits& limits)
 {
   const auto bound = [](double a) { return a >= 0.0 && std::isfinite(a); };
-  if (!bound(limits.max_linear_acceleration) || !bound(limits.max_angular_acceleration))
-    throw std::invalid_argument("playback: the stop's acceleration bounds must be finite and not negative");
-  const bool ramp = limits.max_linear_acceleration == 0.0 && limits.max_angular_acceleration == 0.0;
-  if (ramp && (!(limits.stop_time > 0.0) || !std::isfinite(limits.stop_time)))
+  if (!bound(limits.max_linear_acceleration) || !bound(limits.max_angular_acceleration) ||
+      !bound(limits.max_linear_jerk) || !bound(limits.max_angular_jerk))
+    throw std::invalid_argument("playback: the stop's acceleration and jerk bounds must be finite and not negative");
+  if (!boundsSomething(limits) && (!(limits.stop_time > 0.0) || !std::isfinite(limits.stop_time)))
     throw std::invalid_argument("playback: the stop ramp must be a positive time");
 }
 
-/// The bounded stop of `m` from τ̇ = 1 (file comment of playback.h); empty beyond kMaxStopSeconds
-/// or kMaxStopSteps.
-std::optional<StopTable> boundedStop(const StoppedMotion& m, const std::vector<Part>& parts)
-{
-  StopTable table;
-  const double end = m.endAdvance();
-  double t = 0.0, u = 0.0, r = 1.0;
-  bool moving = true;
-  TrajectorySample s = m.at(0.0, &moving);
-  std::vector<double> bounds(parts.size());
-  for (;;)
-  {
-    if (table.steps.size() >= kMaxStopSteps || t >= kMaxStopSeconds)
-      return std::nullopt;
-    // The most negative admissible τ̈ ≤ 0 at the step's start: within kStopBoundFraction of
-    // every bound if possible, else within the fallback bounds (which admit 0).
-    const auto brake = [&](bool fallback, double* x) {
-      double lo = -kInfinity, hi = 0.0;
-      for (std::size_t i = 0; i < parts.size(); ++i)
-      {
-        const Eigen::Vector3d c = parts[i].acceleration(s) * (r * r);
-        bounds[i] = fallback ? fallbackBound(c.norm(), parts[i].bound) : kStopBoundFraction * parts[i].bound;
-        double part_lo, part_hi;
-        if (!admissibleRateDots(c, parts[i].velocity(s), bounds[i], &part_lo, &part_hi))
-          return false;
-        lo = std::max(lo, part_lo);
-        hi = std::min(hi, part_hi);
-      }
-      *x = lo;
-      return lo <= hi;
-    };
-    double x = 0.0;
-    if (!brake(false, &x) && !brake(true, &x))
-      x = 0.0;  // the fallback admits 0 but for rounding: the motion's own rate
-    // No bounded part moves (v = ω = 0 where bounded): rest within one step.
-    if (!std::isfinite(x))
-      x = -r / kStopStep;
-    // Within the bounds at `sample` moving at rate `rate`, the stop braking at x?
-    const auto within = [&](const TrajectorySample& sample, double rate) {
-      for (std::size_t i = 0; i < parts.size(); ++i)
-      {
-        const Eigen::Vector3d own = parts[i].acceleration(sample) * (rate * rate);
-        const double allowed = std::max({ parts[i].bound, bounds[i], own.norm() }) * (1.0 + kBoundRounding);
-        if ((own + parts[i].velocity(sample) * x).norm() > allowed)
-          return false;
-      }
-      return true;
-    };
-    double h = kStopStep, step = h, u1 = u, r1 = r;
-    bool rests = false, ends = false;
-    TrajectorySample s1;
-    for (;;)
-    {
-      step = h;
-      rests = x < 0.0 && r + x * step <= 0.0;
-      if (rests)
-        step = r / -x;  // the last step ends exactly at τ̇ = 0
-      double advance = r * step + 0.5 * x * step * step;
-      ends = u + advance >= end;
-      if (ends)
-      {
-        // The motion ends first: the step ends there (r t + x t²/2 = end − u, its first root).
-        const double remaining = end - u;
-        step = 2.0 * remaining / (r + std::sqrt(std::max(r * r + 2.0 * x * remaining, 0.0)));
-        advance = remaining;
-        rests = false;
-      }
-      u1 = ends ? end : u + advance;
-      r1 = rests ? 0.0 : std::max(r + x * step, 0.0);
-      const double half = 0.5 * step;
-      const TrajectorySample middle = m.at(u + r * half + 0.5 * x * half * half, &moving);
-      s1 = m.at(u1, &moving);
-      if (h <= kMinStopStep || (within(middle, r + x * half) && within(s1, r1)))
-        break;
-      h *= 0.5;
-    }
-    table.steps.push_back({ t, u, r, x });
-    t += step;
-    u = u1;
-    r = r1;
-    s = s1;
-    if (rests || ends || r == 0.0)
-      break;
-  }
-  table.end_time = t;
-  table.end_advance = u;
-  return table;
-}
 }  // namespace
 
 Nanoseconds toNanoseconds(double seconds)
@@ -450,37 +234,25 @@ Playback::stopEntry(const std::shared_ptr<const Entry>& shown, Nanoseconds now, 
   stopped.offset = secondsBetween(shown->stamp, now);
   stopped.motion = shown->motion;
   if (!positionOf(stopped.motion, stopped.offset, stopped.loop).moving)
-    return { heldEntry(*shown, now, loop), now };
-
-  std::vector<Part> parts;
-  if (limits.max_linear_acceleration > 0.0)
-    parts.push_back({ linearAcceleration, linearVelocity, limits.max_linear_acceleration });
-  if (limits.max_angular_acceleration > 0.0)
-    parts.push_back({ angularAcceleration, angularVelocity, limits.max_angular_acceleration });
+  {
+    auto held = std::make_shared<Entry>(*heldEntry(*shown, now, loop));
+    held->previous = shown;  // a stop from an instant ahead: what plays until then goes on
+    return { held, now };
+  }
 
   std::function<PathPoint(double)> law;
   double length = limits.stop_time;
-  std::optional<StopTable> table;
-  if (!parts.empty())
-    table = boundedStop(stopped, parts);
-  if (table)
+  if (boundsSomething(limits))
   {
-    length = table->end_time;
-    law = [table = std::make_shared<const StopTable>(std::move(*table))](double t) { return table->at(t); };
+    StoppedPath path;
+    path.at = [stopped](double u, bool* moving) { return stopped.at(u, moving); };
+    path.end_advance = stopped.endAdvance();
+    auto stop_law = std::make_shared<const StopLaw>(path, limits);
+    length = stop_law->restTime();
+    law = [stop_law](double t) { return stop_law->at(t); };
   }
   else
-  {
-    if (!parts.empty())
-    {
-      // Too long a table: the smooth ramp whose path term 1.5 |v|/T meets the bounds at τ_c.
-      bool moving;
-      const TrajectorySample s = stopped.at(0.0, &moving);
-      length = kStopStep;
-      for (const Part& part : parts)
-        length = std::max(length, kRampPeakRateDot * part.velocity(s).norm() / (kStopBoundFraction * part.bound));
-    }
     law = [length](double t) { return smoothRamp(length, t); };
-  }
 
   // At rest from the first nanosecond at or after the law's end.
   Nanoseconds rest = now + toNanoseconds(length);
@@ -506,6 +278,7 @@ Playback::stopEntry(const std::shared_ptr<const Entry>& shown, Nanoseconds now, 
   entry->stamp = now;
   entry->start = now;
   entry->held = true;  // the stop plays once, then holds where it stopped
+  entry->previous = shown;  // a stop from an instant ahead: what plays until then goes on
   return { entry, rest };
 }
 

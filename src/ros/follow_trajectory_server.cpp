@@ -8,6 +8,7 @@
 #include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/ros/conversions.h"
+#include "se3_interpolation/ros/frame_memory.h"
 
 namespace se3_interpolation
 {
@@ -39,18 +40,100 @@ void requireTolerance(double value, const char* field)
                                                         " is not a finite tolerance >= 0 (0 = the node's default)");
 }
 
+/// The frame held at `pose`, at rest, tagged `tag`.
+Motion heldMotion(const std::string& frame, const std::string& child, const Pose<double>& pose, const std::string& tag)
+{
+  TrajectorySample held;
+  held.pose = pose;
+  Motion m;
+  m.state_at = [held](double) { return held; };
+  m.frame_id = frame;
+  m.child_frame_id = child;
+  m.tag = tag;
+  return m;
+}
+
 /// The node's ~geometry (validated by the parameter table, so always a known name).
 GeometryType geometryOf(const NodeParameters& p)
 {
   return parseName(p.geometry, "~geometry", RequestDefaults::kGeometry);
+}
+/// The goal's motion, checked in the order of docs/ros_interface.md ("How a goal ends"): its points,
+/// its tolerances, rest at its end and the node's bounds, then its joints, then its frame (`frame`:
+/// header.frame_id, else ~frame_id).
+/// @throws InvalidGoalError naming the field, or the core's std::invalid_argument
+GoalTrajectory checkedTrajectory(const FollowTrajectoryGoal& goal, const NodeParameters& params, std::string* frame)
+{
+  const auto& points = goal.trajectory.points;
+  if (points.empty())
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: empty (give at least one point)");
+  if (points.size() > static_cast<std::size_t>(params.max_waypoints))
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                        " points; the limit (~max_waypoints) is " +
+                                                        std::to_string(params.max_waypoints));
+  const double work = static_cast<double>(points.size()) * kGoalCheckSecondsPerPoint;
+  if (work > params.max_work_seconds)
+    throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
+                                                        " points take about " + formatNumber(work) +
+                                                        " s to check; the limit (~max_work_seconds) is " +
+                                                        formatNumber(params.max_work_seconds) + " s");
+  std::vector<GoalPoint> goal_points;
+  goal_points.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (points[i].transforms.empty())
+      throw InvalidGoalError(GoalError::kInvalidJoints,
+                             indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
+                                 quotedText(params.child_frame_id) + ")");
+    goal_points.push_back(fromMsg(points[i]));
+  }
+  requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
+  requireTolerance(goal.path_tolerance_angular, "path_tolerance_angular");
+  requireTolerance(goal.goal_tolerance_linear, "goal_tolerance_linear");
+  requireTolerance(goal.goal_tolerance_angular, "goal_tolerance_angular");
+  requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
+  GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
+  trajectory.requireEndsAtRest();
+  trajectory.checkLimits(motionLimitsOf(params), kGoalLimitTolerance);
+
+  const auto& names = goal.trajectory.joint_names;
+  if (names.size() != 1)
+    throw InvalidGoalError(GoalError::kInvalidJoints,
+                           "trajectory.joint_names: " + std::to_string(names.size()) +
+                               " given; one is executed, the node's moving frame ~child_frame_id " +
+                               quotedText(params.child_frame_id));
+  if (names[0] != params.child_frame_id)
+    throw InvalidGoalError(GoalError::kInvalidJoints, "trajectory.joint_names[0]: " + quotedText(names[0]) +
+                                                          " is not this node's moving frame ~child_frame_id " +
+                                                          quotedText(params.child_frame_id));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i].transforms.size() > 1 || points[i].velocities.size() > 1 || points[i].accelerations.size() > 1)
+      throw InvalidGoalError(GoalError::kInvalidJoints,
+                             indexedField("trajectory.points", i) + ": " + std::to_string(points[i].transforms.size()) +
+                                 " transforms, " + std::to_string(points[i].velocities.size()) + " velocities, " +
+                                 std::to_string(points[i].accelerations.size()) +
+                                 " accelerations for one joint (at most one each)");
+
+  *frame = goal.trajectory.header.frame_id.empty() ? params.frame_id : goal.trajectory.header.frame_id;
+  try
+  {
+    validateFrameId(*frame, "trajectory.header.frame_id");
+  }
+  catch (const InvalidInputError& e)
+  {
+    throw InvalidGoalError(GoalError::kInvalidGoal, e.what());
+  }
+  return trajectory;
 }
 }  // namespace
 
 FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback,
                                                const tf2_ros::Buffer& tf, std::function<NodeParameters()> parameters,
                                                std::mutex& publish_mutex, const NodeParameters& initial)
-  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex)
+  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex),
+    private_nh_(private_nh)
 {
+  restoreFrame(initial);
   ros::NodeHandle action_nh(private_nh);
   action_nh.setCallbackQueue(&action_queue_);
   ros::NodeHandle command_nh(private_nh);
@@ -84,6 +167,54 @@ FollowTrajectoryServer::~FollowTrajectoryServer()
     active_->handle.setAborted(result, result.error_string);
     active_.reset();
   }
+}
+
+void FollowTrajectoryServer::restoreFrame(const NodeParameters& params)
+{
+  const std::optional<RememberedFrame> remembered = recallFrame(private_nh_);
+  if (!remembered)
+    return;
+  if (!remembered->at_rest)
+  {
+    state_unknown_ = true;
+    ROS_WARN_STREAM("~follow_trajectory: this node restarted while a goal moved the frame (~"
+                    << kFrameMemoryParameter << "): goals are refused until ~actual_frame is measured or a "
+                    << "~generate publication places the frame");
+    return;
+  }
+  const Nanoseconds now = nanosecondsOf(ros::Time::now());
+  playback_.play(heldMotion(remembered->frame_id, params.child_frame_id, remembered->pose, kGoalTagPrefix + std::string("0")),
+                 now, now);
+  owns_frame_ = true;
+  remembered_rest_ = true;
+  ROS_INFO_STREAM("~follow_trajectory: the frame is held where the previous instance left it (~" << kFrameMemoryParameter
+                                                                                                << ")");
+}
+
+void FollowTrajectoryServer::rememberShownFrame(Nanoseconds now)
+{
+  if (!owns_frame_)
+    return;
+  const std::optional<PlaybackState> shown = playback_.at(now);
+  if (!shown || (remembered_rest_ && *remembered_rest_ == !shown->moving))
+    return;
+  remembered_rest_ = !shown->moving;
+  rememberFrame(private_nh_, RememberedFrame{ shown->frame_id, shown->sample.pose, !shown->moving });
+}
+
+void FollowTrajectoryServer::placeFromMeasurement(const std::string& frame, const std::string& child, Nanoseconds now,
+                                                  const NodeParameters& params)
+{
+  const std::optional<Measurement> m = measured(frame, params);
+  if (!m)
+    throw InvalidGoalError(GoalError::kInvalidGoal,
+                           "trajectory.points[0]: this node restarted while a goal moved the frame (~" +
+                               std::string(kFrameMemoryParameter) +
+                               "), so where the setpoint stood is unknown: set ~actual_frame to the measured frame "
+                               "(the frame is then held at its pose), or place the frame with a ~generate "
+                               "publication (publish: true)");
+  playback_.play(heldMotion(frame, child, m->pose, kGoalTagPrefix + std::string("0")), now, now);
+  state_unknown_ = false;
 }
 
 void FollowTrajectoryServer::setRates(double command_rate, double feedback_rate)
@@ -123,66 +254,8 @@ void FollowTrajectoryServer::start(GoalHandle handle)
   FollowTrajectoryResult result;
   try
   {
-    const auto& points = goal.trajectory.points;
-    if (points.empty())
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: empty (give at least one point)");
-    if (points.size() > static_cast<std::size_t>(params.max_waypoints))
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
-                                                          " points; the limit (~max_waypoints) is " +
-                                                          std::to_string(params.max_waypoints));
-    const double work = static_cast<double>(points.size()) * kGoalCheckSecondsPerPoint;
-    if (work > params.max_work_seconds)
-      throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.points: " + std::to_string(points.size()) +
-                                                          " points take about " + formatNumber(work) +
-                                                          " s to check; the limit (~max_work_seconds) is " +
-                                                          formatNumber(params.max_work_seconds) + " s");
-    std::vector<GoalPoint> goal_points;
-    goal_points.reserve(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      if (points[i].transforms.empty())
-        throw InvalidGoalError(GoalError::kInvalidJoints,
-                               indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
-                                   quotedText(params.child_frame_id) + ")");
-      goal_points.push_back(fromMsg(points[i]));
-    }
-    requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
-    requireTolerance(goal.path_tolerance_angular, "path_tolerance_angular");
-    requireTolerance(goal.goal_tolerance_linear, "goal_tolerance_linear");
-    requireTolerance(goal.goal_tolerance_angular, "goal_tolerance_angular");
-    requireTolerance(goal.goal_time_tolerance, "goal_time_tolerance");
-    GoalTrajectory trajectory(std::move(goal_points), geometryOf(params));
-    trajectory.requireEndsAtRest();
-    trajectory.checkLimits(motionLimitsOf(params), kGoalLimitTolerance);
-
-    const auto& names = goal.trajectory.joint_names;
-    if (names.size() != 1)
-      throw InvalidGoalError(GoalError::kInvalidJoints,
-                             "trajectory.joint_names: " + std::to_string(names.size()) +
-                                 " given; one is executed, the node's moving frame ~child_frame_id " +
-                                 quotedText(params.child_frame_id));
-    if (names[0] != params.child_frame_id)
-      throw InvalidGoalError(GoalError::kInvalidJoints, "trajectory.joint_names[0]: " + quotedText(names[0]) +
-                                                            " is not this node's moving frame ~child_frame_id " +
-                                                            quotedText(params.child_frame_id));
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (points[i].transforms.size() > 1 || points[i].velocities.size() > 1 || points[i].accelerations.size() > 1)
-        throw InvalidGoalError(GoalError::kInvalidJoints,
-                               indexedField("trajectory.points", i) + ": " + std::to_string(points[i].transforms.size()) +
-                                   " transforms, " + std::to_string(points[i].velocities.size()) + " velocities, " +
-                                   std::to_string(points[i].accelerations.size()) +
-                                   " accelerations for one joint (at most one each)");
-
-    const std::string frame = goal.trajectory.header.frame_id.empty() ? params.frame_id : goal.trajectory.header.frame_id;
-    try
-    {
-      validateFrameId(frame, "trajectory.header.frame_id");
-    }
-    catch (const InvalidInputError& e)
-    {
-      throw InvalidGoalError(GoalError::kInvalidGoal, e.what());
-    }
-
+    std::string frame;
+    const GoalTrajectory trajectory = checkedTrajectory(goal, params, &frame);
     const Nanoseconds now = nanosecondsOf(ros::Time::now());
     const Nanoseconds stamp = goal.trajectory.header.stamp.isZero() ? now : nanosecondsOf(goal.trajectory.header.stamp);
     const GoalTolerances tolerances = tolerancesOf(goal, params);
@@ -199,6 +272,8 @@ void FollowTrajectoryServer::start(GoalHandle handle)
       throw InvalidGoalError(GoalError::kInvalidGoal, "trajectory.header.frame_id: " + quotedText(frame) +
                                                           " is neither ~frame_id " + quotedText(params.frame_id) +
                                                           " nor a frame TF knows");
+    if (!plays_here && state_unknown_)
+      placeFromMeasurement(frame, child, now, params);
     const GoalStart begin = checkGoalStart(
         trajectory, stamp, now,
         [&](Nanoseconds instant) -> std::optional<PlaybackState> {
@@ -207,7 +282,7 @@ void FollowTrajectoryServer::start(GoalHandle handle)
             return std::nullopt;
           return s;
         },
-        tolerances.path_linear, tolerances.path_angular);
+        params.start_tolerance_linear, params.start_tolerance_angular);
 
     std::lock_guard<std::mutex> lock(mutex_);
     const std::string tag = kGoalTagPrefix + std::to_string(next_goal_++);
@@ -224,6 +299,7 @@ void FollowTrajectoryServer::start(GoalHandle handle)
     Motion motion = trajectory.motion(frame, child);
     motion.tag = tag;
     playback_.play(std::move(motion), stamp, nanosecondsOf(ros::Time::now()));
+    owns_frame_ = true;
     active_.emplace(Active{ handle, tag, frame, stamp, last,
                             GoalSupervisor(tolerances, stamp + toNanoseconds(end_time), last) });
   }
@@ -241,13 +317,25 @@ void FollowTrajectoryServer::start(GoalHandle handle)
   }
 }
 
-Pose<double> FollowTrajectoryServer::stopFrame(Nanoseconds now, const NodeParameters& params)
+StopLimits stopLimitsOf(const NodeParameters& params)
 {
   StopLimits limits;
   limits.max_linear_acceleration = params.max_linear_acceleration;
   limits.max_angular_acceleration = params.max_angular_acceleration;
+  limits.max_linear_jerk = params.max_linear_jerk;
+  limits.max_angular_jerk = params.max_angular_jerk;
   limits.stop_time = params.stop_time;
-  const Nanoseconds rest = playback_.stop(now, limits);
+  return limits;
+}
+
+Nanoseconds stopStart(Nanoseconds now)
+{
+  return now + toNanoseconds(kStopLead);
+}
+
+Pose<double> FollowTrajectoryServer::stopFrame(Nanoseconds now, const NodeParameters& params)
+{
+  const Nanoseconds rest = playback_.stop(stopStart(now), stopLimitsOf(params));
   const std::optional<PlaybackState> held = playback_.at(rest);
   return held ? held->sample.pose : Pose<double>();
 }
@@ -286,6 +374,7 @@ std::optional<FollowTrajectoryServer::Measurement> FollowTrajectoryServer::measu
 
 void FollowTrajectoryServer::feedbackCallback(const ros::TimerEvent& /*event*/)
 {
+  rememberShownFrame(nanosecondsOf(ros::Time::now()));
   const NodeParameters params = parameters_();
   std::lock_guard<std::mutex> publishing(publish_mutex_);
   std::lock_guard<std::mutex> lock(mutex_);

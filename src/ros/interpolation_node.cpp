@@ -210,8 +210,11 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       // The topics carry both forms whatever the response omits.
       nav_msgs::Path path;
       trajectory_msgs::MultiDOFJointTrajectory trajectory;
-      publish(result, outputs.path ? res.path : toMsg(result, header, path),
-              outputs.trajectory ? res.trajectory : toMsg(result, header, child, trajectory), header, child, params);
+      if (!publish(result, outputs.path ? res.path : toMsg(result, header, path),
+                   outputs.trajectory ? res.trajectory : toMsg(result, header, child, trajectory), header, child,
+                   params))
+        res.message += "; published, but not played on the moving frame: it executes ~follow_trajectory goals "
+                       "(the setpoint ~command), which alone move it";
     }
   }
   catch (const std::bad_alloc&)
@@ -312,7 +315,7 @@ std::vector<geometry_msgs::Pose> InterpolationNode::lookUpWaypointFrames(const s
   return poses;
 }
 
-void InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::Path& path,
+bool InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::Path& path,
                                 const trajectory_msgs::MultiDOFJointTrajectory& trajectory,
                                 const std_msgs::Header& header, const std::string& child_frame_id,
                                 const NodeParameters& params)
@@ -321,6 +324,9 @@ void InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::
   path_pub_.publish(path);
   trajectory_pub_.publish(trajectory);
   markers_pub_.publish(toMarkerArray(result, result.waypoints, header, params.marker_axes, params.axis_length));
+  moving_frame_->publishSamples(result, header, child_frame_id, params.max_tf_samples);
+  if (follow_server_->ownsFrame())
+    return false;
   Motion motion;
   motion.state_at = result.state_at;
   motion.start_time = result.start_time;
@@ -328,9 +334,8 @@ void InterpolationNode::publish(const TrajectoryResult& result, const nav_msgs::
   motion.frame_id = header.frame_id;
   motion.child_frame_id = child_frame_id;
   motion.tag = "~generate";
-  follow_server_->interrupt("replaced by a trajectory of ~generate (publish or auto-generation)");
   playback_.play(std::move(motion), toNanoseconds(header.stamp), toNanoseconds(ros::Time::now()));
-  moving_frame_->publishSamples(result, header, child_frame_id, params.max_tf_samples);
+  return true;
 }
 
 void InterpolationNode::publishStatus(const GenerateTrajectory::Request& req, const GenerateTrajectory::Response& res,
@@ -372,7 +377,9 @@ bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_
   {
     std::lock_guard<std::mutex> publishing(publish_mutex_);
     follow_server_->interrupt("~clear_waypoints stopped the motion");
-    playback_.hold(toNanoseconds(ros::Time::now()));
+    // Brought to rest along its path within the bounds, as a cancel is: a hold would stop the
+    // frame (and ~command) within one step.
+    playback_.stop(stopStart(toNanoseconds(ros::Time::now())), stopLimitsOf(parameters_->get()));
     nav_msgs::Path empty;
     empty.header.stamp = ros::Time::now();
     empty.header.frame_id = cleared.frame_id;
@@ -386,7 +393,7 @@ bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_
   }
   res.success = true;
   res.message =
-      "cleared " + std::to_string(cleared.waypoints.size()) + " waypoints; playback stopped, path and markers cleared";
+      "cleared " + std::to_string(cleared.waypoints.size()) + " waypoints; the frame stops along its path, path and markers cleared";
   return true;
 }
 

@@ -10,6 +10,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/ros/frame_memory.h"
 
 namespace se3_interpolation
 {
@@ -225,7 +226,8 @@ std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>
       continue;
     // A nested name (~a/b) is the parameter a.
     const std::string name = full.substr(prefix.size(), full.find('/', prefix.size()) - prefix.size());
-    if (name.empty() || findNodeParameter(name) ||
+    // ~executed_frame is the node's own record for a respawn (ros/frame_memory.h), not a setting.
+    if (name.empty() || findNodeParameter(name) || name == kFrameMemoryParameter ||
         std::find(warned_names.begin(), warned_names.end(), name) != warned_names.end())
       continue;
     warned_names.push_back(name);

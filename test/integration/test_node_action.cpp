@@ -548,9 +548,11 @@ TEST_F(NodeAction, ToleranceOutcomesWithASimulatedArm)
   EXPECT_NE(biased.second.error_string.find("goal_tolerance_linear"), std::string::npos) << biased.second.error_string;
 }
 
-/// ~command carries goals only: a published ~generate trajectory takes the frame, not the arm.
+/// ~command carries goals only, and once a goal has played only goals move the frame: a published
+/// ~generate trajectory is published, not played, and ~command holds where the last goal ended.
 TEST_F(NodeAction, CommandCarriesGoalsOnly)
 {
+  const ros::Time asked = ros::Time::now();
   GenerateTrajectory srv;
   srv.request.waypoints.header.frame_id = "map";
   srv.request.waypoints.poses = { node_test::pose(0.1, 0.1, 0.3, 0.0) };
@@ -559,9 +561,13 @@ TEST_F(NodeAction, CommandCarriesGoalsOnly)
   srv.request.child_frame_id = childFrame();
   ASSERT_TRUE(node_test::callService(nodeName() + "/generate", srv));
   ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_NE(srv.response.message.find("not played on the moving frame"), std::string::npos) << srv.response.message;
   const double t0 = srv.response.trajectory.header.stamp.toSec();
   ros::WallDuration(t0 - ros::Time::now().toSec() + 0.5).sleep();
-  EXPECT_TRUE(commandsBetween(t0 + 0.01, t0 + 0.5).empty());
+  const std::vector<Command> held = commandsBetween(asked.toSec(), t0 + 0.5);
+  ASSERT_GE(held.size(), 10u);
+  for (const Command& c : held)
+    EXPECT_LT((c.p - held.front().p).norm(), 1e-12) << "at t = " << c.t;
 }
 
 }  // namespace

@@ -192,7 +192,7 @@ TEST(NodeStack, HoldsTheLastPoseUnlessLooping)
   EXPECT_LT(distance(lookUp(buffer, "arm1_tool", later), segmentAt(1.0)), 1e-6);
 }
 
-// ~clear_waypoints stops playback where the frame is, empties ~path and deletes the markers.
+// ~clear_waypoints stops playback along the path, empties ~path and deletes the markers.
 TEST(NodeStack, ClearStopsPlaybackAndClearsPathAndMarkers)
 {
   waitForNodes();
@@ -218,9 +218,10 @@ TEST(NodeStack, ClearStopsPlaybackAndClearsPathAndMarkers)
   ASSERT_EQ(markers.msg().markers.size(), 1U);
   EXPECT_EQ(markers.msg().markers[0].action, visualization_msgs::Marker::DELETEALL);
 
-  // Held: two broadcasts 0.5 s apart are the same pose, one on the segment strictly inside it
-  // (the 4 s motion was stopped after about 0.5 s).
-  spinFor(0.2);
+  // Stopped along the path (no bounds here: the smooth ramp of ~stop_time, 0.5 s, from 50 ms after
+  // the clear), then held: two broadcasts 0.5 s apart are the same pose, one on the segment
+  // strictly inside it (the 4 s motion was stopped after about 0.5 s).
+  spinFor(1.0);
   const Eigen::Isometry3d first = lookUp(buffer, "arm2_tool", ros::Time::now() - ros::Duration(0.1));
   spinFor(0.5);
   const Eigen::Isometry3d second = lookUp(buffer, "arm2_tool", ros::Time::now() - ros::Duration(0.1));

@@ -14,7 +14,9 @@
 //    be the state the frame has there: pose, velocity and acceleration within kSpliceTolerance
 //    (what ~generate with from_current returns), so that the goal replaces the motion C² there;
 //  - at rest (held after a motion, a stop or a goal), the goal must start at the held pose within
-//    the goal's path tolerance (kSpliceTolerance where none is given) with zero velocity;
+//    the node's start tolerance (~start_tolerance_linear / ~start_tolerance_angular, a small fixed
+//    distance, never a goal's own tolerance: a goal's path tolerance may be metres; kSpliceTolerance
+//    where 0) with zero velocity;
 //  - when nothing has played on the frame yet, any start is taken (the goal places the frame).
 // A goal whose time zero (header.stamp) lies so far back that its start has passed starts at its
 // point of `now` when that point meets the rule, else it is refused OLD_HEADER_TIMESTAMP; a goal
@@ -65,7 +67,7 @@ struct GoalStart
 /// The start of `goal` whose time zero is `stamp`, accepted at `now`. `shown_at` gives what the
 /// frame shows at an instant (Playback::at; empty when nothing has played on the goal's frame): it
 /// is asked for the start instant, which is known only here. `rest_linear` / `rest_angular` are the pose tolerances at rest (the
-/// goal's path tolerance; kSpliceTolerance where 0). Throws InvalidGoalError: kOldHeaderTimestamp
+/// node's start tolerance; kSpliceTolerance where 0). Throws InvalidGoalError: kOldHeaderTimestamp
 /// when the goal has ended before `now`, or started before it and its point of `now` does not
 /// meet the start rule; kInvalidGoal when its start does not (the message says what differs, by
 /// how much, and suggests from_current).

@@ -18,32 +18,17 @@
 //        acceleration  a(τ) τ̇² + v(τ) τ̈,    ω̇(τ) τ̇² + ω(τ) τ̈,
 //    v, a, ω, ω̇ being the stopped motion's velocity and acceleration at τ. Two laws τ(t)
 //    (StopLimits):
-//    * Without acceleration bounds, a smooth ramp of T seconds: with σ = (t − t_c)/T ∈ [0, 1],
+//    * Without any bound (StopLimits), a smooth ramp of T = stop_time seconds: with
+//      σ = (t − t_c)/T ∈ [0, 1],
 //        τ̇ = 1 − 3σ² + 2σ³,   τ = τ_c + T (σ − σ³ + σ⁴/2),   τ̈ = 6 (σ² − σ)/T,
 //      so τ̇ falls from 1 to 0 with τ̈ = 0 at both ends: velocity and acceleration are continuous
 //      at t_c and reach rest at t_c + T, having gone on by T/2 of path time.
-//    * With a bound on |played linear acceleration| ≤ A_lin and/or |played angular acceleration|
-//      ≤ A_ang (a bound of 0 bounds nothing), the quickest stop: τ(t) is integrated forward in
-//      steps of kStopStep (1 ms, halved where needed) with, in each step, the most negative
-//      constant τ̈ that the bounds admit,
-//        τ̈ = min { x ≤ 0 : |a τ̇² + v x| ≤ B_lin and |ω̇ τ̇² + ω x| ≤ B_ang },
-//      each set solved exactly as a quadratic inequality in x. B is kStopBoundFraction (0.95) of
-//      the bound: the 5 % left absorbs the variation of a(τ), v(τ) and τ̇ within a step (the
-//      step is halved, down to ~1 µs, while the played acceleration at its middle or end exceeds
-//      the bound). τ̇ falls from 1 to 0 continuously (the velocity is continuous, the
-//      acceleration jumps at the start and between steps, within the bounds), the last step
-//      ending exactly at τ̇ = 0. On a straight line at constant speed v this is constant
-//      deceleration B: rest after v/B s and v²/(2B) m. Where no bounded part moves (v = 0, and
-//      ω = 0 where bounded: e.g. a pure rotation with only a linear bound) nothing limits τ̈ and
-//      the frame comes to rest within one step.
-//      The set is empty when the motion itself brakes, or turns, harder than 0.95 A; then, per
-//      part, B = A while |a τ̇²| ≤ A (a motion braking at the bound keeps its own rate: it stops
-//      no later than it would itself), and B = |a τ̇²| + 0.95 A beyond (a motion not made under
-//      the bounds: the stop adds at most the bound to the motion's own excess, and still ends).
-//      A motion that reaches its end during the stop ends there at rest, as it would have. A law
-//      longer than kMaxStopSeconds (60 s) or kMaxStopSteps (10⁵) falls back to the smooth ramp
-//      of the length the bounds need for the stopped velocity (T = 1.5 |v|/B, the ramp's peak
-//      |τ̈| being 1.5/T; the motion's own acceleration is not counted).
+//    * With acceleration and/or jerk bounds, the law of execution/stop_law.h: a jerk-limited fall
+//      of τ̇ (after the motion has gone on for a delay where that is needed), chosen so that the
+//      played acceleration and jerk stay within each bound, or within what the motion itself does
+//      where it exceeds one, whatever the motion was doing at t_c; acceleration continuous at t_c
+//      and at rest. On a straight line at constant speed v: rest after v/A + A/J s. A motion
+//      that reaches its end during the stop ends there at rest, as it would have.
 //    With loop, the stopped motion's time wraps as it was shown. planStop() tells, without
 //    changing anything, when and where the frame would be at rest.
 // Motions carry a tag (Motion::tag, opaque to the playback: e.g. which goal a motion executes);
@@ -62,6 +47,7 @@
 #include <string>
 #include <utility>
 
+#include "se3_interpolation/execution/stop_law.h"
 #include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
@@ -108,14 +94,6 @@ struct PlaybackState
   std::string tag;  ///< Motion::tag of the motion shown (or held, or stopped)
 };
 
-/// How stop() brings the frame to rest (file comment). A bound of 0 is no bound on that part.
-struct StopLimits
-{
-  double max_linear_acceleration = 0.0;   ///< A_lin (m/s²) on the played |p̈|; 0 = not bounded
-  double max_angular_acceleration = 0.0;  ///< A_ang (rad/s²) on the played |ω̇|; 0 = not bounded
-  double stop_time = 1.0;                 ///< T (s) of the smooth ramp used when neither is bounded
-};
-
 /// Where and when a stop would bring the frame to rest.
 struct StopPlan
 {
@@ -140,7 +118,10 @@ public:
   void hold(Nanoseconds now);
 
   /// Brings the motion shown at `now` to rest along its path (see the file comment) and holds
-  /// where it stops; a motion already at rest is held. Pending motions are dropped. The law is
+  /// where it stops; a motion already at rest is held. Pending motions are dropped. `now` may lie
+  /// ahead of the present (the law takes time to compute: a caller on a live clock stops from an
+  /// instant ahead, so that the stop starts after it is in place): until then what is shown at
+  /// `now` plays on. The law is
   /// computed from a snapshot outside the lock; should the timeline change meanwhile, it is
   /// computed again from the new one.
   /// @return the first instant at which the frame is at rest
@@ -148,7 +129,7 @@ public:
   /// bounded, a stop_time that is not a positive finite time
   Nanoseconds stop(Nanoseconds now, const StopLimits& limits);
 
-  /// The smooth ramp of `ramp_seconds`: stop(now, StopLimits{ 0, 0, ramp_seconds }).
+  /// The smooth ramp of `ramp_seconds`: stop(now, limits) with no bound and stop_time = ramp_seconds.
   Nanoseconds stop(Nanoseconds now, double ramp_seconds);
 
   /// Where and when stop(now, limits) would bring the frame to rest, changing nothing; empty

@@ -11,8 +11,9 @@
 //
 // ~command (geometry_msgs/PoseStamped, world_T_body of the moving frame in the trajectory's frame,
 // the target convention of Cartesian controllers such as cartesian_motion_controller) carries the
-// setpoint at ~command_rate only while a goal is shown, or the pose held after one: a trajectory of
-// ~generate (publish, auto-generation) never reaches it, and replacing a goal by one ends the goal.
+// setpoint at ~command_rate from the first goal on: a goal's motion, its stop, or the pose held
+// after it. Once a goal has played, ~generate publications (publish, auto-generation) no longer
+// move the frame (ownsFrame), so ~command and the frame never part and never step.
 //
 // Threading: goals, cancels and the feedback timer run on one callback queue and thread (so a goal
 // is checked and started in order), ~command on another (a long goal check never delays the
@@ -25,6 +26,7 @@
 #include <ros/ros.h>
 #include <tf2_ros/buffer.h>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -39,6 +41,19 @@
 
 namespace se3_interpolation
 {
+/// The stop of a cancel, an abort or ~clear_waypoints: the node's ~max_*_acceleration and
+/// ~max_*_jerk, and ~stop_time where none is set (execution/stop_law.h).
+StopLimits stopLimitsOf(const NodeParameters& params);
+
+/// How far ahead of the present a stop starts (s): the stop law is computed from a snapshot while
+/// the motion plays on (milliseconds; execution/stop_law.h bounds its search), and must be in place
+/// before it starts, or the frame would jump from the motion to the law. 50 ms: well above that
+/// computation on a loaded machine, well below what a user notices in a cancel.
+constexpr double kStopLead = 0.05;
+
+/// The instant a stop asked for at `now` starts: now + kStopLead.
+Nanoseconds stopStart(Nanoseconds now);
+
 /// The tags of what the playback shows (Motion::tag): goals' start with this, so ~command knows them.
 constexpr const char* kGoalTagPrefix = "follow_trajectory goal ";
 
@@ -63,6 +78,11 @@ public:
   /// the running goal ends PREEMPTED, `why` in its error_string. Call with the publication mutex held.
   void interrupt(const std::string& why);
 
+  /// Whether a goal has played on the moving frame: from then on the frame is the setpoint
+  /// ~command carries, and nothing but goals may move it (a ~generate publication would make the
+  /// frame and ~command part, and the next goal jump).
+  bool ownsFrame() const { return owns_frame_; }
+
 private:
   /// A running goal.
   struct Active
@@ -81,6 +101,16 @@ private:
   void commandCallback(const ros::TimerEvent& event);
   /// Starts `handle` or rejects it with its code and message (never throws).
   void start(GoalHandle handle);
+  /// Holds the frame where ~executed_frame (ros/frame_memory.h) says a previous instance left it
+  /// at rest; marks the state unknown when it left it moving.
+  void restoreFrame(const NodeParameters& params);
+  /// Writes ~executed_frame when the frame executing goals starts moving or comes to rest (feedback
+  /// thread).
+  void rememberShownFrame(Nanoseconds now);
+  /// With the state unknown (restoreFrame): holds the frame at ~actual_frame's measured pose, or
+  /// refuses the goal (InvalidGoalError) when it is not measured.
+  void placeFromMeasurement(const std::string& frame, const std::string& child, Nanoseconds now,
+                            const NodeParameters& params);
   /// Brings the frame to rest from `now` and returns where it stops.
   Pose<double> stopFrame(Nanoseconds now, const NodeParameters& params);
   /// A pose of ~actual_frame and the instant it was measured at (its TF stamp).
@@ -101,6 +131,12 @@ private:
   std::mutex mutex_;  ///< guards active_ and next_goal_
   std::optional<Active> active_;
   std::uint64_t next_goal_ = 1;
+  std::atomic<bool> owns_frame_{ false };
+  ros::NodeHandle private_nh_;
+  /// A previous instance died while a goal moved the frame (ros/frame_memory.h); action thread.
+  bool state_unknown_ = false;
+  /// Whether ~executed_frame says at rest, as last written (feedback thread).
+  std::optional<bool> remembered_rest_;
 
   ros::CallbackQueue action_queue_;
   ros::CallbackQueue command_queue_;

@@ -20,9 +20,10 @@
 //
 // Playback: the moving frame replays the latest trajectory once and holds its last pose (~loop
 // false, the default) or replays it forever (~loop true). A from_current request starts from the
-// state the frame has at its switch time and is spliced there. ~clear_waypoints empties the
-// buffer, stops playback (the frame holds the pose it has at that moment), deletes the markers and
-// publishes an empty ~path so that rviz clears it.
+// state the frame has at its switch time and is spliced there. Once a ~follow_trajectory goal has
+// played, only goals move the frame (the setpoint ~command). ~clear_waypoints empties the buffer,
+// brings the frame to rest along its path within the bounds (the stop of a cancel), deletes the
+// markers and publishes an empty ~path so that rviz clears it.
 //
 // Waypoints as TF frames: a request's waypoint_frames are looked up with tf2 in the waypoints'
 // frame, each waiting up to ~tf_timeout, on the service thread that serves the request.
@@ -67,7 +68,9 @@ private:
   bool clearWaypoints(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   /// Validates, generates and (if asked) publishes; fills `res` and never throws.
   void generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
-  void publish(const TrajectoryResult& result, const nav_msgs::Path& path,
+  /// Publishes the topics and plays the trajectory on the moving frame, unless goals own the frame
+  /// (FollowTrajectoryServer::ownsFrame); returns whether it was played.
+  bool publish(const TrajectoryResult& result, const nav_msgs::Path& path,
                const trajectory_msgs::MultiDOFJointTrajectory& trajectory, const std_msgs::Header& header,
                const std::string& child_frame_id, const NodeParameters& params);
   void autoGenerate();

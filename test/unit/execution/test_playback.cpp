@@ -264,8 +264,8 @@ namespace
 constexpr Nanoseconds kFiniteDifferenceStep = 100000;  // 0.1 ms
 /// A played acceleration may exceed its bound by rounding only.
 constexpr double kBoundSlack = 1.0 + 1e-6;
-/// The stop may keep a safety margin below the bound: its distance and time stay within 1/0.9
-/// of the closed form at the bound.
+/// Without a jerk bound the stop's acceleration ramps in and out over a tenth of v/A each
+/// (stop_law.h): its distance and time stay within 1/0.9 of the closed form at the bound.
 constexpr double kMarginFactor = 1.0 / 0.9;
 
 /// A pure rotation about z at rate w (yaw = w t), the origin fixed.
@@ -422,13 +422,14 @@ TEST(Playback, AMotionEndingDuringTheStopEndsThereAtRest)
 }
 
 // A circle at w = 3 (centripetal 9 m/s²) stopped with a bound of 1 m/s²: the motion itself
-// exceeds the bound, the stop still ends, at rest on the circle.
+// exceeds the bound, the stop still ends, at rest on the circle. One turn per loop (2π/w), so that
+// the looping motion itself is continuous.
 TEST(Playback, AMotionBeyondTheBoundsStillStopsOnItsPath)
 {
   Playback p;
   p.setLoop(true);
   const double w = 3.0;
-  p.play(circle(w, 2.0), 0, 0);
+  p.play(circle(w, 2.0 * M_PI / w), 0, 0);
   const Nanoseconds tc = 5 * kSecond;
   const Nanoseconds rest = p.stop(tc, bounds(1.0, 0.0));
   EXPECT_GT(rest, tc);
@@ -555,7 +556,10 @@ TEST(Playback, StopLimitsAreChecked)
   EXPECT_NO_THROW(p.stop(kSecond, no_time));
 }
 
-// A motion accelerating at the bound: the stop reverses its acceleration, within the bound.
+// A motion accelerating at the bound: the stop reverses its acceleration, within the bound. The
+// motion's speed grows along the path the stop still covers (to ~1.6 m/s), and the law's rate
+// plateau is scaled for it from the start speed by the search's factors (stop_law.h): the stop
+// takes longer than 1.01/A (2.57 s), within 3 times.
 TEST(Playback, AMotionAcceleratingAtTheBoundIsBrakedWithinIt)
 {
   Playback p;
@@ -563,7 +567,7 @@ TEST(Playback, AMotionAcceleratingAtTheBoundIsBrakedWithinIt)
   p.play(line(0.0, 0.01, A, 0.0, 100.0), 0, 0);
   const Nanoseconds tc = kSecond;  // 1.01 m/s, accelerating at A
   const Nanoseconds rest = p.stop(tc, bounds(A, 0.0));
-  EXPECT_LE(secondsBetween(tc, rest), kMarginFactor * 1.01 / A);
+  EXPECT_LE(secondsBetween(tc, rest), 3.0 * 1.01 / A);
   EXPECT_LE(peakAccelerations(p, tc, rest + kSecond).first, A * kBoundSlack);
 }
 
