@@ -1183,6 +1183,8 @@ struct Outcome
   std::string message;  ///< the refusal's message
   std::vector<Violation> violations;
   GoalCheck goal;  ///< the goal check of a served request (checkGoal)
+  /// The served motion's recovery interval (a start above a bound; a goal of it exceeds the bound).
+  double recovery_time = 0.0;
 };
 
 /// Runs one request through generate(), the checker and, when served, the goal check. A refusal
@@ -1196,6 +1198,7 @@ inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits
   {
     const TrajectoryResult result = generate(request, limits);
     out.served = true;
+    out.recovery_time = result.recovery_time;
     out.violations = checkInvariants(request, result, options);
     checkNoDetour(request, result, limits, out.violations);
     try

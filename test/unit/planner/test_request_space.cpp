@@ -1033,11 +1033,12 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
       const TimingVariant& tv = timingVariants()[c.timing];
       goals.add(tv.label(), out.goal);
       // To rest under time_optimal or constant_speed with both jerk bounds (a C² motion within its
-      // bounds: what the node's 1 % is for), from any start, refused as 64 samples: the same request with
-      // sample_tolerance is served with the invariants of its samples, and its goal is accepted and
-      // follows the motion (checkGoal).
+      // bounds: what the node's 1 % is for), from any start within the bounds, refused as 64 samples:
+      // the same request with sample_tolerance is served with the invariants of its samples, and its
+      // goal is accepted and follows the motion (checkGoal). A motion that recovers from a start
+      // above a bound exceeds it, and the node refuses its goal naming the bound.
       if (out.goal.checked && out.goal.ends_at_rest && !out.goal.accepted && std::string(tv.timing) != "stretch" &&
-          (tv.bounds & 48) == 48)
+          (tv.bounds & 48) == 48 && out.recovery_time == 0.0)
       {
         TrajectoryRequest refined = request;
         refined.sample_tolerance = kGridSampleTolerance;
