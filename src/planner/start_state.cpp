@@ -6,9 +6,9 @@
 //  - braked: the start's own motion brought to rest within the bounds (curves/braked_start.h's
 //    B1, B2 without jerk bounds; curves/jerk_brake.h with them), then the request's motion from
 //    rest at the stopping pose.
-// Under time_optimal and constant_speed, a moving start is served the joined motion when neither
-// its duration nor its path length (|p| length + ρ · rotation length) exceeds the braked one's by
-// more than kNoLongerTolerance, else the braked one; the braked one also serves where the joined
+// Under time_optimal and constant_speed, a moving start is served the joined motion, which does not
+// stop, when neither its duration nor its path length (|p| length + ρ · rotation length) exceeds
+// the braked one's by more than kJoinedPreference (10 %), else the braked one; the braked one also serves where the joined
 // one is refused, and alone where the start exceeds a velocity bound without jerk bounds (straight
 // braking is the fastest recovery the acceleration bounds allow). A start at rest, and `stretch`
 // (whose times are the request's own), have the joined motion only.
@@ -73,9 +73,11 @@ constexpr double kBoundTolerance = 1e-6;
 constexpr double kEntryHeadroom = 2.0;
 /// Samples of the joining segment at which its acceleration is compared with the bounds.
 constexpr int kJoinSamples = 32;
-/// The joined motion is served when its duration and path length are at most the braked one's
-/// times 1 + this (rounding of two independently timed motions that coincide).
-constexpr double kNoLongerTolerance = 1e-9;
+/// The relative excess over a bound that the jerk brake's measured rates may show (rounding).
+constexpr double kRateTolerance = 1e-9;
+/// The joined motion, which continues without stopping, is served when its duration and path length
+/// are at most the braked one's times 1 + this; a longer one is a detour, and the braked one is served.
+constexpr double kJoinedPreference = 0.1;
 
 /// The largest ratio of the acceleration of `curve` on [0, h] (at its own timing) to its bound, over
 /// both channels and kJoinSamples + 1 evenly spaced times; 0 without acceleration bounds.
@@ -471,7 +473,7 @@ JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
           const double bound = bounds[order][c];
           if (bound > 0.0 && !(order < 2 && recovering[order][c]))
             check.worst[c][order] = std::max(check.worst[c][order], rates[order][c] / bound);
-          if (!(bound > 0.0) || rates[order][c] <= bound * (1.0 + kNoLongerTolerance))
+          if (!(bound > 0.0) || rates[order][c] <= bound * (1.0 + kRateTolerance))
           {
             if (order < 2 && recovering[order][c] && rates[order][c] <= bound)
               recovering[order][c] = false;
@@ -555,11 +557,11 @@ std::optional<std::pair<JerkBrake, BrakeFigures>> jerkBrakeWithin(const Validate
     for (int c = 0; c < 2; ++c)
     {
       const std::array<double, 3>& w = check.worst[c];
-      if (w[0] > 1.0 + kNoLongerTolerance)
+      if (w[0] > 1.0 + kRateTolerance)
         return std::nullopt;
-      if (w[1] > 1.0 + kNoLongerTolerance && share[c] > 0.0)
+      if (w[1] > 1.0 + kRateTolerance && share[c] > 0.0)
         share[c] = share[c] > kSmallestShare ? share[c] * kShareStep : 0.0;
-      else if (w[1] > 1.0 + kNoLongerTolerance || w[2] > 1.0 + kNoLongerTolerance)
+      else if (w[1] > 1.0 + kRateTolerance || w[2] > 1.0 + kRateTolerance)
         scale[c] *= std::min(kBrakeScaleStep, 1.0 / (std::max(w[1], w[2]) * (1.0 + kBrakeScaleMargin)));
     }
   }
@@ -666,14 +668,14 @@ double pathLength(const ValidatedRequest& r, const CurveFigures& f)
   return f.length + (f.rotation_length > 0.0 ? r.rotation_scale * f.rotation_length : 0.0);
 }
 
-/// Whether `a` is no longer than `b` in duration and path length (kNoLongerTolerance).
+/// Whether `a` is no longer than `b` times 1 + `tolerance` in duration and path length.
 template <class G>
-bool noLonger(const ValidatedRequest& r, const PlannedMotion<PoseSpace, G>& a, const PlannedMotion<PoseSpace, G>& b)
+bool noLonger(const ValidatedRequest& r, const PlannedMotion<PoseSpace, G>& a, const PlannedMotion<PoseSpace, G>& b,
+              double tolerance)
 {
   const double da = a.curve->endTime() - a.curve->startTime();
   const double db = b.curve->endTime() - b.curve->startTime();
-  return da <= db * (1.0 + kNoLongerTolerance) &&
-         pathLength(r, a.figures) <= pathLength(r, b.figures) * (1.0 + kNoLongerTolerance) + 1e-12;
+  return da <= db * (1.0 + tolerance) && pathLength(r, a.figures) <= pathLength(r, b.figures) * (1.0 + tolerance) + 1e-12;
 }
 
 /// The braked candidate of a moving start (std::nullopt where no brake exists), and whether it is to
@@ -688,7 +690,7 @@ std::optional<Candidate<G>> brakedCandidate(const ValidatedRequest& r, bool* alo
     for (const auto& brake : jerkBrakes(r))
     {
       Candidate<G> c = attempt<G>([&] { return brakedMotion<G>(r, brake.first, brake.second); });
-      if (!shortest || (c.motion && (!shortest->motion || noLonger(r, *c.motion, *shortest->motion))))
+      if (!shortest || (c.motion && (!shortest->motion || noLonger(r, *c.motion, *shortest->motion, 0.0))))
         shortest = std::move(c);
     }
     return shortest;
@@ -721,7 +723,7 @@ PlannedMotion<PoseSpace, G> planWithStartState(const ValidatedRequest& r, const 
       std::rethrow_exception(joined.refusal);
     return std::move(*joined.motion);
   }
-  if (joined.motion && noLonger(r, *joined.motion, *braked->motion))
+  if (joined.motion && noLonger(r, *joined.motion, *braked->motion, kJoinedPreference))
     return std::move(*joined.motion);
   return std::move(*braked->motion);
 }

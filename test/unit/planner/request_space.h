@@ -1103,15 +1103,16 @@ inline void stopWithin(const Eigen::Vector3d& v, double T, ReferenceBrake* b)
 
 /// The brake-and-go bound of a motion from a moving start (docs/timing.md "Start states and
 /// replanning"): the test's own valid brake of each channel (referenceBrake) and the planner's
-/// motion from rest at its stopping pose, times kDetourFactor for the planner's own brake, which may
-/// stop elsewhere (curves/jerk_brake.h shares the jerk bound between two axes).
+/// motion from rest at its stopping pose, times kDetourFactor: the planner serves the joined motion
+/// up to 10 % beyond its own brake-and-go motion, whose brake may stop elsewhere
+/// (curves/jerk_brake.h shares the jerk bound between two axes).
 struct BrakeAndGo
 {
   double duration = 0.0;
   double length = 0.0;  ///< |p| length + ρ · rotation length
 };
 
-constexpr double kDetourFactor = 1.2;
+constexpr double kDetourFactor = 1.3;
 
 inline double chordLength(const TrajectoryRequest& r, const CurveFigures& f)
 {
