@@ -1197,9 +1197,9 @@ TEST(RecordedCsv, ByteOrderMarkAndEveryLineEndAreRead)
   expectCliPassesThrough("--waypoints " + path, "interpolating", poses, times);
 }
 
-// A bad header is refused as soon as it is read, before the rest of the file (a 2 GB recording with
-// a bad header used to be read whole first: 4.2 GB of memory). Read from a FIFO, the writer learns
-// how far: it is stopped (EPIPE) once the reader has refused and closed it.
+// A bad header is refused as soon as it is read, before the rest of the file (so that a 2 GB
+// recording with a bad header costs no 2 GB of memory). Read from a FIFO, the writer learns how
+// far: it is stopped (EPIPE) once the reader has refused and closed it.
 TEST(RecordedCsv, ABadHeaderIsRefusedBeforeTheRowsAreRead)
 {
   const std::string fifo = testing::TempDir() + "recording.fifo";
@@ -1522,8 +1522,8 @@ TEST(CliFit, SaveBsplineReplaysTheFit)
 }
 
 // The saved B-spline request keeps every field of the fit's request that shapes the samples
-// (timing, bounds, speed, sampling, rotation_scale; sample_period and rotation_scale were dropped,
-// so the replay had other samples): run as it is, its CSV is the fit's, row for row.
+// (timing, bounds, speed, sampling, rotation_scale, the waypoints' header): run as it is, its CSV
+// is the fit's, row for row.
 TEST(CliFit, SavedBsplineReplaysTheSamplesAsTheyAre)
 {
   std::string csv = "t,x,y,z,qx,qy,qz,qw\n";

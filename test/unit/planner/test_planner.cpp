@@ -172,11 +172,10 @@ std::string refusalOf(const TrajectoryRequest& r)
 }  // namespace
 
 // A velocity corner (piecewise_geodesic without blend_radius, a B-spline of degree 1) is an impulse
-// of acceleration, which no uniform stretch bounds: under the acceleration bound of a channel whose
-// velocity jumps, `stretch` refuses naming that bound, as it refuses an acceleration jump under a
-// jerk bound (such requests were served with the jump, 707 m/s² by differences at 1 ms, and
-// peak_linear_acceleration 0). A blended corner keeps the bound, by differences too; a channel
-// without a bound may still jump.
+// of acceleration, which no uniform stretch bounds and the figures (peaks of the pieces) do not
+// show: under the acceleration bound of a channel whose velocity jumps, `stretch` refuses naming
+// that bound, as it refuses an acceleration jump under a jerk bound. A blended corner keeps the
+// bound, by differences too; a channel without a bound may still jump.
 TEST(Planner, StretchRefusesAVelocityCornerUnderItsAccelerationBound)
 {
   std::mt19937 rng(173);
