@@ -220,8 +220,11 @@ std::string replayedFields(const YAML::Node& root)
   YAML::Node kept(YAML::NodeType::Map);
   if (root.IsMap())
     for (const auto& field : root)
-      if (std::find(std::begin(kFitOnlyFields), std::end(kFitOnlyFields), field.first.Scalar()) == std::end(kFitOnlyFields))
-        kept[field.first.Scalar()] = field.second;
+    {
+      const std::string& name = field.first.Scalar();
+      if (std::find(std::begin(kFitOnlyFields), std::end(kFitOnlyFields), name) == std::end(kFitOnlyFields))
+        kept[name] = field.second;
+    }
   if (kept.size() == 0)
     return "";
   YAML::Emitter out;

@@ -222,7 +222,8 @@ private:
       const std::size_t comma = text.find(',', start);
       if (role_[c] < kColumnCount)
       {
-        const std::string_view cell = trimmed(text.substr(start, comma == std::string_view::npos ? comma : comma - start));
+        const std::string_view cell =
+            trimmed(text.substr(start, comma == std::string_view::npos ? comma : comma - start));
         double& value = v[role_[c]];
         const std::from_chars_result parsed = std::from_chars(cell.data(), cell.data() + cell.size(), value);
         if (parsed.ec != std::errc() || parsed.ptr != cell.data() + cell.size() || !std::isfinite(value))

@@ -95,7 +95,8 @@ void refuseVelocityCorners(const BasicValidatedRequest<Space>& r, const Curve<G>
     const std::array<bool, 2> jumps = timing::velocityJumpsByChannel(curve, b[i], floor);
     for (const int c : { timing::kLinear, timing::kAngular })
       if (jumps[c] && bounds[c] > 0.0)
-        throw InvalidInputError(std::string(c == timing::kLinear ? "max_linear_acceleration" : "max_angular_acceleration") +
+        throw InvalidInputError(std::string(c == timing::kLinear ? "max_linear_acceleration"
+                                                                 : "max_angular_acceleration") +
                                 ": the curve's velocity jumps at t = " + formatNumber(b[i]) +
                                 " s (a corner: piecewise_geodesic without blend_radius, a B-spline of degree 1, a "
                                 "dwell), so no uniform stretch bounds its acceleration; use blend_radius "
