@@ -230,8 +230,11 @@ def config(entries):
 
 def add_to_generator(gen, entries=None):
     """Adds the reconfigurable parameters to a dynamic_reconfigure ParameterGenerator, by group, in
-    the table's order: its ranges (dynamic_reconfigure clamps to them; the node refuses an
-    exclusive bound), choices as enums of their names."""
+    the table's order, choices as enums of their names. Numbers get no range here: the generated
+    server clamps every requested value into its range before the node sees it (-1 would become 0,
+    "unbounded"), so every value must reach the node's check, which refuses what the table refuses
+    and keeps the value in effect. The node publishes the table's ranges in the server's description
+    (RunTimeParameters), which rqt_reconfigure reads."""
     from dynamic_reconfigure.parameter_generator_catkin import bool_t, double_t, int_t, str_t
     entries = load() if entries is None else entries
     groups = {}
@@ -252,7 +255,7 @@ def add_to_generator(gen, entries=None):
             g.add(e["name"], str_t, 0, doc, e["default"])
         else:
             kind = int_t if e["type"] == "int" else double_t
-            g.add(e["name"], kind, 0, doc, e["default"], e.get("min"), e.get("max"))
+            g.add(e["name"], kind, 0, doc, e["default"])
 
 
 def docs_table(text):

@@ -18,19 +18,23 @@
 // the request file then carries the other fields only. Recordings are long: the CLI takes up to
 // kCliMaxWaypoints waypoints (the work estimate bounds what is done with them).
 // --save-bspline writes the B-spline a `curve: fit` request fitted as a `curve: bspline` request
-// (its control poses, knots, degree and geometry, every number in its shortest round-trip form),
-// which replays the fitted curve (written atomically, like OUT.csv; refused for other curves).
+// (its control poses, knots, degree and geometry, every number in its shortest round-trip form,
+// and the request file's other fields as given: timing, bounds, sampling, rotation_scale, ...),
+// which replays the fitted motion sample for sample (written atomically, like OUT.csv; refused
+// for other curves).
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -145,7 +149,7 @@ Arguments parseArguments(int argc, char** argv)
 std::optional<se3_interpolation::cli::RecordedWaypoints> readRecorded(const Arguments& args)
 {
   if (!args.waypoints.empty())
-    return se3_interpolation::cli::readWaypointsCsv(args.waypoints);
+    return se3_interpolation::cli::readWaypointsCsv(args.waypoints, kCliMaxWaypoints);
   if (!args.bag.path.empty())
     return se3_interpolation::cli::readWaypointsBag(args.bag);
   return std::nullopt;
@@ -204,9 +208,35 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   printWaypointTimes(r.waypoint_times);
 }
 
-/// The fitted B-spline of `r` as a `curve: bspline` request in `geometry` (--save-bspline).
+/// The fields of a fit request that the fitted B-spline replaces: the curve and its data and
+/// options. Every other field (timing, bounds, speed, sampling, rotation_scale, start state, ...)
+/// shapes the timed motion or its samples and goes into the replay as given.
+const char* const kFitOnlyFields[] = { "curve", "geometry", "degree", "knots", "waypoints", "times",
+                                       "control_period", "smoothing", "loss", "loss_scale" };
+
+/// The fields of `root` (the request file) other than kFitOnlyFields, as YAML; "" when none.
+std::string replayedFields(const YAML::Node& root)
+{
+  YAML::Node kept(YAML::NodeType::Map);
+  if (root.IsMap())
+    for (const auto& field : root)
+    {
+      const std::string& name = field.first.Scalar();
+      if (std::find(std::begin(kFitOnlyFields), std::end(kFitOnlyFields), name) == std::end(kFitOnlyFields))
+        kept[name] = field.second;
+    }
+  if (kept.size() == 0)
+    return "";
+  YAML::Emitter out;
+  out << kept;
+  return std::string(out.c_str()) + "\n";
+}
+
+/// The fitted B-spline of `r` as a `curve: bspline` request in `geometry` (--save-bspline), with the
+/// other fields of the fit's request file `root` (replayedFields) and its waypoints' header, so
+/// that the replay gives the fit's samples.
 std::string bsplineRequest(const se3_interpolation::TrajectoryResult& r, const std::string& geometry,
-                           const std::string& source)
+                           const std::string& source, const YAML::Node& root)
 {
   char cell[se3_interpolation::cli::kMaxNumberChars];
   auto number = [&cell](double v) { return std::string(cell, se3_interpolation::cli::formatNumber(cell, v)); };
@@ -218,16 +248,25 @@ std::string bsplineRequest(const se3_interpolation::TrajectoryResult& r, const s
   };
   std::string text = "# The B-spline se3_interpolate fitted to " + source +
                      " (curve fit, residual_linear " + number(r.residual_linear) + " m, residual_angular " +
-                     number(r.residual_angular) + " rad): replays the fitted curve.\ncurve: bspline\ngeometry: " +
+                     number(r.residual_angular) + " rad): replays the fitted motion.\ncurve: bspline\ngeometry: " +
                      geometry + "\ndegree: " + std::to_string(r.knots.size() - r.control_points.size() - 1) +
                      "\nknots: [";
   for (std::size_t i = 0; i < r.knots.size(); ++i)
     text += (i ? ", " : "") + number(r.knots[i]);
   text += "]\nwaypoints:\n";
+  // A PoseArray's header (its frame) stays with the poses.
+  const YAML::Node waypoints = root.IsMap() && root["waypoints"] ? root["waypoints"] : YAML::Node();
+  const bool header = waypoints.IsMap() && waypoints["header"];
+  if (header)
+  {
+    YAML::Emitter flow;
+    flow << YAML::Flow << waypoints["header"];
+    text += "  header: " + std::string(flow.c_str()) + "\n  poses:\n";
+  }
   for (const se3_interpolation::Pose<double>& x : r.control_points)
-    text += "  - {position: " + list({ x.p.x(), x.p.y(), x.p.z() }) +
+    text += std::string(header ? "    " : "  ") + "- {position: " + list({ x.p.x(), x.p.y(), x.p.z() }) +
             ", orientation: " + list({ x.q.x(), x.q.y(), x.q.z(), x.q.w() }) + "}\n";
-  return text;
+  return text + replayedFields(root);
 }
 
 std::string systemError(const std::string& what)
@@ -404,7 +443,8 @@ int main(int argc, char** argv)
         result = se3::generate(request, args.limits);
         const std::string geometry =
             se3::toString(se3::parseName(request.geometry, "geometry", se3::RequestDefaults::kGeometry));
-        const std::string text = bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'");
+        const std::string text =
+            bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'", root);
         writeAtomically(args.save_bspline,
                         [&text](const se3::cli::CsvSink& sink) { sink(text.data(), text.size()); });
         output([&result](const se3::cli::CsvSink& sink) { se3::cli::writePoseCsv(result, sink); });

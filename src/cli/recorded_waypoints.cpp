@@ -1,20 +1,14 @@
 #include "recorded_waypoints.h"
 
-#include <fcntl.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <tf2_msgs/TFMessage.h>
-#include <unistd.h>
 
-#include <algorithm>
-#include <array>
-#include <cerrno>
 #include <charconv>
-#include <cmath>
 #include <cstring>
-#include <map>
+#include <fstream>
 #include <set>
 #include <system_error>
 
@@ -26,34 +20,6 @@ namespace cli
 {
 namespace
 {
-constexpr std::size_t kColumnCount = sizeof(kWaypointColumns) / sizeof(kWaypointColumns[0]);
-
-/// `text` without spaces at either end and without a final '\r' (a CRLF file).
-std::string_view trimmed(std::string_view text)
-{
-  if (!text.empty() && text.back() == '\r')
-    text.remove_suffix(1);
-  while (!text.empty() && text.front() == ' ')
-    text.remove_prefix(1);
-  while (!text.empty() && text.back() == ' ')
-    text.remove_suffix(1);
-  return text;
-}
-
-/// The cells of one line, split at every comma (not trimmed).
-std::vector<std::string_view> splitCells(std::string_view line)
-{
-  std::vector<std::string_view> cells;
-  for (;;)
-  {
-    const std::size_t comma = line.find(',');
-    cells.push_back(line.substr(0, comma));
-    if (comma == std::string_view::npos)
-      return cells;
-    line.remove_prefix(comma + 1);
-  }
-}
-
 /// "'a', 'b'" of a set of names.
 std::string quotedList(const std::set<std::string>& names)
 {
@@ -63,33 +29,14 @@ std::string quotedList(const std::set<std::string>& names)
   return list;
 }
 
-std::string readWholeFile(const std::string& path, const std::string& what)
+/// Whether the file at `path` starts as a bag of format 2.0 does (its version line), so that a
+/// read error further on means a bag cut short, not another kind of file.
+bool startsLikeABag(const std::string& path)
 {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0)
-    throw InvalidInputError(what + ": cannot be read: " + std::strerror(errno));
-  std::string text;
-  std::size_t size = 0;
-  for (;;)
-  {
-    if (text.size() - size < (std::size_t(1) << 16))
-      text.resize(std::max<std::size_t>(2 * text.size(), std::size_t(1) << 20));
-    const ssize_t n = ::read(fd, &text[size], text.size() - size);
-    if (n < 0 && errno == EINTR)
-      continue;
-    if (n < 0)
-    {
-      const int error = errno;
-      ::close(fd);
-      throw InvalidInputError(what + ": cannot be read: " + std::strerror(error));
-    }
-    if (n == 0)
-      break;
-    size += static_cast<std::size_t>(n);
-  }
-  ::close(fd);
-  text.resize(size);
-  return text;
+  static const char kVersionLine[] = "#ROSBAG V2.0\n";
+  char start[sizeof kVersionLine - 1] = {};
+  std::ifstream f(path, std::ios::binary);
+  return f.read(start, sizeof start) && std::memcmp(start, kVersionLine, sizeof start) == 0;
 }
 
 /// One pose of a bag before selection: its frames, stamp and pose.
@@ -208,88 +155,27 @@ std::vector<StampedPose> selectFrames(std::vector<StampedPose> poses, const BagS
 }
 }  // namespace
 
-RecordedWaypoints parseWaypointsCsv(std::string_view text, const std::string& path)
-{
-  RecordedWaypoints r;
-  r.source = "--waypoints '" + path + "'";
-  r.first_line = 2;
-  const auto refuse = [&r](std::size_t line, const std::string& why) {
-    throw InvalidInputError(r.source + " line " + std::to_string(line) + ": " + why);
-  };
-  if (text.empty())
-    refuse(1, "the file is empty; expected a header naming the columns t,x,y,z,qx,qy,qz,qw");
-  std::size_t end = text.find('\n');
-  const std::vector<std::string_view> header = splitCells(text.substr(0, end));
-  // role[c]: which of kWaypointColumns header cell c is, or kColumnCount for another column.
-  std::vector<std::size_t> role(header.size(), kColumnCount);
-  std::array<std::size_t, kColumnCount> column;
-  column.fill(header.size());
-  for (std::size_t c = 0; c < header.size(); ++c)
-    for (std::size_t k = 0; k < kColumnCount; ++k)
-      if (trimmed(header[c]) == kWaypointColumns[k])
-      {
-        if (column[k] != header.size())
-          refuse(1, "column '" + std::string(kWaypointColumns[k]) + "' named twice (columns " +
-                        std::to_string(column[k] + 1) + " and " + std::to_string(c + 1) + ")");
-        column[k] = c;
-        role[c] = k;
-      }
-  for (std::size_t k = 0; k < kColumnCount; ++k)
-    if (column[k] == header.size())
-      refuse(1, "column '" + std::string(kWaypointColumns[k]) +
-                    "': missing from the header (t,x,y,z,qx,qy,qz,qw are found by name, in any order)");
-
-  std::size_t line = 1;
-  std::array<double, kColumnCount> v;
-  while (end != std::string_view::npos && end + 1 < text.size())
-  {
-    ++line;
-    const std::size_t start = end + 1;
-    end = text.find('\n', start);
-    std::string_view rest = text.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start);
-    const std::size_t cells = static_cast<std::size_t>(std::count(rest.begin(), rest.end(), ',')) + 1;
-    if (cells != header.size())
-      refuse(line, std::to_string(cells) + (cells == 1 ? " cell" : " cells") + ", but the header (line 1) has " +
-                       std::to_string(header.size()));
-    for (std::size_t c = 0;; ++c)
-    {
-      const std::size_t comma = rest.find(',');
-      if (role[c] < kColumnCount)
-      {
-        const std::string_view cell = trimmed(rest.substr(0, comma));
-        double& value = v[role[c]];
-        const std::from_chars_result parsed = std::from_chars(cell.data(), cell.data() + cell.size(), value);
-        if (parsed.ec != std::errc() || parsed.ptr != cell.data() + cell.size() || !std::isfinite(value))
-          refuse(line, "column '" + std::string(kWaypointColumns[role[c]]) + "' (column " + std::to_string(c + 1) +
-                           "): '" + std::string(cell.substr(0, 40)) + "' is not a finite number");
-      }
-      if (comma == std::string_view::npos)
-        break;
-      rest.remove_prefix(comma + 1);
-    }
-    r.times.push_back(v[0]);
-    r.waypoints.emplace_back(Quaternion<double>(v[7], v[4], v[5], v[6]), Vector3<double>(v[1], v[2], v[3]));
-  }
-  if (r.waypoints.empty())
-    refuse(2, "no rows after the header; expected one waypoint per line");
-  return r;
-}
-
-RecordedWaypoints readWaypointsCsv(const std::string& path)
-{
-  return parseWaypointsCsv(readWholeFile(path, "--waypoints '" + path + "'"), path);
-}
-
 RecordedWaypoints readWaypointsBag(const BagSelection& selection)
 {
   rosbag::Bag bag;
+  // A bag cut short (a recording killed, a copy interrupted) has no index at its end: rosbag says
+  // "Bag unindexed" or, where the header points past the end, "wanted 4 bytes, read 0 bytes".
+  const std::string cut_short = "; the bag looks cut short (a recording or a copy interrupted before its index was "
+                                "written): `rosbag reindex " + selection.path + "` rebuilds the index from the "
+                                "messages it holds";
   try
   {
     bag.open(selection.path, rosbag::bagmode::Read);
   }
+  catch (const rosbag::BagUnindexedException& e)
+  {
+    throw InvalidInputError("--bag '" + selection.path + "': cannot be opened: " + e.what() + cut_short);
+  }
   catch (const rosbag::BagException& e)
   {
-    throw InvalidInputError("--bag '" + selection.path + "': cannot be opened: " + e.what());
+    const bool read_error = dynamic_cast<const rosbag::BagIOException*>(&e) != nullptr;
+    throw InvalidInputError("--bag '" + selection.path + "': cannot be opened: " + e.what() +
+                            (read_error && startsLikeABag(selection.path) ? cut_short : std::string()));
   }
   std::string datatype;
   std::vector<StampedPose> poses;
@@ -297,6 +183,10 @@ RecordedWaypoints readWaypointsBag(const BagSelection& selection)
   try
   {
     poses = readTopic(bag, selection, &datatype, &children);
+  }
+  catch (const rosbag::BagIOException& e)
+  {
+    throw InvalidInputError("--bag '" + selection.path + "': cannot be read: " + e.what() + cut_short);
   }
   catch (const ros::Exception& e)
   {
@@ -327,7 +217,8 @@ RecordedWaypoints readWaypointsBag(const BagSelection& selection)
 std::string recordedOrigin(const RecordedWaypoints& recorded, std::size_t i)
 {
   if (recorded.first_line > 0)
-    return "line " + std::to_string(recorded.first_line + i) + " of " + recorded.source;
+    return "line " + std::to_string(recorded.first_line + i) + ", column 1 (byte offset " +
+           std::to_string(i < recorded.line_offsets.size() ? recorded.line_offsets[i] : 0) + ") of " + recorded.source;
   return "pose " + std::to_string(i) + " of " + recorded.source;
 }
 

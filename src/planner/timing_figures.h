@@ -1,6 +1,7 @@
 // The bounds of a request and the figures of its timed motion (planner.cpp's private part): the
-// uniform stretch that meets the bounds (docs/timing.md), the peak jerk it divides by k³, the six
-// bounds handed to the timings, and the figures of a time-optimal or jerk-limited motion.
+// uniform stretch that meets the bounds (docs/timing.md), the corners and acceleration jumps it
+// refuses, the peak jerk it divides by k³, the six bounds handed to the timings, and the figures
+// of a time-optimal or jerk-limited motion.
 #pragma once
 
 #include <algorithm>
@@ -73,12 +74,45 @@ timing::RateBounds rateBounds(const BasicValidatedRequest<Space>& r)
   return bounds;
 }
 
-/// With a jerk bound under `stretch`: the peak jerks of `curve` (on its own clock) into `fig`,
-/// which the stretch then divides by k³. A curve whose acceleration jumps has an impulse of jerk
-/// there, which no stretch bounds: refused naming the jerk bound, suggesting time_optimal.
+/// Under `stretch` with an acceleration bound: a velocity corner of a channel it bounds (the corners
+/// of a piecewise_geodesic without blend_radius, a B-spline of degree 1, the start of a dwell) is
+/// an impulse of acceleration, which no stretch bounds and the figures, peaks of the pieces, do
+/// not show: refused naming the bound. A channel without one may jump; a jump below
+/// timing::kCornerTolerance of the channel's peak speed (`fig`, of `curve`) is rounding.
+template <class Space, class G>
+void refuseVelocityCorners(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, const CurveFigures& fig)
+{
+  const std::array<double, 2> bounds = { r.max_linear_acceleration, r.max_angular_acceleration };
+  if (!(bounds[timing::kLinear] > 0.0) && !(bounds[timing::kAngular] > 0.0))
+    return;
+  const std::array<double, 2> floor = { timing::kCornerTolerance * fig.max_linear_speed,
+                                        timing::kCornerTolerance * fig.max_angular_speed };
+  std::vector<double> b = curve.breakpoints();
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  for (std::size_t i = 1; i + 1 < b.size(); ++i)
+  {
+    checkDeadlineEvery(i, kPiecesPerDeadlineCheck, "the trajectory's corners");
+    const std::array<bool, 2> jumps = timing::velocityJumpsByChannel(curve, b[i], floor);
+    for (const int c : { timing::kLinear, timing::kAngular })
+      if (jumps[c] && bounds[c] > 0.0)
+        throw InvalidInputError(std::string(c == timing::kLinear ? "max_linear_acceleration"
+                                                                 : "max_angular_acceleration") +
+                                ": the curve's velocity jumps at t = " + formatNumber(b[i]) +
+                                " s (a corner: piecewise_geodesic without blend_radius, a B-spline of degree 1, a "
+                                "dwell), so no uniform stretch bounds its acceleration; use blend_radius "
+                                "(piecewise_geodesic), or timing 'time_optimal', whose motion stops there");
+  }
+}
+
+/// The checks of `stretch` beyond the figures `fig` of `curve`: velocity corners under an
+/// acceleration bound (refuseVelocityCorners), then, with a jerk bound, the peak jerks of `curve`
+/// (on its own clock) into `fig`, which the stretch then divides by k³. A curve whose acceleration jumps has an
+/// impulse of jerk there, which no stretch bounds: refused naming the jerk bound, suggesting
+/// time_optimal.
 template <class Space, class G>
 void measureJerk(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, CurveFigures* fig)
 {
+  refuseVelocityCorners(r, curve, *fig);
   if (!hasJerkBound(r))
     return;
   const timing::JerkPeaks j = timing::jerkPeaks(curve);

@@ -2,6 +2,10 @@
 
 #include <tf2_eigen/tf2_eigen.h>
 
+#include <sstream>
+
+#include "se3_interpolation/planner/names.h"
+
 namespace se3_interpolation
 {
 namespace
@@ -165,6 +169,39 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.residual_angular = result.residual_angular;
   out.energy = result.figures.energy;
   return out;
+}
+
+std::string generationMessage(const TrajectoryRequest& request, const TrajectoryResult& result)
+{
+  std::ostringstream msg;
+  msg << result.samples.size() << " samples over " << result.duration << " s";
+  switch (parseName(request.timing, "timing", RequestDefaults::kTiming))
+  {
+    case Timing::kStretch:
+      if (result.time_scale > 1.0)
+        msg << " (time stretched x" << result.time_scale << " to meet the bounds)";
+      break;
+    case Timing::kTimeOptimal:
+      msg << " (time-optimal within the bounds"
+          << (request.max_linear_jerk > 0.0 || request.max_angular_jerk > 0.0 ? ", jerk-limited" : "") << ")";
+      break;
+    case Timing::kConstantSpeed:
+      msg << " (constant speed " << request.speed << " m/s from t = " << result.constant_speed_start << " to "
+          << result.constant_speed_end << " s)";
+      break;
+  }
+  if (result.recovery_time > 0.0)
+    msg << "; the start state exceeds a bound: every bound holds from t = " << result.recovery_time
+        << " s on (recovery_time)";
+  if (result.stop_time > 0.0)
+    msg << "; the start state cannot continue along the curve within the bounds: it brakes to rest along "
+           "its own directions in the first "
+        << result.stop_time << " s, and the motion from rest follows";
+  if (!result.knots.empty())
+    msg << "; fitted " << result.control_points.size() << " control poses to " << result.waypoints.size()
+        << " waypoints (residual_linear " << result.residual_linear << " m, residual_angular "
+        << result.residual_angular << " rad)";
+  return msg.str();
 }
 
 GenerateTrajectory::Response& copyFit(const TrajectoryResult& result, const std_msgs::Header& header,

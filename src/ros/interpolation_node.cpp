@@ -189,22 +189,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     copyFigures(result, res);
     copyFit(result, header, res);
     res.success = true;
-    std::ostringstream msg;
-    msg << result.samples.size() << " samples over " << result.duration << " s";
-    if (result.time_scale > 1.0)
-      msg << " (time stretched x" << result.time_scale << " to meet the bounds)";
-    if (result.recovery_time > 0.0)
-      msg << "; the start state exceeds a bound: every bound holds from t = " << result.recovery_time
-          << " s on (recovery_time)";
-    if (result.stop_time > 0.0)
-      msg << "; the start state cannot continue along the curve within the bounds: it brakes to rest along "
-             "its own directions in the first "
-          << result.stop_time << " s, and the motion from rest follows";
-    if (!result.knots.empty())
-      msg << "; fitted " << result.control_points.size() << " control poses to " << result.waypoints.size()
-          << " waypoints (residual_linear " << result.residual_linear << " m, residual_angular "
-          << result.residual_angular << " rad)";
-    res.message = msg.str();
+    res.message = generationMessage(r, result);
     if (req.publish)
     {
       // The topics carry both forms whatever the response omits.

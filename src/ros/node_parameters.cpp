@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -37,17 +38,37 @@ std::string errorOf(const ParameterSpec& spec, const T& value)
   return std::is_same_v<T, bool> ? std::string() : parameterError(spec, static_cast<double>(value));
 }
 
+/// Reads the parameter `spec` into `candidate`; "" when it is of the member's type, else why not.
+template <class T>
+std::string readCandidate(const ros::NodeHandle& nh, const ParameterSpec& spec, T* candidate)
+{
+  if constexpr (std::is_same_v<T, int>)
+  {
+    // roscpp's getParam(int) would convert a double beyond the int's range (1e12) to INT_MIN.
+    XmlRpc::XmlRpcValue raw;
+    nh.getParam(spec.name, raw);
+    return intParameterFromServer(spec, raw, candidate);
+  }
+  else
+  {
+    if (nh.getParam(spec.name, *candidate))
+      return "";
+    return std::string("~") + spec.name + ": refused (not of the expected type)";
+  }
+}
+
 /// Reads the parameter `spec` into `value` if it is set, of the member's type and within its
-/// row; else warns naming the parameter and keeps `value`.
+/// row; else warns naming the parameter and the value kept.
 template <class T>
 void read(const ros::NodeHandle& nh, const ParameterSpec& spec, T* value)
 {
   if (!nh.hasParam(spec.name))
     return;
   T candidate;
-  if (!nh.getParam(spec.name, candidate))
+  const std::string unread = readCandidate(nh, spec, &candidate);
+  if (!unread.empty())
   {
-    ROS_WARN_STREAM("~" << spec.name << ": refused (not of the expected type); keeping " << show(*value));
+    ROS_WARN_STREAM(unread << "; keeping " << show(*value));
     return;
   }
   const std::string why = errorOf(spec, candidate);
@@ -194,6 +215,30 @@ std::string parameterError(const ParameterSpec& spec, const std::string& value)
   return field + ": unknown value " + quotedText(value) + " (expected one of: " + spec.choices + ")";
 }
 
+std::string intParameterFromServer(const ParameterSpec& spec, XmlRpc::XmlRpcValue& raw, int* value)
+{
+  if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt)
+  {
+    *value = static_cast<int>(raw);
+    return "";
+  }
+  if (raw.getType() != XmlRpc::XmlRpcValue::TypeDouble)
+    return std::string("~") + spec.name + ": refused (not of the expected type)";
+  const double given = static_cast<double>(raw);
+  // A whole number within the int's range (YAML reads 2e5 as a double) is that int.
+  if (std::isfinite(given) && std::floor(given) == given && given >= std::numeric_limits<int>::min() &&
+      given <= std::numeric_limits<int>::max())
+  {
+    *value = static_cast<int>(given);
+    return "";
+  }
+  std::ostringstream why;
+  why << "~" << spec.name << ": refused " << given << " (must be a whole number from "
+      << std::numeric_limits<int>::min() << " to " << std::numeric_limits<int>::max()
+      << (spec.range[0] != '\0' ? std::string(", ") + spec.range : std::string()) << ")";
+  return why.str();
+}
+
 std::string stringParameterError(const std::string& name, const std::string& value)
 {
   const ParameterSpec* spec = findNodeParameter(name);
@@ -263,6 +308,25 @@ dynamic_reconfigure::Config toReconfigureMessage(const NodeParameters& p)
     if (spec.reconfigure[0] != '\0')
       toMessage(spec.name, member, &message);
   });
+  return message;
+}
+
+dynamic_reconfigure::Config reconfigureRange(bool upper)
+{
+  dynamic_reconfigure::Config message;
+  for (const ParameterSpec& spec : kNodeParameterSpecs)
+  {
+    if (spec.reconfigure[0] == '\0')
+      continue;
+    const double bound = upper ? spec.max : spec.min;
+    if (spec.type == ParameterType::kDouble)
+      toMessage(spec.name, bound, &message);
+    else if (spec.type == ParameterType::kInt)
+      toMessage(spec.name,
+                std::isfinite(bound) ? static_cast<int>(bound)
+                                     : (upper ? std::numeric_limits<int>::max() : std::numeric_limits<int>::min()),
+                &message);
+  }
   return message;
 }
 

@@ -20,6 +20,16 @@ RunTimeParameters::RunTimeParameters(const ros::NodeHandle& private_nh, const No
   : params_(initial), on_change_(std::move(on_change))
 {
   server_ = std::make_unique<dynamic_reconfigure::Server<InterpolationNodeConfig>>(server_mutex_, private_nh);
+  // The description's ranges are the table's, for rqt_reconfigure's sliders; the generated ones are
+  // unbounded, so that the server's clamp leaves every requested value to reconfigure()'s check.
+  InterpolationNodeConfig min = InterpolationNodeConfig::__getMin__();
+  InterpolationNodeConfig max = InterpolationNodeConfig::__getMax__();
+  dynamic_reconfigure::Config lower = reconfigureRange(false);
+  dynamic_reconfigure::Config upper = reconfigureRange(true);
+  min.__fromMessage__(lower);
+  max.__fromMessage__(upper);
+  server_->setConfigMin(min);
+  server_->setConfigMax(max);
   server_->updateConfig(toConfig(initial));
   server_->setCallback([this](InterpolationNodeConfig& config, std::uint32_t /*level*/) { reconfigure(config); });
 }

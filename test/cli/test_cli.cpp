@@ -3,7 +3,10 @@
 // samples bit for bit (csv_writer.h), checked on hard values and on large outputs. Recorded
 // waypoints (--waypoints, --bag) read back exactly, from CSV files and from bags the tests write.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -16,7 +19,9 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +33,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <vector>
 
 #include "csv_writer.h"
@@ -1068,12 +1074,14 @@ TEST(RecordedCsv, ColumnsByNameInAnyOrder)
   expectCliPassesThrough("--waypoints " + path, "interpolating", poses, times);
 }
 
-// Each malformed file is refused naming the file, its line (1-based) and column, exit 2, no output.
-TEST(RecordedCsv, MalformedFilesNameTheLineAndColumn)
+// Each malformed file is refused naming the file, its line (1-based), column (1-based, in bytes)
+// and byte offset (0-based) where the fault starts, exit 2, no output; a cell is quoted with its
+// control bytes (a NUL too) as \xHH, so that the message goes on after it.
+TEST(RecordedCsv, MalformedFilesNameTheLineColumnAndByte)
 {
   const std::string options = writeTemp("recorded_plain.yaml", "curve: piecewise_geodesic\n");
-  const std::string head = "t,x,y,z,qx,qy,qz,qw\n";
-  const std::string row0 = "0,0,0,0,0,0,0,1\n";
+  const std::string head = "t,x,y,z,qx,qy,qz,qw\n";  // 20 bytes
+  const std::string row0 = "0,0,0,0,0,0,0,1\n";      // 16 bytes
   const std::string row1 = "1,1,0,0,0,0,0,1\n";
   const struct
   {
@@ -1081,33 +1089,155 @@ TEST(RecordedCsv, MalformedFilesNameTheLineAndColumn)
     std::string text;
     std::vector<std::string> needles;
   } cases[] = {
-    { "empty.csv", "", { "line 1:", "empty" } },
-    { "no_qw.csv", "t,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n", { "line 1:", "column 'qw'", "missing" } },
-    { "twice.csv", "t,x,y,x,z,qx,qy,qz,qw\n", { "line 1:", "column 'x' named twice (columns 2 and 4)" } },
-    { "header_only.csv", head, { "line 2:", "no rows" } },
-    { "short_row.csv", head + row0 + "1,1,0,0,0,0,1\n", { "line 3:", "7 cells", "has 8" } },
-    { "long_row.csv", head + row0 + row1 + "2,1,0,0,0,0,0,1,9\n", { "line 4:", "9 cells" } },
-    { "blank_line.csv", head + row0 + "\n" + row1, { "line 3:", "1 cell," } },
-    { "word.csv", head + row0 + row1 + "2,1,1,0,zero,0,0,1\n", { "line 4:", "column 'qx' (column 5)", "'zero'" } },
-    { "nan.csv", head + row0 + "1,nan,0,0,0,0,0,1\n", { "line 3:", "column 'x'", "not a finite number" } },
-    { "empty_cell.csv", head + row0 + "1,1,0,,0,0,0,1\n", { "line 3:", "column 'z'" } },
+    { "empty.csv", "", { "line 1, column 1 (byte offset 0): the file is empty" } },
+    { "no_qw.csv", "t,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n",
+      { "line 1, column 1 (byte offset 0): column 'qw': missing from the header",
+        "its cells: 't', 'x', 'y', 'z', 'qx', 'qy', 'qz')" } },
+    { "twice.csv", "t,x,y,x,z,qx,qy,qz,qw\n", { "line 1, column 7 (byte offset 6): column 'x' named twice (cells 2 and 4)" } },
+    { "header_only.csv", head, { "line 2, column 1 (byte offset 20): no rows" } },
+    { "short_row.csv", head + row0 + "1,1,0,0,0,0,1\n", { "line 3, column 14 (byte offset 49): 7 cells, but the header (line 1) has 8" } },
+    { "long_row.csv", head + row0 + row1 + "2,1,0,0,0,0,0,1,9\n", { "line 4, column 17 (byte offset 68): 9 cells" } },
+    { "blank_line.csv", head + row0 + "\n" + row1, { "line 3, column 1 (byte offset 36): 1 cell," } },
+    { "word.csv", head + row0 + row1 + "2,1,1,0,zero,0,0,1\n",
+      { "line 4, column 9 (byte offset 60): cell 5 (column 'qx'): 'zero' is not a finite number" } },
+    { "nan.csv", head + row0 + "1,nan,0,0,0,0,0,1\n", { "line 3, column 3 (byte offset 38): cell 2 (column 'x'): 'nan' is not a finite number" } },
+    { "empty_cell.csv", head + row0 + "1,1,0,,0,0,0,1\n", { "line 3, column 7 (byte offset 42): cell 4 (column 'z'): ''" } },
+    { "nul.csv", head + row0 + std::string("1,1,0,0,\0x,0,0,1\n", 17),
+      { "line 3, column 9 (byte offset 44): cell 5 (column 'qx'): '\\x00x' is not a finite number" } },
+    { "nul_header.csv", std::string("t,x,y,z,q\0x,qy,qz,qw\n", 21) + row0,
+      { "line 1, column 1 (byte offset 0): column 'qx': missing", "'q\\x00x', 'qy'" } },
+    { "utf16.csv", std::string("\xFF\xFEt\0,\0x\0\n\0", 10),
+      { "line 1, column 1 (byte offset 0): the file starts with a UTF-16 byte order mark (FF FE)" } },
+    { "bom_word.csv", "\xEF\xBB\xBF" + head + "0,0,0,0,0,0,0,one\n",
+      { "line 2, column 15 (byte offset 37): cell 8 (column 'qw'): 'one'" } },
+    { "cr_word.csv", "t,x,y,z,qx,qy,qz,qw\r0,0,0,0,0,0,0,1\r1,one,0,0,0,0,0,1\r",
+      { "line 3, column 3 (byte offset 38): cell 2 (column 'x'): 'one'" } },
+    { "long_line.csv", head + std::string((std::size_t(1) << 20) + 1, '0'),
+      { "line 2, column 1 (byte offset 20): the line is longer than 1048576 bytes" } },
     // The request validation's checks, with the line they came from.
-    { "not_unit.csv", head + row0 + "1,1,0,0,0,0,0,2\n", { "waypoints[1]", "line 3 of --waypoints" } },
-    { "not_increasing.csv", head + row0 + row1 + "1,2,0,0,0,0,0,1\n", { "times[2]", "line 4 of --waypoints" } },
+    { "not_unit.csv", head + row0 + "1,1,0,0,0,0,0,2\n", { "waypoints[1]", "line 3, column 1 (byte offset 36) of --waypoints" } },
+    { "not_increasing.csv", head + row0 + row1 + "1,2,0,0,0,0,0,1\n",
+      { "times[2]", "line 4, column 1 (byte offset 52) of --waypoints" } },
   };
   for (const auto& c : cases)
   {
     const std::string path = writeTemp(c.name, c.text);
     std::vector<std::string> needles = c.needles;
-    needles.push_back("'" + path + "'");
+    needles.push_back("--waypoints '" + path + "' line ");
+    if (c.needles.front().rfind("line ", 0) != 0)
+      needles.pop_back();
     expectRefused(options + " --waypoints " + path, needles);
     if (c.needles.front().rfind("line ", 0) == 0)
     {
-      EXPECT_THROW(se3_interpolation::cli::parseWaypointsCsv(c.text, c.name), se3_interpolation::InvalidInputError)
-          << c.name;
+      try
+      {
+        se3_interpolation::cli::parseWaypointsCsv(c.text, c.name);
+        ADD_FAILURE() << c.name << " parsed";
+      }
+      catch (const se3_interpolation::InvalidInputError& e)
+      {
+        EXPECT_NE(std::string(e.what()).find(c.needles.front()), std::string::npos) << e.what();
+      }
     }
   }
   expectRefused(options + " --waypoints " + testing::TempDir() + "no_such.csv", { "--waypoints", "cannot be read" });
+  // A recording longer than the CLI takes is refused at the first line too many.
+  try
+  {
+    se3_interpolation::cli::parseWaypointsCsv(head + row0 + row1 + "2,2,0,0,0,0,0,1\n", "capped.csv", 2);
+    ADD_FAILURE() << "3 rows taken with a limit of 2";
+  }
+  catch (const se3_interpolation::InvalidInputError& e)
+  {
+    EXPECT_EQ(std::string(e.what()), "--waypoints 'capped.csv' line 4, column 1 (byte offset 52): more than 2 "
+                                     "waypoints, the most se3_interpolate takes");
+  }
+}
+
+// A UTF-8 byte order mark (a spreadsheet's export) is skipped, and lines may end in '\n', "\r\n"
+// or a lone '\r' (old Mac files), also where a read piece of 64 KiB ends between the '\r' and the
+// '\n' of a "\r\n", or right after a lone '\r'.
+TEST(RecordedCsv, ByteOrderMarkAndEveryLineEndAreRead)
+{
+  const std::vector<Pose<double>> poses = recordedPoses(5, 0.5);
+  const std::vector<double> times = { 0.0, 0.5, 1.0, 1.75, 2.0 };
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  const auto cell = [&number](double v) {
+    return std::string(number, se3_interpolation::cli::formatNumber(number, v));
+  };
+  const auto text = [&](const std::string& bom, const std::string& end, std::size_t pad) {
+    std::string t = bom + "t,x,y,z,qx,qy,qz,qw,pad" + end;
+    for (std::size_t i = 0; i < poses.size(); ++i)
+    {
+      const Pose<double>& p = poses[i];
+      t += cell(times[i]) + "," + cell(p.p.x()) + "," + cell(p.p.y()) + "," + cell(p.p.z()) + "," + cell(p.q.x()) +
+           "," + cell(p.q.y()) + "," + cell(p.q.z()) + "," + cell(p.q.w()) + ",";
+      // Row 1's pad puts its line end's first byte at 65535, the last of the first piece read.
+      if (i == 1)
+        t += std::string(pad > t.size() ? pad - t.size() : 0, 'p');
+      t += end;
+    }
+    return t;
+  };
+  for (const std::string bom : { "", "\xEF\xBB\xBF" })
+    for (const std::string end : { "\n", "\r\n", "\r" })
+    {
+      SCOPED_TRACE("BOM " + std::to_string(bom.size()) + ", line end of " + std::to_string(end.size()) + " bytes" +
+                   (end == "\r" ? " (CR)" : ""));
+      const std::string csv = text(bom, end, 65535);
+      ASSERT_EQ(csv[65535], end[0]);
+      expectRecorded(se3_interpolation::cli::parseWaypointsCsv(csv, "ends.csv"), poses, times);
+      const std::string path = writeTemp("recorded_ends.csv", csv);
+      expectRecorded(se3_interpolation::cli::readWaypointsCsv(path), poses, times);
+      // Without the last line end too.
+      expectRecorded(se3_interpolation::cli::parseWaypointsCsv(csv.substr(0, csv.size() - end.size()), "ends.csv"),
+                     poses, times);
+    }
+  const std::string path = writeTemp("recorded_cr.csv", text("\xEF\xBB\xBF", "\r", 0));
+  expectCliPassesThrough("--waypoints " + path, "interpolating", poses, times);
+}
+
+// A bad header is refused as soon as it is read, before the rest of the file (so that a 2 GB
+// recording with a bad header costs no 2 GB of memory). Read from a FIFO, the writer learns how
+// far: it is stopped (EPIPE) once the reader has refused and closed it.
+TEST(RecordedCsv, ABadHeaderIsRefusedBeforeTheRowsAreRead)
+{
+  const std::string fifo = testing::TempDir() + "recording.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+  std::signal(SIGPIPE, SIG_IGN);
+  constexpr std::size_t kOffered = std::size_t(64) << 20;
+  std::size_t written = 0;
+  std::thread writer([&] {
+    const int fd = ::open(fifo.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0)
+      return;
+    std::string block = "x,y,z,qx,qy,qz,qw\n";  // no t
+    while (block.size() < (std::size_t(64) << 10))
+      block += "0,0,0,0,0,0,1\n";
+    while (written < kOffered)
+    {
+      const ssize_t n = ::write(fd, block.data(), block.size());
+      if (n <= 0)
+        break;
+      written += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+  });
+  std::string message;
+  try
+  {
+    se3_interpolation::cli::readWaypointsCsv(fifo);
+  }
+  catch (const se3_interpolation::InvalidInputError& e)
+  {
+    message = e.what();
+  }
+  writer.join();
+  std::remove(fifo.c_str());
+  EXPECT_NE(message.find("line 1, column 1 (byte offset 0): column 't': missing from the header"), std::string::npos)
+      << message;
+  EXPECT_LT(written, std::size_t(1) << 20) << "bytes taken from the FIFO before the refusal";
 }
 
 // With --waypoints the request file gives the other fields only; the options are checked together.
@@ -1308,6 +1438,25 @@ TEST(RecordedBag, RefusalsNameTheOption)
   expectRefused(with_waypoints + " --bag " + bag + " --topic /pose", { "waypoints: given both", "--bag '" + bag + "'" });
 }
 
+// A bag cut short (a recording killed, a copy interrupted) has lost its index: rosbag says only
+// "wanted 4 bytes"; the message suggests `rosbag reindex`, which rebuilds the index from the data.
+TEST(RecordedBag, ATruncatedBagSuggestsReindex)
+{
+  const std::string bag = writeTestBag();
+  const std::string whole = slurp(bag);
+  const std::string options = writeTemp("recorded_plain.yaml", "curve: piecewise_geodesic\n");
+  for (const std::size_t size : { whole.size() / 2, whole.size() - 3 })
+  {
+    const std::string truncated = writeTemp("truncated.bag", whole.substr(0, size));
+    expectRefused(options + " --bag " + truncated + " --topic /pose",
+                  { "--bag '" + truncated + "'", "cut short", "rosbag reindex " + truncated });
+  }
+  const std::string not_a_bag = writeTemp("not_a.bag", "t,x,y,z,qx,qy,qz,qw\n");
+  const CliRun r = run(options + " --bag " + not_a_bag + " --topic /pose");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.find("reindex"), std::string::npos) << r.err;
+}
+
 // curve fit from a CSV recording: the residuals among the figures; --save-bspline writes a bspline
 // request that replays the fitted motion (the same CSV to 1e-12); refused for other curves and
 // for the sphere, writing nothing.
@@ -1343,8 +1492,9 @@ TEST(CliFit, SaveBsplineReplaysTheFit)
     const std::string text = slurp(saved);
     ASSERT_NE(text.find("curve: bspline"), std::string::npos) << text;
     EXPECT_NE(text.find(std::string("geometry: ") + geometry), std::string::npos) << text;
-    // The saved request with the same sampling replays the fitted samples.
-    const std::string replay = writeTemp("fit_replay.yaml", text + "sample_count: 41\n");
+    // The saved request keeps the sampling: it replays the fitted samples.
+    EXPECT_NE(text.find("sample_count: 41"), std::string::npos) << text;
+    const std::string replay = writeTemp("fit_replay.yaml", text);
     const CliRun again = run(replay);
     ASSERT_EQ(again.status, 0) << again.err;
     std::string header_a, header_b;
@@ -1369,6 +1519,74 @@ TEST(CliFit, SaveBsplineReplaysTheFit)
   const CliRun sphere = run(interpolating + " --space sphere --save-bspline " + saved);
   EXPECT_EQ(sphere.status, 2);
   EXPECT_FALSE(exists(saved));
+}
+
+// The saved B-spline request keeps every field of the fit's request that shapes the samples
+// (timing, bounds, speed, sampling, rotation_scale, the waypoints' header): run as it is, its CSV
+// is the fit's, row for row.
+TEST(CliFit, SavedBsplineReplaysTheSamplesAsTheyAre)
+{
+  std::string csv = "t,x,y,z,qx,qy,qz,qw\n";
+  char number[se3_interpolation::cli::kMaxNumberChars];
+  auto cell = [&](double v) { return std::string(number, se3_interpolation::cli::formatNumber(number, v)); };
+  for (int i = 0; i <= 200; ++i)
+  {
+    const double t = 0.01 * i;
+    const se3_interpolation::Quaternion<double> q =
+        se3_interpolation::so3Exp(Eigen::Vector3d(0.3 * t, -0.2 * t, 0.4 * std::sin(t)));
+    csv += cell(t) + "," + cell(0.2 * t) + "," + cell(0.3 * std::sin(2.0 * t)) + "," + cell(0.05 * t * t) + "," +
+           cell(q.x()) + "," + cell(q.y()) + "," + cell(q.z()) + "," + cell(q.w()) + "\n";
+  }
+  const std::string recording = writeTemp("fit_replay_recording.csv", csv);
+  // The same poses in the request file, as a PoseArray with a header (its frame goes into the replay).
+  std::string in_file = "waypoints:\n  header: {frame_id: odom}\n  poses:\n";
+  std::string times = "times: [";
+  for (int i = 0; i <= 200; i += 4)
+  {
+    const double t = 0.01 * i;
+    const se3_interpolation::Quaternion<double> q =
+        se3_interpolation::so3Exp(Eigen::Vector3d(0.3 * t, -0.2 * t, 0.4 * std::sin(t)));
+    in_file += "    - {position: [" + cell(0.2 * t) + ", " + cell(0.3 * std::sin(2.0 * t)) + ", " + cell(0.05 * t * t) +
+               "], orientation: [" + cell(q.x()) + ", " + cell(q.y()) + ", " + cell(q.z()) + ", " + cell(q.w()) + "]}\n";
+    times += (i ? ", " : "") + cell(t);
+  }
+  in_file += times + "]\n";
+  const std::string common = "curve: fit\ngeometry: screw\ncontrol_period: 0.4\nrotation_scale: 2.5\n"
+                             "sample_period: 0.0125\nmax_linear_acceleration: 1\nmax_angular_acceleration: 2\n";
+  for (const std::string& timing : std::vector<std::string>{ "timing: time_optimal\nmax_linear_velocity: 0.3\nmax_angular_velocity: 0.5\n",
+                                                             "timing: constant_speed\nspeed: 0.1\n",
+                                                             "max_linear_velocity: 0.05\n" + in_file })
+  {
+    SCOPED_TRACE(timing.substr(0, 60));
+    const bool header = timing.find("header") != std::string::npos;
+    const std::string options = writeTemp("fit_replay_options.yaml", common + timing);
+    const std::string saved = testing::TempDir() + "fit_replay_saved.yaml";
+    std::remove(saved.c_str());
+    const CliRun fit = run(options + (header ? "" : " --waypoints " + recording) + " --save-bspline " + saved);
+    ASSERT_EQ(fit.status, 0) << fit.err;
+    const std::string text = slurp(saved);
+    for (const char* field : { "rotation_scale: 2.5", "sample_period: 0.0125", "max_linear_acceleration: 1" })
+      EXPECT_NE(text.find(field), std::string::npos) << field << " missing from\n" << text;
+    EXPECT_EQ(text.find("control_period"), std::string::npos) << text;
+    if (header)
+    {
+      EXPECT_NE(text.find("waypoints:\n  header: {frame_id: odom}\n  poses:\n    - {position: ["), std::string::npos)
+          << text;
+    }
+    const CliRun again = run(saved);
+    ASSERT_EQ(again.status, 0) << again.err;
+    std::string header_a, header_b;
+    const auto a = parseCsv(fit.out, &header_a);
+    const auto b = parseCsv(again.out, &header_b);
+    EXPECT_EQ(header_b, header_a);
+    ASSERT_GT(a.size(), 100u);
+    ASSERT_EQ(b.size(), a.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      for (std::size_t j = 0; j < a[i].size(); ++j)
+        worst = std::max(worst, std::abs(a[i][j] - b[i][j]) / (1.0 + std::abs(a[i][j])));
+    EXPECT_LT(worst, 1e-9);
+  }
 }
 
 // 10⁵ recorded poses through the CLI: accepted by the default limits (waypoints and work) and

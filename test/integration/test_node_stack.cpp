@@ -4,6 +4,7 @@
 // frames from tf2_ros static_transform_publisher. node_nodelet.test: the nodelet under a manager.
 // Expected poses are written here: a double-geodesic segment between two poses is the lerp of the
 // positions and the slerp of the rotations at the time fraction, which tf2 interpolates exactly.
+#include <dynamic_reconfigure/ConfigDescription.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Path.h>
@@ -19,6 +20,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -106,6 +108,48 @@ dynamic_reconfigure::Config reconfigure(const std::string& node, const std::vect
   }
   EXPECT_TRUE(node_test::callService(node + "/set_parameters", srv)) << node;
   return srv.response.config;
+}
+
+/// Sends a dynamic_reconfigure change of numbers to `node`; returns the config the server keeps.
+dynamic_reconfigure::Config reconfigureNumbers(const std::string& node,
+                                               const std::vector<std::pair<std::string, double>>& doubles,
+                                               const std::vector<std::pair<std::string, int>>& ints)
+{
+  dynamic_reconfigure::Reconfigure srv;
+  for (const auto& d : doubles)
+  {
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = d.first;
+    p.value = d.second;
+    srv.request.config.doubles.push_back(p);
+  }
+  for (const auto& i : ints)
+  {
+    dynamic_reconfigure::IntParameter p;
+    p.name = i.first;
+    p.value = i.second;
+    srv.request.config.ints.push_back(p);
+  }
+  EXPECT_TRUE(node_test::callService(node + "/set_parameters", srv)) << node;
+  return srv.response.config;
+}
+
+double doubleOf(const dynamic_reconfigure::Config& c, const std::string& name)
+{
+  for (const auto& d : c.doubles)
+    if (d.name == name)
+      return d.value;
+  ADD_FAILURE() << name << " absent";
+  return NAN;
+}
+
+int intOf(const dynamic_reconfigure::Config& c, const std::string& name)
+{
+  for (const auto& i : c.ints)
+    if (i.name == name)
+      return i.value;
+  ADD_FAILURE() << name << " absent";
+  return -1;
 }
 
 std::string strOf(const dynamic_reconfigure::Config& c, const std::string& name)
@@ -284,6 +328,55 @@ TEST(NodeStack, ReconfigureChangesTheDefaultsWithValidation)
   EXPECT_FALSE(boolOf(restored, "loop"));
 }
 
+// A number its row refuses (negative, not finite, beyond the range) is refused, never clamped:
+// `dynparam set ... max_linear_velocity -1` keeps the bound in force instead of making it 0
+// ("unbounded"); the answer carries the value kept, a warning names the value refused, and the
+// description carries the table's ranges for rqt_reconfigure.
+TEST(NodeStack, ReconfigureRefusesNegativeAndNonFiniteNumbers)
+{
+  waitForNodes();
+  ros::NodeHandle nh;
+  Warnings warnings(nh);
+  ASSERT_TRUE(spinUntil([&] { return warnings.subscriber().getNumPublishers() >= 3; }, 10.0));
+  spinFor(0.5);
+  Latest<dynamic_reconfigure::ConfigDescription> description(nh, kSlow + "/parameter_descriptions");
+  EXPECT_EQ(doubleOf(reconfigureNumbers(kSlow, { { "max_linear_velocity", 0.5 } }, {}), "max_linear_velocity"), 0.5);
+  const struct
+  {
+    const char* name;
+    double value;
+    double kept;
+  } refusals[] = { { "max_linear_velocity", -1.0, 0.5 },       { "max_linear_velocity", NAN, 0.5 },
+                   { "max_linear_velocity", INFINITY, 0.5 },   { "path_tolerance_linear", -1.0, 0.0 },
+                   { "max_linear_acceleration", -INFINITY, 0.0 }, { "tf_rate", 2000.0, 50.0 } };
+  for (const auto& c : refusals)
+  {
+    EXPECT_EQ(doubleOf(reconfigureNumbers(kSlow, { { c.name, c.value } }, {}), c.name), c.kept) << c.name << " " << c.value;
+    std::ostringstream refused;
+    refused << "~" << c.name << ": refused " << c.value;
+    EXPECT_TRUE(spinUntil([&] { return warnings.has(kSlow, { refused.str(), "keeping" }); }, 10.0)) << refused.str();
+  }
+  EXPECT_EQ(intOf(reconfigureNumbers(kSlow, {}, { { "sample_count", -5 } }), "sample_count"), 100);
+  EXPECT_TRUE(spinUntil([&] { return warnings.has(kSlow, { "~sample_count: refused -5", "keeping 100" }); }, 10.0));
+  double kept = 0.0;
+  EXPECT_TRUE(nh.getParam(kSlow + "/max_linear_velocity", kept));
+  EXPECT_EQ(kept, 0.5);
+
+  // The bound is in force: the 3.7 m segment in 1 s is stretched to 0.5 m/s.
+  auto srv = segment(1.0, ros::Time::now());
+  srv.request.publish = false;
+  ASSERT_TRUE(node_test::callService(kSlow + "/generate", srv));
+  ASSERT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_LE(srv.response.max_linear_speed, 0.5 * (1.0 + 1e-9));
+  EXPECT_GT(srv.response.duration, 7.0);
+
+  ASSERT_TRUE(spinUntil([&] { return description.count() > 0; }, 10.0));
+  EXPECT_EQ(doubleOf(description.msg().min, "max_linear_velocity"), 0.0);
+  EXPECT_EQ(doubleOf(description.msg().max, "tf_rate"), 1000.0);
+  EXPECT_EQ(intOf(description.msg().min, "sample_count"), 2);
+  EXPECT_EQ(doubleOf(reconfigureNumbers(kSlow, { { "max_linear_velocity", 0.0 } }, {}), "max_linear_velocity"), 0.0);
+}
+
 // Every start-up parameter is validated: unknown values and wrong types are refused by name, and
 // a misspelled parameter is named with the closest known one.
 TEST(NodeStack, RefusedParametersKeepTheDefaults)
@@ -296,7 +389,8 @@ TEST(NodeStack, RefusedParametersKeepTheDefaults)
     dup2(fileno(stdout), fileno(stderr));
     execl(SE3_NODE_BIN, SE3_NODE_BIN, "__name:=refused_node", "_curve:=bspine", "_geometry:=screwy",
           "_parameterization:=chordal", "_timing:=fastest", "_tf_rate:=-5.0", "_loop:=maybe", "_sample_count:=1",
-          "_child_frame_id:=bad frame", "_master_check_period:=0.0", "_max_velocity:=0.5",
+          "_child_frame_id:=bad frame", "_master_check_period:=0.0", "_max_velocity:=0.5", "_max_samples:=1e12",
+          "_max_waypoints:=3e4",
           static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -312,9 +406,11 @@ TEST(NodeStack, RefusedParametersKeepTheDefaults)
          "~timing: unknown value 'fastest'", "~tf_rate: refused -5 (must be in (0, 1000] Hz); keeping 50",
          "~loop: refused (not of the expected type); keeping 0", "~sample_count: refused 1 (must be >= 2)",
          "~child_frame_id: ",
-         "~max_velocity: unknown parameter, ignored (did you mean ~max_linear_velocity?)" })
+         "~max_velocity: unknown parameter, ignored (did you mean ~max_linear_velocity?)",
+         "~max_samples: refused 1e+12 (must be a whole number from -2147483648 to 2147483647, >= 2); keeping 200000" })
     EXPECT_NE(out.find(expected), std::string::npos) << expected << "\n" << out;
   EXPECT_EQ(out.find("request"), std::string::npos) << "a parameter error named as the request's\n" << out;
+  EXPECT_EQ(out.find("max_waypoints"), std::string::npos) << "3e4 is the int 30000\n" << out;
 
   if (up)
   {

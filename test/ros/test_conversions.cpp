@@ -1094,3 +1094,48 @@ TEST(Conversions, FittedBSplineReachesTheResponse)
   EXPECT_TRUE(other.control_poses.poses.empty());
   EXPECT_TRUE(other.control_poses.header.frame_id.empty());
 }
+
+// The response's message says what the timing did: a stretch by its factor (only when it slowed
+// the curve down), the time-optimal and constant-speed timings by name, never "stretched" (their
+// final correction of a few 1e-4 is no stretch the user asked for).
+TEST(Conversions, GenerationMessageNamesTheTiming)
+{
+  TrajectoryRequest r;
+  r.waypoints = { Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(0, 0, 0)),
+                  Pose<double>(Quaternion<double>(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
+                               Eigen::Vector3d(1, 0, 0)),
+                  Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(1, 1, 0.5)) };
+  r.curve = "interpolating";
+  r.sample_count = 11;
+  EXPECT_EQ(generationMessage(r, generate(r, PlannerLimits())), "11 samples over 2 s");
+  r.max_linear_velocity = 0.5;
+  r.max_linear_acceleration = 1.0;
+  const TrajectoryResult stretched = generate(r, PlannerLimits());
+  ASSERT_GT(stretched.time_scale, 1.0);
+  std::ostringstream factor;
+  factor << " (time stretched x" << stretched.time_scale << " to meet the bounds)";
+  EXPECT_NE(generationMessage(r, stretched).find(factor.str()), std::string::npos) << generationMessage(r, stretched);
+
+  r.timing = "time_optimal";
+  TrajectoryResult optimal = generate(r, PlannerLimits());
+  optimal.time_scale = 1.0004;  // the size of the timing's final correction
+  std::string message = generationMessage(r, optimal);
+  EXPECT_EQ(message.find("stretched"), std::string::npos) << message;
+  EXPECT_NE(message.find(" (time-optimal within the bounds)"), std::string::npos) << message;
+  r.max_linear_jerk = 10.0;
+  message = generationMessage(r, generate(r, PlannerLimits()));
+  EXPECT_EQ(message.find("stretched"), std::string::npos) << message;
+  EXPECT_NE(message.find(" (time-optimal within the bounds, jerk-limited)"), std::string::npos) << message;
+
+  r.timing = "constant_speed";
+  r.max_linear_jerk = 0.0;
+  r.speed = 0.2;
+  r.curve = "blended";
+  const TrajectoryResult constant = generate(r, PlannerLimits());
+  message = generationMessage(r, constant);
+  EXPECT_EQ(message.find("stretched"), std::string::npos) << message;
+  std::ostringstream window;
+  window << " (constant speed 0.2 m/s from t = " << constant.constant_speed_start << " to "
+         << constant.constant_speed_end << " s)";
+  EXPECT_NE(message.find(window.str()), std::string::npos) << message;
+}

@@ -115,6 +115,32 @@ TEST(NodeParameters, NumericRangesAreInclusiveWhereDocumented)
   EXPECT_EQ(numberParameterError("no_such_parameter", -1.0), "");
 }
 
+// An int parameter given as a double (`_max_samples:=1e12`, which YAML reads as one) is taken when
+// it is a whole int and refused naming the value given otherwise, never overflowed.
+TEST(NodeParameters, IntParametersGivenAsDoublesAreNamedAsGiven)
+{
+  const ParameterSpec& spec = *findNodeParameter("max_samples");
+  int value = 7;
+  XmlRpc::XmlRpcValue whole(2e5);
+  EXPECT_EQ(intParameterFromServer(spec, whole, &value), "");
+  EXPECT_EQ(value, 200000);
+  XmlRpc::XmlRpcValue integer(12);
+  EXPECT_EQ(intParameterFromServer(spec, integer, &value), "");
+  EXPECT_EQ(value, 12);
+  value = 7;
+  for (const double given : { 1e12, -1e12, 2.5, static_cast<double>(NAN) })
+  {
+    XmlRpc::XmlRpcValue raw(given);
+    const std::string why = intParameterFromServer(spec, raw, &value);
+    std::ostringstream shown;
+    shown << "~max_samples: refused " << given << " (must be a whole number from -2147483648 to 2147483647, >= 2)";
+    EXPECT_EQ(why, shown.str());
+    EXPECT_EQ(value, 7);
+  }
+  XmlRpc::XmlRpcValue text("many");
+  EXPECT_EQ(intParameterFromServer(spec, text, &value), "~max_samples: refused (not of the expected type)");
+}
+
 TEST(NodeParameters, UnknownPrivateParametersAreNamedWithTheClosestKnownOne)
 {
   const std::vector<std::string> server = { "/arm/node/max_velocity", "/arm/node/tf_rate", "/arm/node/curv",
@@ -208,6 +234,60 @@ std::string fileText(const std::string& path)
 }
 }  // namespace
 
+// dynamic_reconfigure's server clamps a requested value into the generated ranges before the
+// node's callback sees it, so a generated minimum of 0 would turn `dynparam set ...
+// max_linear_velocity -1` into 0 ("unbounded"). Every value, in range or not, finite or not, must
+// reach the node's check unchanged, which refuses it and keeps the value in effect.
+TEST(NodeParameters, DynamicReconfigureHandsEveryValueToTheNodesCheck)
+{
+  const double values[] = { -1.0, -1e300, 1e300, NAN, INFINITY, -INFINITY, 2e9 };
+  for (const ParameterSpec& spec : kNodeParameterSpecs)
+  {
+    if (spec.reconfigure[0] == '\0' || (spec.type != ParameterType::kDouble && spec.type != ParameterType::kInt))
+      continue;
+    for (double value : values)
+    {
+      const bool integer = spec.type == ParameterType::kInt;
+      if (integer && !(std::abs(value) <= 2147483647.0))
+        continue;  // (an int parameter's message carries an int)
+      dynamic_reconfigure::Config request;
+      if (integer)
+      {
+        dynamic_reconfigure::IntParameter p;
+        p.name = spec.name;
+        p.value = static_cast<int>(value);
+        request.ints.push_back(p);
+      }
+      else
+      {
+        dynamic_reconfigure::DoubleParameter p;
+        p.name = spec.name;
+        p.value = value;
+        request.doubles.push_back(p);
+      }
+      // What the server does with a request (dynamic_reconfigure/server.h, setConfigCallback).
+      InterpolationNodeConfig config = InterpolationNodeConfig::__getDefault__();
+      config.__fromMessage__(request);
+      config.__clamp__();
+      dynamic_reconfigure::Config seen;
+      config.__toMessage__(seen);
+      const double received = numberOf(seen, spec.name);
+      if (std::isnan(value))
+        EXPECT_TRUE(std::isnan(received)) << spec.name << " " << received;
+      else
+        EXPECT_EQ(received, integer ? static_cast<int>(value) : value) << spec.name << " clamped";
+      // The node refuses what its row refuses, naming it and keeping the value in effect.
+      NodeParameters p;
+      const std::string refused = applyReconfigureMessage(seen, &p);
+      if (parameterError(spec, received).empty())
+        continue;
+      EXPECT_NE(refused.find(std::string("~") + spec.name + ": refused"), std::string::npos) << refused;
+      EXPECT_NE(refused.find(std::string("keeping ") + spec.default_text), std::string::npos) << refused;
+      EXPECT_EQ(numberOf(toReconfigureMessage(p), spec.name), std::stod(spec.default_text)) << spec.name;
+    }
+  }
+}
+
 // dynamic_reconfigure's generated server is the table's run-time rows: names, types, defaults,
 // ranges, groups and the choices as enums (menus in rqt_reconfigure).
 TEST(NodeParameters, DynamicReconfigureIsTheTablesRunTimeRows)
@@ -246,13 +326,17 @@ TEST(NodeParameters, DynamicReconfigureIsTheTablesRunTimeRows)
     if (spec.type == ParameterType::kInt || spec.type == ParameterType::kDouble)
     {
       EXPECT_EQ(numberOf(d.dflt, spec.name), std::stod(spec.default_text)) << spec.name;
-      EXPECT_EQ(numberOf(d.min, spec.name), spec.min) << spec.name;
+      // The generated ranges are unbounded (the server clamps to them); the node publishes the
+      // table's, which reconfigureRange gives.
+      const bool integer = spec.type == ParameterType::kInt;
+      EXPECT_EQ(numberOf(d.min, spec.name), integer ? -2147483648.0 : -INFINITY) << spec.name;
+      EXPECT_EQ(numberOf(d.max, spec.name), integer ? 2147483647.0 : INFINITY) << spec.name;
+      EXPECT_EQ(numberOf(reconfigureRange(false), spec.name), std::isfinite(spec.min) ? spec.min : -2147483648.0)
+          << spec.name;
       if (std::isfinite(spec.max))
-        EXPECT_EQ(numberOf(d.max, spec.name), spec.max) << spec.name;
-      else if (spec.type == ParameterType::kDouble)
-        EXPECT_EQ(numberOf(d.max, spec.name), INFINITY) << spec.name;
+        EXPECT_EQ(numberOf(reconfigureRange(true), spec.name), spec.max) << spec.name;
       else
-        EXPECT_EQ(numberOf(d.max, spec.name), 2147483647.0) << spec.name;
+        EXPECT_EQ(numberOf(reconfigureRange(true), spec.name), integer ? 2147483647.0 : INFINITY) << spec.name;
     }
     else
       EXPECT_EQ(valueText(d.dflt, spec.name), spec.default_text) << spec.name;

@@ -52,6 +52,11 @@ trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, 
 /// max_angular_speed, the peak accelerations and jerks, the constant-speed window, the fit's
 /// residuals, energy (success, message and the sample arrays are left as they are).
 GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out);
+/// The message of a successful generation: the samples and duration, what the timing did (the
+/// stretch factor of a `stretch` that slowed the curve down, the time-optimal or constant-speed
+/// timing otherwise), a start state's recovery or braking, a fit's residuals. `request` is the
+/// one generated, the node's defaults filled in.
+std::string generationMessage(const TrajectoryRequest& request, const TrajectoryResult& result);
 /// curve fit: the response's control_poses (stamped `header`) and knots from the result's; empty
 /// for the other curves.
 GenerateTrajectory::Response& copyFit(const TrajectoryResult& result, const std_msgs::Header& header,

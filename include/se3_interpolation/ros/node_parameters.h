@@ -33,6 +33,12 @@ const ParameterSpec* findNodeParameter(const std::string& name);
 std::string parameterError(const ParameterSpec& spec, double value);
 std::string parameterError(const ParameterSpec& spec, const std::string& value);
 
+/// The int parameter `spec` as the parameter server holds it (`raw`) into `value`: an int, or a
+/// double of a whole value within the int's range (YAML reads 2e5 as a double). Returns "", or
+/// why not, naming "~<name>" and the value given (roscpp's own conversion turns 1e12 into
+/// -2147483648). The row's range is checked apart (parameterError).
+std::string intParameterFromServer(const ParameterSpec& spec, XmlRpc::XmlRpcValue& raw, int* value);
+
 /// The same for a parameter given by name; "" for a name the table does not have.
 std::string stringParameterError(const std::string& name, const std::string& value);
 std::string numberParameterError(const std::string& name, double value);
@@ -61,6 +67,12 @@ void writeNodeParameters(const ros::NodeHandle& nh, const NodeParameters& p);
 /// The run-time parameters of `p` (the rows with a reconfigure group) as dynamic_reconfigure's
 /// message, for the server's Config::__fromMessage__.
 dynamic_reconfigure::Config toReconfigureMessage(const NodeParameters& p);
+
+/// The table's lower (`upper` false) or upper bounds of the run-time numbers as dynamic_reconfigure's
+/// message (an unbounded int as the int's limit), for the min and max of the server's description
+/// that rqt_reconfigure shows. The generated server itself has no ranges, so that it clamps no
+/// value before applyReconfigureMessage checks it (cfg/node_parameter_table.py).
+dynamic_reconfigure::Config reconfigureRange(bool upper);
 
 /// Takes the run-time parameters of `message` (a Config::__toMessage__) into `p`; a value its
 /// row refuses keeps the value of `p`. Returns one message per refused value ("" when none

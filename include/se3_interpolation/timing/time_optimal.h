@@ -263,22 +263,38 @@ constexpr double kMoveTolerance = 1e-9;
 /// rounding of the one-sided jets (~1e-15) at breakpoints where the curve is C¹.
 constexpr double kCornerTolerance = 1e-8;
 
+/// Whether each channel's velocity (kLinear, kAngular) jumps across the breakpoint s: by more
+/// than kCornerTolerance of its two sides and than `floor` of the channel (a channel that comes to
+/// rest at s from one side only, its other side's velocity at rounding level, jumps by nothing
+/// that matters, which the relative test alone would take for a corner).
 template <class G>
-bool velocityJumps(const Curve<G>& curve, double s)
+std::array<bool, 2> velocityJumpsByChannel(const Curve<G>& curve, double s, const std::array<double, 2>& floor = {})
 {
   const Kinematics l = kinematicsAt(curve, s, Side::kLeft);
   const Kinematics r = kinematicsAt(curve, s, Side::kRight);
-  auto jumps = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return (a - b).norm() > kCornerTolerance * (a.norm() + b.norm());
+  auto jumps = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double at_least) {
+    return (a - b).norm() > std::max(kCornerTolerance * (a.norm() + b.norm()), at_least);
   };
-  return jumps(l.velocity.linear, r.velocity.linear) || jumps(l.velocity.angular, r.velocity.angular);
+  return { jumps(l.velocity.linear, r.velocity.linear, floor[kLinear]),
+           jumps(l.velocity.angular, r.velocity.angular, floor[kAngular]) };
 }
 
-inline bool velocityJumps(const Curve<Sphere>& curve, double s)
+/// On S^m only the angular channel moves.
+inline std::array<bool, 2> velocityJumpsByChannel(const Curve<Sphere>& curve, double s,
+                                                  const std::array<double, 2>& floor = {})
 {
   const SphereKinematics l = kinematicsAt(curve, s, Side::kLeft);
   const SphereKinematics r = kinematicsAt(curve, s, Side::kRight);
-  return (l.velocity - r.velocity).norm() > kCornerTolerance * (l.velocity.norm() + r.velocity.norm());
+  return { false, (l.velocity - r.velocity).norm() >
+                      std::max(kCornerTolerance * (l.velocity.norm() + r.velocity.norm()), floor[kAngular]) };
+}
+
+/// Whether the velocity jumps across the breakpoint s: a velocity corner of the path.
+template <class G>
+bool velocityJumps(const Curve<G>& curve, double s)
+{
+  const std::array<bool, 2> jumps = velocityJumpsByChannel(curve, s);
+  return jumps[kLinear] || jumps[kAngular];
 }
 
 /// A curve of any geometry seen as a path (its time axis is the path parameter).

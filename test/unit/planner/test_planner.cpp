@@ -154,6 +154,87 @@ TEST(Planner, StretchingMeetsEachBoundWithinOnePercentAndNeverExceedsIt)
     }
 }
 
+namespace
+{
+/// The message `generate` refuses `r` with, "" when it serves it.
+std::string refusalOf(const TrajectoryRequest& r)
+{
+  try
+  {
+    generate(r, test::unhurriedLimits());
+  }
+  catch (const InvalidInputError& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+// A velocity corner (piecewise_geodesic without blend_radius, a B-spline of degree 1) is an impulse
+// of acceleration, which no uniform stretch bounds and the figures (peaks of the pieces) do not
+// show: under the acceleration bound of a channel whose velocity jumps, `stretch` refuses naming
+// that bound, as it refuses an acceleration jump under a jerk bound. A blended corner keeps the
+// bound, by differences too; a channel without a bound may still jump.
+TEST(Planner, StretchRefusesAVelocityCornerUnderItsAccelerationBound)
+{
+  std::mt19937 rng(173);
+  const std::vector<Pose<double>> x = randomPolygon(rng, 5);
+  for (const char* geometry : { "double_geodesic", "screw" })
+  {
+    TrajectoryRequest r = requestThrough(x, "piecewise_geodesic");
+    r.geometry = geometry;
+    r.max_linear_acceleration = 1.0;
+    std::string why = refusalOf(r);
+    EXPECT_EQ(why.rfind("max_linear_acceleration: the curve's velocity jumps at t = ", 0), 0u) << geometry << ": " << why;
+    EXPECT_NE(why.find("blend_radius"), std::string::npos) << why;
+    EXPECT_NE(why.find("time_optimal"), std::string::npos) << why;
+    r.max_linear_acceleration = 0.0;
+    r.max_angular_acceleration = 2.0;
+    why = refusalOf(r);
+    EXPECT_EQ(why.rfind("max_angular_acceleration: ", 0), 0u) << geometry << ": " << why;
+    r.curve = "bspline";
+    r.degree = 1;
+    why = refusalOf(r);
+    EXPECT_EQ(why.rfind("max_angular_acceleration: ", 0), 0u) << geometry << ": " << why;
+
+    // Blended corners: served, the bound kept by second differences of the poses at 1 ms.
+    r.curve = "piecewise_geodesic";
+    r.degree = 0;
+    r.blend_radius = 0.2;
+    r.max_linear_acceleration = 1.0;
+    r.max_angular_acceleration = 0.0;
+    r.sample_period = 1e-3;
+    const TrajectoryResult out = generate(r, test::unhurriedLimits());
+    EXPECT_GT(out.figures.max_linear_acceleration, 0.99);
+    EXPECT_LE(out.figures.max_linear_acceleration, 1.0 + 1e-9);
+    double worst = 0.0;
+    for (std::size_t i = 1; i + 1 < out.samples.size(); ++i)
+    {
+      const double h = out.samples[i + 1].time - out.samples[i].time;
+      if (std::abs(out.samples[i].time - out.samples[i - 1].time - h) > 1e-9)
+        continue;  // (the last interval is shorter)
+      worst = std::max(worst, (out.samples[i + 1].pose.p - 2.0 * out.samples[i].pose.p + out.samples[i - 1].pose.p).norm() / (h * h));
+    }
+    EXPECT_LE(worst, 1.0 * (1.0 + 1e-3)) << geometry;
+  }
+  // A straight translation at one speed turning at the corner: only the angular velocity jumps,
+  // and only the linear acceleration is bounded.
+  TrajectoryRequest turn;
+  turn.curve = "piecewise_geodesic";
+  turn.waypoints = { Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(0, 0, 0)),
+                     Pose<double>(Quaternion<double>(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
+                                  Eigen::Vector3d(1, 0, 0)),
+                     Pose<double>(Quaternion<double>(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
+                                  Eigen::Vector3d(2, 0, 0)) };
+  turn.times = { 0.0, 1.0, 2.0 };
+  turn.max_linear_acceleration = 1.0;
+  EXPECT_EQ(refusalOf(turn), "");
+  turn.max_angular_acceleration = 1.0;
+  EXPECT_EQ(refusalOf(turn).rfind("max_angular_acceleration: the curve's velocity jumps at t = 1 s", 0), 0u)
+      << refusalOf(turn);
+}
+
 TEST(Planner, WaypointTimesFollowTheParameterisation)
 {
   // Segment distances sqrt(|Δp|² + (ρ Δθ)²) with ρ = 2: 5 (translation 3-4-5), 2 · 1.2 = 2.4
