@@ -9,8 +9,9 @@
 // Under time_optimal and constant_speed, a moving start is served the joined motion, which does not
 // stop, when neither its duration nor its path length (|p| length + ρ · rotation length) exceeds
 // the braked one's by more than kJoinedPreference (10 %), else the braked one; the braked one also serves where the joined
-// one is refused, and alone where the start exceeds a velocity bound without jerk bounds (straight
-// braking is the fastest recovery the acceleration bounds allow). A start at rest, and `stretch`
+// one is refused, and alone where the start exceeds a velocity bound without jerk bounds (braking is
+// the fastest recovery the acceleration bounds allow). Under jerk bounds a start beyond a bound has
+// the joined motion only (the jerk-limited timing's recovery). A start at rest, and `stretch`
 // (whose times are the request's own), have the joined motion only.
 #include <algorithm>
 #include <array>
@@ -416,9 +417,9 @@ std::array<std::array<double, 2>, 3> brakeRates(const JerkBrake& b, double tau, 
              { k.jerk.linear.norm(), k.jerk.angular.norm() } } };
 }
 
-/// The jerk brake's rates at kBrakeSamplesPerPiece + 1 points of every piece: its figures, whether
-/// it holds the bounds (those the start itself exceeds only after the start's excess has ended:
-/// its recovery), and whether a bound other than a velocity bound fails (which scaling helps).
+/// The jerk brake's rates at kBrakeSamplesPerPiece + 1 points of every piece (a start within the
+/// bounds: a start beyond one has no jerk brake, brakedCandidate): its figures and whether it holds
+/// every bound.
 struct JerkBrakeCheck
 {
   BrakeFigures figures;
@@ -428,66 +429,87 @@ struct JerkBrakeCheck
   /// along-axis share, a jerk (or an acceleration with no share left) by lower bounds; a velocity
   /// by neither.
   std::array<std::array<double, 3>, 2> worst{};
+  /// Per rate (velocity, acceleration, jerk) and channel: the samples on either side of its
+  /// largest sample, between which refineBrakePeaks searches its maximum.
+  std::array<std::array<std::pair<double, double>, 2>, 3> peak_span{};
 };
+
+/// Iterations of the golden-section search of a peak between two samples: (0.618)^40 of their span.
+constexpr int kPeakSearchIterations = 40;
+
+/// The figures' peaks of a jerk brake, each searched between the samples around its largest sample
+/// (golden section: the rates are smooth within a piece), so that no reported peak is below the
+/// motion's between the samples.
+void refineBrakePeaks(const JerkBrake& b, JerkBrakeCheck* check)
+{
+  BrakeFigures& f = check->figures;
+  std::array<double, 2>* peaks[3] = { &f.max_speed, &f.max_acceleration, &f.max_jerk };
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int order = 0; order < 3; ++order)
+    for (int c = 0; c < 2; ++c)
+    {
+      double lo = check->peak_span[order][c].first;
+      double hi = check->peak_span[order][c].second;
+      const auto rate = [&](double t) { return brakeRates(b, t, Side::kRight)[order][c]; };
+      double x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
+      double f1 = rate(x1), f2 = rate(x2);
+      for (int k = 0; k < kPeakSearchIterations && hi > lo; ++k)
+      {
+        if (f1 < f2)
+        {
+          lo = x1;
+          x1 = x2;
+          f1 = f2;
+          x2 = lo + ratio * (hi - lo);
+          f2 = rate(x2);
+        }
+        else
+        {
+          hi = x2;
+          x2 = x1;
+          f2 = f1;
+          x1 = hi - ratio * (hi - lo);
+          f1 = rate(x1);
+        }
+      }
+      (*peaks[order])[c] = std::max({ (*peaks[order])[c], f1, f2 });
+    }
+}
 
 JerkBrakeCheck checkJerkBrake(const ValidatedRequest& r, const JerkBrake& b)
 {
-  const StartState& s = *r.start_state;
   const std::array<std::array<double, 2>, 3> bounds = { { { r.max_linear_velocity, r.max_angular_velocity },
                                                           { r.max_linear_acceleration, r.max_angular_acceleration },
                                                           { r.max_linear_jerk, r.max_angular_jerk } } };
-  const std::array<std::array<double, 2>, 2> start = {
-    { { s.velocity.linear.norm(), s.velocity.angular.norm() },
-      { s.acceleration.linear.norm(), s.acceleration.angular.norm() } }
-  };
   std::vector<double> ends{ 0.0 };
   for (double x : b.breakpoints())
     ends.push_back(x);
   ends.push_back(b.stopTime());
   JerkBrakeCheck check;
   BrakeFigures& f = check.figures;
-  std::array<bool, 2> recovering[2] = { { start[0][0] > bounds[0][0] && bounds[0][0] > 0.0,
-                                          start[0][1] > bounds[0][1] && bounds[0][1] > 0.0 },
-                                        { start[1][0] > bounds[1][0] && bounds[1][0] > 0.0,
-                                          start[1][1] > bounds[1][1] && bounds[1][1] > 0.0 } };
+  std::array<double, 2>* peaks[3] = { &f.max_speed, &f.max_acceleration, &f.max_jerk };
   std::array<std::array<double, 2>, 3> previous{};
   double previous_tau = 0.0;
-  bool recovery_pending = false;  // a sample above a bound the start exceeds: the recovery ends at a later one
   for (std::size_t piece = 0; piece + 1 < ends.size(); ++piece)
     for (int k = 0; k <= kBrakeSamplesPerPiece; ++k)
     {
-      const double tau = ends[piece] + (ends[piece + 1] - ends[piece]) * k / kBrakeSamplesPerPiece;
-      if (recovery_pending && tau > f.recovery)
-      {
-        f.recovery = tau;
-        recovery_pending = false;
-      }
+      const double step = (ends[piece + 1] - ends[piece]) / kBrakeSamplesPerPiece;
+      const double tau = ends[piece] + step * k;
       const auto rates = brakeRates(b, tau, k == kBrakeSamplesPerPiece ? Side::kLeft : Side::kRight);
       for (int c = 0; c < 2; ++c)
-      {
-        f.max_speed[c] = std::max(f.max_speed[c], rates[0][c]);
-        f.max_acceleration[c] = std::max(f.max_acceleration[c], rates[1][c]);
-        f.max_jerk[c] = std::max(f.max_jerk[c], rates[2][c]);
         for (int order = 0; order < 3; ++order)
         {
+          if (rates[order][c] > (*peaks[order])[c])
+          {
+            (*peaks[order])[c] = rates[order][c];
+            check.peak_span[order][c] = { std::max(ends[piece], tau - step), std::min(ends[piece + 1], tau + step) };
+          }
           const double bound = bounds[order][c];
-          if (bound > 0.0 && !(order < 2 && recovering[order][c]))
-            check.worst[c][order] = std::max(check.worst[c][order], rates[order][c] / bound);
-          if (!(bound > 0.0) || rates[order][c] <= bound * (1.0 + kRateTolerance))
-          {
-            if (order < 2 && recovering[order][c] && rates[order][c] <= bound)
-              recovering[order][c] = false;
+          if (!(bound > 0.0))
             continue;
-          }
-          if (order < 2 && recovering[order][c])
-          {
-            f.recovery = std::max(f.recovery, tau);
-            recovery_pending = true;
-            continue;
-          }
-          check.within = false;
+          check.worst[c][order] = std::max(check.worst[c][order], rates[order][c] / bound);
+          check.within = check.within && rates[order][c] <= bound * (1.0 + kRateTolerance);
         }
-      }
       const double dt = tau - previous_tau;
       if (dt > 0.0)
       {
@@ -551,9 +573,12 @@ std::optional<std::pair<JerkBrake, BrakeFigures>> jerkBrakeWithin(const Validate
     const JerkBrake b = makeJerkBrake(s.pose, s.velocity, s.acceleration, a_max, j_max, scale, share, design);
     if (!(b.stopTime() > 0.0) || !std::isfinite(b.stopTime()))
       return std::nullopt;
-    const JerkBrakeCheck check = checkJerkBrake(r, b);
+    JerkBrakeCheck check = checkJerkBrake(r, b);
     if (check.within)
+    {
+      refineBrakePeaks(b, &check);
       return std::make_pair(b, check.figures);
+    }
     for (int c = 0; c < 2; ++c)
     {
       const std::array<double, 3>& w = check.worst[c];
@@ -679,13 +704,28 @@ bool noLonger(const ValidatedRequest& r, const PlannedMotion<PoseSpace, G>& a, c
 }
 
 /// The braked candidate of a moving start (std::nullopt where no brake exists), and whether it is to
-/// be served alone (a start beyond a velocity bound without jerk bounds).
+/// be served alone: a start beyond a velocity bound without jerk bounds, whose recovery by the brake
+/// is the fastest the acceleration bounds allow. Under jerk bounds a start beyond a bound has none.
 template <class G>
 std::optional<Candidate<G>> brakedCandidate(const ValidatedRequest& r, bool* alone)
 {
-  *alone = false;
+  const StartState& s = *r.start_state;
+  const bool over_velocity = (r.max_linear_velocity > 0.0 && s.velocity.linear.norm() > r.max_linear_velocity) ||
+                             (r.max_angular_velocity > 0.0 && s.velocity.angular.norm() > r.max_angular_velocity);
+  *alone = over_velocity;
   if (hasJerkBound(r))
   {
+    // A start above a bound recovers along the joined path under the jerk-limited timing (its
+    // corrections), not by the jerk brake, whose exceeded rates could grow while its acceleration
+    // ramps down.
+    const auto above = [](double rate, double bound) { return bound > 0.0 && rate > bound * (1.0 + kRateTolerance); };
+    const bool over = above(s.velocity.linear.norm(), r.max_linear_velocity) ||
+                      above(s.velocity.angular.norm(), r.max_angular_velocity) ||
+                      above(s.acceleration.linear.norm(), r.max_linear_acceleration) ||
+                      above(s.acceleration.angular.norm(), r.max_angular_acceleration);
+    *alone = false;
+    if (over)
+      return std::nullopt;
     std::optional<Candidate<G>> shortest;
     for (const auto& brake : jerkBrakes(r))
     {
@@ -698,9 +738,6 @@ std::optional<Candidate<G>> brakedCandidate(const ValidatedRequest& r, bool* alo
   const std::optional<BrakeToRest> brake = brakeToRest(r);
   if (!brake)
     return std::nullopt;
-  const Twist& v = r.start_state->velocity;
-  *alone = (r.max_linear_velocity > 0.0 && v.linear.norm() > r.max_linear_velocity) ||
-           (r.max_angular_velocity > 0.0 && v.angular.norm() > r.max_angular_velocity);
   return attempt<G>([&] { return brakedMotion<G>(r, *brake, brakeFigures(r, *brake)); });
 }
 }  // namespace

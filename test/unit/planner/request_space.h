@@ -443,19 +443,6 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
     exceeded_at_start[j] = request.start_state && b > 0.0 && rateOf(first, j) > b * (1.0 + 1e-6);
     any_exceeded = any_exceeded || exceeded_at_start[j];
   }
-  // A speed may grow in its recovery only where a jerk bound forces it: the start's acceleration,
-  // ramped to zero at most at the jerk bound, adds up to |a|²/(2J) to it.
-  double unavoidable[4] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                            std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
-  for (int j = 0; j < 2; ++j)
-  {
-    const double jerk = j == 0 ? request.max_linear_jerk : request.max_angular_jerk;
-    unavoidable[j] = 0.0;
-    if (jerk > 0.0)
-      unavoidable[j] = rateOf(first, j) + std::pow(rateOf(first, j + 2), 2) / (2.0 * jerk);
-  }
-  for (int j = 2; j < 4; ++j)
-    unavoidable[j] = 0.0;
   if (!std::isfinite(recovery) || recovery < 0.0 || recovery > T * (1.0 + 1e-12))
     fail("recovery_time", recovery, "recovery_time " + num(recovery) + " outside [0, duration " + num(T) + "]");
   if (!any_exceeded && recovery != 0.0)
@@ -500,7 +487,7 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
         {
           if (in_recovery && exceeded_at_start[j])
           {
-            if (in_recovery_prev && r > b && r > previous[j] * (1.0 + 1e-9) + 1e-12 && r > unavoidable[j])
+            if (in_recovery_prev && r > b && r > previous[j] * (1.0 + 1e-9) + 1e-12)
               worst_increase[j] = std::max(worst_increase[j], r / previous[j] - 1.0);
           }
           else if (r > b * (1.0 + 1e-6) && r / b > worst[j])
