@@ -17,6 +17,7 @@
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/planner/work_estimate.h"
 #include "se3_interpolation/timing/constant_speed.h"
+#include "se3_interpolation/timing/geodesic_timing.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/time_optimal.h"
 #include "planned_motion.h"
@@ -35,6 +36,7 @@ using planner_detail::planMotion;
 using planner_detail::planWithStartState;
 using planner_detail::rateBounds;
 using planner_detail::setConstantSpeedFigures;
+using planner_detail::setGeodesicFigures;
 using planner_detail::setJerkLimitedFigures;
 using planner_detail::setTimedFigures;
 using planner_detail::stretchFactor;
@@ -49,6 +51,17 @@ double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_s
 double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*rotation_scale*/)
 {
   return Sphere::log<double>(a, b).norm();
+}
+
+/// The lengths of a path (translation, rotation): a geodesic chain's in closed form
+/// (timing/geodesic_timing.h), any other path's by quadrature (measureLengths).
+template <class G>
+std::pair<double, double> pathLengths(const Curve<G>& path)
+{
+  if constexpr (!std::is_same_v<G, Sphere>)
+    if (const std::optional<timing::GeodesicChain> chain = timing::geodesicChain(path))
+      return { chain->length[timing::kLinear], chain->length[timing::kAngular] };
+  return measureLengths(path);
 }
 
 /// Flips s's quaternion to the sign of `previous`'s (without one: w ≥ 0).
@@ -154,6 +167,16 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
       setConstantSpeedFigures(*timed, &fig);
       return;
     }
+  // A chain of geodesic segments at proportional rates: the exact time-optimal motion in closed
+  // form (timing/geodesic_timing.h); any other path, or bounds it does not serve, the general timings.
+  if constexpr (std::is_same_v<Space, PoseSpace>)
+    if (r.timing == Timing::kTimeOptimal)
+      if (auto timed = timing::makeGeodesicTimedCurve<G>(curve, rateBounds(r)))
+      {
+        adopt(timed, boundFields<Space>(), true);
+        setGeodesicFigures(r, timed->profile(), &fig);
+        return;
+      }
   if (r.timing == Timing::kTimeOptimal && hasJerkBound(r))
   {
     auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r));
@@ -237,7 +260,7 @@ PlannedMotion<Space, G> buildCurve(const BasicValidatedRequest<Space>& r, const 
   if (r.timing == Timing::kStretch)
     m.figures = measureCurve(*m.curve, r.rotation_scale);
   else
-    std::tie(m.figures.length, m.figures.rotation_length) = measureLengths(*m.curve);
+    std::tie(m.figures.length, m.figures.rotation_length) = pathLengths(*m.curve);
   requireStableStartSolve(r, m.figures);
   out.waypoint_times = times;
   return m;

@@ -15,6 +15,7 @@
 #include "se3_interpolation/planner/request.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/timing/constant_speed.h"
+#include "se3_interpolation/timing/geodesic_timing.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/jerk_peaks.h"
 #include "se3_interpolation/timing/time_optimal.h"
@@ -167,6 +168,18 @@ void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::
 {
   setVerifiedPeaks(timed.profile(), fig);
   fig->energy = channelEnergy(r, timed.profile().acceleration_energy);
+}
+
+/// The figures of a geodesic chain's closed-form timing (GeodesicChainProfile): peaks and energy
+/// in closed form; the peak jerks only with a jerk bound (as the general timings report them).
+template <class Space>
+void setGeodesicFigures(const BasicValidatedRequest<Space>& r, const timing::GeodesicChainProfile& p,
+                        CurveFigures* fig)
+{
+  setVerifiedPeaks(p, fig);
+  if (!hasJerkBound(r))
+    fig->max_linear_jerk = fig->max_angular_jerk = 0.0;
+  fig->energy = channelEnergy(r, p.acceleration_energy);
 }
 
 /// The figures of a constant-speed motion: length and rotation length are the path's; the peaks and
