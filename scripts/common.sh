@@ -115,9 +115,11 @@ se3_build() {
 # Compiler flags of the benchmarks' optional peers (bench/bench_peers.h), from local copies given by
 # path (never fetched, never committed): SE3_BENCH_SOPHUS_DIR (a Sophus checkout: its root holds
 # sophus/se3.hpp), SE3_BENCH_MANIF_DIR (manif's root: include/manif/SE3.h, external/tl/),
-# SE3_BENCH_BASALT_DIR (basalt-headers' root: include/basalt/spline/; needs Sophus as well).
-# Unset: that peer is left out. Sets the array se3_bench_peer_flags and the list se3_bench_peers
-# ("sophus manif basalt", those given); a given directory without the expected header is an error.
+# SE3_BENCH_BASALT_DIR (basalt-headers' root: include/basalt/spline/; needs Sophus as well),
+# SE3_BENCH_RUCKIG_DIR (a Ruckig checkout with its CMake build in build/: bench_lin only).
+# Unset: that peer is left out. Sets the arrays se3_bench_peer_flags and se3_bench_ruckig_flags and
+# the list se3_bench_peers ("sophus manif basalt ruckig", those given); a given directory without the
+# expected header (or Ruckig's library) is an error.
 se3_bench_peer_setup() {
   se3_bench_peer_flags=()
   se3_bench_peers=""
@@ -141,6 +143,19 @@ se3_bench_peer_setup() {
       { echo "SE3_BENCH_BASALT_DIR needs SE3_BENCH_SOPHUS_DIR (basalt-headers includes Sophus)" >&2; return 2; }
     se3_bench_peer_flags+=(-DSE3_BENCH_BASALT -isystem "$SE3_BENCH_BASALT_DIR/include")
     se3_bench_peers+=" basalt"
+  fi
+  # Ruckig (bench/bench_lin.cpp): a checkout built with its own CMake into build/ (libruckig.so);
+  # its flags and library apart from the header-only peers' (count_ops does not use it).
+  se3_bench_ruckig_flags=()
+  if [ -n "${SE3_BENCH_RUCKIG_DIR:-}" ]; then
+    [ -f "$SE3_BENCH_RUCKIG_DIR/include/ruckig/ruckig.hpp" ] ||
+      { echo "SE3_BENCH_RUCKIG_DIR=$SE3_BENCH_RUCKIG_DIR has no include/ruckig/ruckig.hpp" >&2; return 2; }
+    [ -f "$SE3_BENCH_RUCKIG_DIR/build/libruckig.so" ] ||
+      { echo "SE3_BENCH_RUCKIG_DIR=$SE3_BENCH_RUCKIG_DIR has no build/libruckig.so (build it: cmake -S . -B build" \
+          "-DCMAKE_BUILD_TYPE=Release -DBUILD_EXAMPLES=OFF -DBUILD_TESTS=OFF && cmake --build build -j2)" >&2; return 2; }
+    se3_bench_ruckig_flags=(-DSE3_BENCH_RUCKIG -isystem "$SE3_BENCH_RUCKIG_DIR/include"
+                            "$SE3_BENCH_RUCKIG_DIR/build/libruckig.so" "-Wl,-rpath,$SE3_BENCH_RUCKIG_DIR/build")
+    se3_bench_peers+=" ruckig"
   fi
   se3_bench_peers=${se3_bench_peers# }
 }

@@ -4,6 +4,8 @@
 #     geometries against KDL and plain Eigen, the ratio table, and sampling throughput;
 #     bench_interpolating (the interpolating solve, N = 10 … 10⁴) when bench/bench_interpolating.cpp exists;
 #     bench_time_optimal (time-optimal and jerk-limited timing of the interpolating spline, N = 100 … 3000);
+#     bench_lin (a two-pose move under time_optimal: the closed form, the general timings, the
+#     planner, and Ruckig when SE3_BENCH_RUCKIG_DIR is given);
 #     bench_cli_output (se3_interpolate's CSV of 10⁵ samples against iostreams, and the planner
 #     on that request);
 #     bench_toppra (the time-optimal timing against TOPP-RA, N = 10 … 10⁴) when
@@ -20,6 +22,8 @@
 #              SE3_BENCH_SOPHUS_DIR, SE3_BENCH_MANIF_DIR, SE3_BENCH_BASALT_DIR  local copies of the
 #                                   optional peers (bench/bench_peers.h; scripts/common.sh,
 #                                   se3_bench_peer_setup); unset: left out, nothing else changes
+#              SE3_BENCH_RUCKIG_DIR  a local Ruckig checkout built with its own CMake into build/
+#                                   (bench/bench_lin.cpp); unset: bench_lin runs without it
 #              SE3_BENCH_TOPPRA_DIR  a local TOPP-RA checkout (bench/bench_toppra.cpp): its C++
 #                                   library (cpp/) is built once into $SE3_WS/bench/toppra with
 #                                   Eigen only; unset: bench_toppra is left out
@@ -43,7 +47,7 @@ build() {
   local name=$1
   shift
   local bin="$OUT/$name" stamp="$OUT/$name.flags"
-  if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]}" ] &&
+  if [ -x "$bin" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]} $*" ] &&
     [ -z "$(find "$SE3_ROOT/bench" "$SE3_ROOT/include" "$SE3_ROOT/src" -newer "$bin" -type f | head -n 1)" ]; then
     return 0
   fi
@@ -51,7 +55,7 @@ build() {
   # shellcheck disable=SC2086
   "$CXX" -std=c++17 $CXXFLAGS -I"$SE3_ROOT/include" -I/usr/include/eigen3 "${se3_bench_peer_flags[@]}" \
     "$SE3_ROOT/bench/$name.cpp" "${core_sources[@]}" -o "$bin" "$@" -lbenchmark -lpthread
-  echo "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]}" >"$stamp"
+  echo "$CXX $CXXFLAGS ${se3_bench_peer_flags[*]} $*" >"$stamp"
 }
 
 echo "== machine"
@@ -77,6 +81,13 @@ build bench_time_optimal
 echo
 echo "== bench_time_optimal"
 "$OUT/bench_time_optimal" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true
+
+build bench_lin "${se3_bench_ruckig_flags[@]}"
+echo
+echo "== bench_lin${SE3_BENCH_RUCKIG_DIR:+ (Ruckig $(git -C "$SE3_BENCH_RUCKIG_DIR" describe --tags --always 2>/dev/null ||
+  sed -n 's/^version = "\(.*\)"/\1/p' "$SE3_BENCH_RUCKIG_DIR/Cargo.toml" 2>/dev/null | head -n 1))}"
+"$OUT/bench_lin" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
   --benchmark_display_aggregates_only=true
 
 build bench_cli_output -I"$SE3_ROOT/src/cli" "$SE3_ROOT/src/cli/csv_writer.cpp"
