@@ -183,8 +183,8 @@ bool sameDurations()
     ruckig::Ruckig<1> otg;
     ruckig::Trajectory<1> trajectory;
     const double theirs = ruckigDuration(scalarBounds(jerk), otg, trajectory);
-    std::printf("duration%s: closed form %.12f s, Ruckig %.12f s (relative difference %.2e)\n", jerk ? "" : " (no jerk)",
-                ours, theirs, std::abs(theirs - ours) / ours);
+    std::printf("duration%s: closed form %.12f s, Ruckig %.12f s (relative difference %.2e)\n",
+                jerk ? "" : " (no jerk)", ours, theirs, std::abs(theirs - ours) / ours);
     if (!(std::abs(theirs - ours) <= 1e-9 * ours))
       ok = false;
 #else

@@ -29,8 +29,10 @@ namespace
 {
 using planner_detail::boundFields;
 using planner_detail::buildCurve;
+using planner_detail::curveFigures;
 using planner_detail::hasJerkBound;
 using planner_detail::measureJerk;
+using planner_detail::pathLengths;
 using planner_detail::PlannedMotion;
 using planner_detail::planMotion;
 using planner_detail::planWithStartState;
@@ -51,17 +53,6 @@ double chordStep(const Pose<double>& a, const Pose<double>& b, double rotation_s
 double chordStep(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double /*rotation_scale*/)
 {
   return Sphere::log<double>(a, b).norm();
-}
-
-/// The lengths of a path (translation, rotation): a geodesic chain's in closed form
-/// (timing/geodesic_timing.h), any other path's by quadrature (measureLengths).
-template <class G>
-std::pair<double, double> pathLengths(const Curve<G>& path)
-{
-  if constexpr (!std::is_same_v<G, Sphere>)
-    if (const std::optional<timing::GeodesicChain> chain = timing::geodesicChain(path))
-      return { chain->length[timing::kLinear], chain->length[timing::kAngular] };
-  return measureLengths(path);
 }
 
 /// Flips s's quaternion to the sign of `previous`'s (without one: w ≥ 0).
@@ -258,7 +249,7 @@ PlannedMotion<Space, G> buildCurve(const BasicValidatedRequest<Space>& r, const 
   // A timing other than the stretch measures the rates and the energy of its own motion: the
   // curve's lengths are all it needs of the curve's figures (as the start's stability check does).
   if (r.timing == Timing::kStretch)
-    m.figures = measureCurve(*m.curve, r.rotation_scale);
+    m.figures = curveFigures(*m.curve, r.rotation_scale);
   else
     std::tie(m.figures.length, m.figures.rotation_length) = pathLengths(*m.curve);
   requireStableStartSolve(r, m.figures);

@@ -1,13 +1,17 @@
 // The bounds of a request and the figures of its timed motion (planner.cpp's private part): the
 // uniform stretch that meets the bounds (docs/timing.md), the corners and acceleration jumps it
-// refuses, the peak jerk it divides by k³, the six bounds handed to the timings, and the figures
-// of a time-optimal or jerk-limited motion.
+// refuses, the peak jerk it divides by k³, the six bounds handed to the timings, the figures of a
+// time-optimal or jerk-limited motion, and the lengths and own-clock figures of a path (a geodesic
+// chain's in closed form).
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "se3_interpolation/analysis/figures.h"
@@ -168,6 +172,35 @@ void setJerkLimitedFigures(const BasicValidatedRequest<Space>& r, const timing::
 {
   setVerifiedPeaks(timed.profile(), fig);
   fig->energy = channelEnergy(r, timed.profile().acceleration_energy);
+}
+
+/// The lengths of a path (translation, rotation): a geodesic chain's in closed form
+/// (timing/geodesic_timing.h), any other path's by quadrature (measureLengths).
+template <class G>
+std::pair<double, double> pathLengths(const Curve<G>& path)
+{
+  if constexpr (!std::is_same_v<G, Sphere>)
+    if (const std::optional<timing::GeodesicChain> chain = timing::geodesicChain(path))
+      return { chain->length[timing::kLinear], chain->length[timing::kAngular] };
+  return measureLengths(path);
+}
+
+/// The figures of a curve on its own clock (what the stretch scales): a geodesic chain's in closed
+/// form (its speeds are its rates, its accelerations and energy 0), any other's measured.
+template <class G>
+CurveFigures curveFigures(const Curve<G>& curve, double rotation_scale)
+{
+  if constexpr (!std::is_same_v<G, Sphere>)
+    if (const std::optional<timing::GeodesicChain> chain = timing::geodesicChain(curve))
+    {
+      CurveFigures f;
+      f.length = chain->length[timing::kLinear];
+      f.rotation_length = chain->length[timing::kAngular];
+      f.max_linear_speed = chain->max_rate[timing::kLinear];
+      f.max_angular_speed = chain->max_rate[timing::kAngular];
+      return f;
+    }
+  return measureCurve(curve, rotation_scale);
 }
 
 /// The figures of a geodesic chain's closed-form timing (GeodesicChainProfile): peaks and energy

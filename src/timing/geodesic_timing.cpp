@@ -137,8 +137,8 @@ std::optional<RestToRestProfile> restToRestProfile(double distance, double veloc
 {
   if (!(distance > 0.0 && std::isfinite(distance)) || !(velocity > 0.0) || !(acceleration > 0.0) || !(jerk > 0.0))
     return std::nullopt;
-  std::optional<RestToRestProfile> p =
-      std::isfinite(jerk) ? doubleS(distance, velocity, acceleration, jerk) : trapezoid(distance, velocity, acceleration);
+  std::optional<RestToRestProfile> p = std::isfinite(jerk) ? doubleS(distance, velocity, acceleration, jerk)
+                                                            : trapezoid(distance, velocity, acceleration);
   if (p && !(std::isfinite(p->duration()) && p->duration() > 0.0))
     return std::nullopt;
   return p;
@@ -171,9 +171,10 @@ std::size_t GeodesicChainProfile::runAt(double t, Side side) const
 
 double GeodesicChainProfile::timeAt(double s) const
 {
-  std::size_t k = 0;
-  while (k + 1 < runs.size() && runs[k].s_end < s)
-    ++k;
+  // The first run that ends at or after s.
+  const auto it = std::lower_bound(runs.begin(), runs.end(), s,
+                                   [](const GeodesicRun& run, double x) { return run.s_end < x; });
+  const std::size_t k = std::min(static_cast<std::size_t>(it - runs.begin()), runs.size() - 1);
   return start[k] + profiles[k].timeAt(s - runs[k].s_begin);
 }
 
@@ -240,6 +241,7 @@ std::optional<GeodesicChain> chainOf(const std::vector<double>& b, const std::ve
   for (int c = 0; c < 2; ++c)
     moves[c] = largest[c] > kMoveTolerance * scale;
   GeodesicChain chain;
+  chain.max_rate = largest;
   for (std::size_t i = 0; i < pieces.size(); ++i)
   {
     const PieceRates& p = pieces[i];

@@ -148,6 +148,9 @@ struct GeodesicChain
   std::vector<GeodesicRun> runs;
   /// Each channel's length ∫|C′_c| ds (translation in m, rotation in rad).
   std::array<double, 2> length{};
+  /// Each channel's largest rate |C′_c|: the path's peak speed on its own clock (its acceleration
+  /// and jerk are 0 between the waypoints).
+  std::array<double, 2> max_rate{};
 };
 
 /// The timing of a geodesic chain: one rest-to-rest profile per run, run after run.

@@ -26,8 +26,13 @@
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/execution/goal_trajectory.h"
 #include "se3_interpolation/math/lie_groups.h"
+#include "se3_interpolation/planner/curve_families.h"
 #include "se3_interpolation/planner/names.h"
 #include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/timing/geodesic_timing.h"
+#include "se3_interpolation/timing/jerk_limited.h"
+#include "se3_interpolation/timing/time_optimal.h"
 
 namespace se3_interpolation
 {
@@ -1164,6 +1169,62 @@ inline void checkNoDetour(const TrajectoryRequest& request, const TrajectoryResu
                   "path length " + num(length) + " above the brake-and-go bound " + num(bound.length) });
 }
 
+/// A motion the closed-form timing serves (timing/geodesic_timing.h: a geodesic chain from rest
+/// under time_optimal) against the general timing of the same path (jerk-limited with a jerk bound,
+/// else time-optimal), run here directly: the served duration is the closed form's, never longer
+/// than the general one, and at most 1 % shorter (the general timing's tolerance) wherever one
+/// channel decides the profile; where translation and rotation both move under jerk bounds the
+/// general timing's window may be longer than the double S's (docs/timing.md), and only "never
+/// longer" is checked. Returns whether the request took the closed form.
+template <class G>
+bool checkClosedForm(const ValidatedRequest& r, const TrajectoryResult& result, std::vector<Violation>& v)
+{
+  const std::shared_ptr<const Curve<G>> path = makeFamilyCurve<G>(r, waypointTimes(r)).curve;
+  timing::RateBounds b;
+  b.velocity = { r.max_linear_velocity, r.max_angular_velocity };
+  b.acceleration = { r.max_linear_acceleration, r.max_angular_acceleration };
+  b.jerk = { r.max_linear_jerk, r.max_angular_jerk };
+  const auto closed = timing::makeGeodesicTimedCurve<G>(path, b);
+  if (!closed)
+    return false;
+  const double exact = closed->endTime() - closed->startTime();
+  if (!(std::abs(result.duration - exact) <= 1e-12 * exact))
+    v.push_back({ "closed form duration", result.duration / exact,
+                  "served " + num(result.duration) + " s, the closed form gives " + num(exact) + " s" });
+  const bool jerk = b.jerk[0] > 0.0 || b.jerk[1] > 0.0;
+  double general = 0.0;
+  try
+  {
+    general = jerk ? timing::makeJerkLimitedCurve<G>(path, b)->endTime() - path->startTime() :
+                     timing::makeTimeOptimalCurve<G>(path, b)->endTime() - path->startTime();
+  }
+  catch (const std::exception& e)
+  {
+    v.push_back({ "closed form: the general timing refuses", 0.0, e.what() });
+    return true;
+  }
+  bool both_move = false;
+  for (const timing::GeodesicRun& run : closed->profile().runs)
+    both_move = both_move || (run.moves[0] && run.moves[1]);
+  if (general < exact * (1.0 - 1e-9) || (!(jerk && both_move) && general > exact * 1.01))
+    v.push_back({ "closed form against the general timing", general / exact,
+                  "the general timing takes " + num(general) + " s, the closed form " + num(exact) + " s" });
+  return true;
+}
+
+/// checkClosedForm for a served pose request from rest under time_optimal; whether it took the
+/// closed form.
+inline bool checkClosedFormOf(const TrajectoryRequest& request, const TrajectoryResult& result,
+                              const PlannerLimits& limits, std::vector<Violation>& v)
+{
+  if (request.timing != "time_optimal" || request.start_state)
+    return false;
+  const ValidatedRequest r = validateRequest(request, limits);
+  if (r.geometry == GeometryType::kScrew)
+    return checkClosedForm<ScrewSe3>(r, result, v);
+  return checkClosedForm<DoubleGeodesicSe3>(r, result, v);
+}
+
 /// The outcome of one request: served (with the invariants it broke) or refused (with its message).
 struct Outcome
 {
@@ -1173,6 +1234,7 @@ struct Outcome
   GoalCheck goal;  ///< the goal check of a served request (checkGoal)
   /// The served motion's recovery interval (a start above a bound; a goal of it exceeds the bound).
   double recovery_time = 0.0;
+  bool closed_form = false;  ///< served by the closed-form timing of geodesic chains (checkClosedForm)
 };
 
 /// Runs one request through generate(), the checker and, when served, the goal check. A refusal
@@ -1189,6 +1251,7 @@ inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits
     out.recovery_time = result.recovery_time;
     out.violations = checkInvariants(request, result, options);
     checkNoDetour(request, result, limits, out.violations);
+    out.closed_form = checkClosedFormOf(request, result, limits, out.violations);
     try
     {
       out.goal = checkGoal(request, result, options, out.violations);

@@ -1009,7 +1009,7 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
   const std::size_t stride = kSanitized ? 20 : 1;
   FailureTable refused, failures, unexpected_refusals;
   GoalTable goals;
-  std::size_t run = 0, served = 0;
+  std::size_t run = 0, served = 0, closed_form = 0;
   const auto begin = std::chrono::steady_clock::now();
   for (std::size_t index = 0; index < cases.size(); index += stride)
   {
@@ -1035,6 +1035,7 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
     if (out.served)
     {
       ++served;
+      closed_form += out.closed_form ? 1 : 0;
       const TimingVariant& tv = timingVariants()[c.timing];
       goals.add(tv.label(), out.goal);
       // To rest under time_optimal or constant_speed with both jerk bounds (a C² motion within its
@@ -1095,13 +1096,18 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   std::cout << "[request space] grid: " << run << " of " << cases.size() << " cases run (stride " << stride << "), "
-            << served << " served, " << run - served << " refused, " << seconds << " s\n";
+            << served << " served (" << closed_form << " by the closed-form timing of geodesic chains), "
+            << run - served << " refused, " << seconds << " s\n";
   goals.print("served grid motions executed as goals (request_space.h, checkGoal)");
   refused.print("refused grid combinations (combination :: message)");
   unexpected_refusals.print("refusals of combinations the table of docs/curves.md calls valid");
   failures.print("invariant failures");
   EXPECT_EQ(unexpectedFailures(unexpected_refusals, false) + unexpectedFailures(failures, false), 0u)
       << "see the tables printed above";
+  if (stride == 1)
+  {
+    EXPECT_GT(closed_form, 0u) << "no grid request took the closed-form timing (checkClosedForm)";
+  }
 }
 
 // ---- The random sweep ---------------------------------------------------------------------

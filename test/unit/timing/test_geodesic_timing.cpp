@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "se3_interpolation/analysis/figures.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/bezier.h"
 #include "se3_interpolation/planner/planner.h"
@@ -197,7 +198,9 @@ void expectRestAtEnds(const Curve<G>& c, bool jerk)
     }
     EXPECT_LE(v, 1e-12) << "t = " << t;
     if (jerk)
+    {
       EXPECT_LE(a, 1e-12) << "t = " << t;
+    }
   }
 }
 
@@ -224,7 +227,9 @@ void expectGeneral(double general, double exact, bool one_channel_decides)
 {
   EXPECT_GE(general, exact * (1.0 - 1e-9));
   if (one_channel_decides)
+  {
     EXPECT_LE(general, exact * 1.01);
+  }
 }
 
 /// Whether the general timing is held to its 1 % here (expectGeneral).
@@ -306,7 +311,9 @@ TEST(RestToRestProfile, JetsKeepTheBoundsAndAreContinuousAcrossPhases)
       EXPECT_GE(s.coefficient(1), -1e-15 * v);
       EXPECT_LE(std::abs(2.0 * s.coefficient(2)), a * (1.0 + 1e-12));
       if (std::isfinite(j))
+      {
         EXPECT_LE(std::abs(6.0 * s.coefficient(3)), j * (1.0 + 1e-12));
+      }
     }
     // Position and speed continuous at every switch (and the acceleration too with a jerk bound), to
     // the rounding of the switch times (T − τ of the mirrored half: a few ulps of T).
@@ -318,7 +325,10 @@ TEST(RestToRestProfile, JetsKeepTheBoundsAndAreContinuousAcrossPhases)
       EXPECT_NEAR(l.value(), r.value(), 1e-12 * L + dt * p.peak_speed) << "t = " << t;
       EXPECT_NEAR(l.coefficient(1), r.coefficient(1), 1e-12 * p.peak_speed + dt * p.peak_acceleration) << "t = " << t;
       if (std::isfinite(j))
-        EXPECT_NEAR(2.0 * l.coefficient(2), 2.0 * r.coefficient(2), 1e-12 * p.peak_acceleration + dt * j) << "t = " << t;
+      {
+        EXPECT_NEAR(2.0 * l.coefficient(2), 2.0 * r.coefficient(2), 1e-12 * p.peak_acceleration + dt * j)
+            << "t = " << t;
+      }
     }
     // The inverse, and the energy ∫ s̈² dt by Simpson's rule on each phase (s̈ is linear there: exact
     // but for the ends, taken 1e-9 of the phase inside it: a switch time computed two ways may
@@ -334,7 +344,8 @@ TEST(RestToRestProfile, JetsKeepTheBoundsAndAreContinuousAcrossPhases)
       const double a1 = acc(t1 - inset, Side::kLeft);
       energy += (t1 - t0) / 6.0 * (a0 * a0 + 4.0 * am * am + a1 * a1);
     }
-    EXPECT_NEAR(p.accelerationEnergy(), energy, 1e-8 * p.accelerationEnergy()) << "L " << L << " v " << v << " a " << a << " j " << j << " tj " << p.t_j << " ta " << p.t_a << " tv " << p.t_v;
+    EXPECT_NEAR(p.accelerationEnergy(), energy, 1e-8 * p.accelerationEnergy())
+        << "L " << L << " v " << v << " a " << a << " j " << j;
   }
 }
 
@@ -391,13 +402,12 @@ TEST(GeodesicTiming, ScrewSegmentsAreTakenOnlyWithoutCentripetalAcceleration)
     expectRestAtEnds(*timed, true);
   }
   // A rotation with a translation across its axis: the screw bends, no closed form.
-  const auto bent = polyline<ScrewSe3>({ origin, pose(Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(1.0, 0.0, 0.0)) });
+  const Pose<double> across = pose(Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(1.0, 0.0, 0.0));
+  const auto bent = polyline<ScrewSe3>({ origin, across });
   EXPECT_FALSE(timing::geodesicChain(*bent).has_value());
   EXPECT_EQ(timing::makeGeodesicTimedCurve<ScrewSe3>(bent, b), nullptr);
   // ... but the same poses in the double geodesic are a straight segment.
-  EXPECT_TRUE(timing::geodesicChain(*polyline<DoubleGeodesicSe3>(
-                                        { origin, pose(Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(1.0, 0.0, 0.0)) }))
-                  .has_value());
+  EXPECT_TRUE(timing::geodesicChain(*polyline<DoubleGeodesicSe3>({ origin, across })).has_value());
 }
 
 TEST(GeodesicTiming, OnlyGeodesicChainsAreTaken)
@@ -516,7 +526,8 @@ TEST(GeodesicTiming, HardPoints)
 TEST(GeodesicTiming, BoundsThatTheGeneralTimingRefusesAreLeftToIt)
 {
   const Pose<double> o = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-  const auto path = polyline<DoubleGeodesicSe3>({ o, pose(Eigen::Vector3d(0.0, 1.0, 0.0), Eigen::Vector3d(1.0, 0.0, 0.0)) });
+  const Pose<double> end = pose(Eigen::Vector3d(0.0, 1.0, 0.0), Eigen::Vector3d(1.0, 0.0, 0.0));
+  const auto path = polyline<DoubleGeodesicSe3>({ o, end });
   EXPECT_EQ(timing::makeGeodesicTimedCurve<DoubleGeodesicSe3>(path, bounds(1.0, 1.0, 0.0, 0.0, 0.0, 0.0)), nullptr);
   EXPECT_EQ(timing::makeGeodesicTimedCurve<DoubleGeodesicSe3>(path, bounds(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)), nullptr);
   EXPECT_EQ(timing::makeGeodesicTimedCurve<DoubleGeodesicSe3>(path, bounds(1.0, 0.0, 0.0, 0.0, 0.0, 3.0)), nullptr);
@@ -588,6 +599,34 @@ TEST(GeodesicTiming, SampleToleranceRefinesTheClosedFormMotion)
   EXPECT_GT(out.samples.size(), 4u);
   for (const TrajectorySample& s : out.samples)
     EXPECT_LT(test::poseDistance(s.pose, out.state_at(s.time).pose), 1e-12);
+}
+
+TEST(GeodesicTiming, StretchFiguresAreTheClosedFormsAndTheMeasuredOnes)
+{
+  const Pose<double> a = pose(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  const Pose<double> b = pose(Eigen::Vector3d(0.0, 0.0, 1.5), Eigen::Vector3d(2.0, 1.0, 0.0));
+  const Pose<double> c = pose(Eigen::Vector3d(0.5, 0.0, 1.5), Eigen::Vector3d(2.0, 3.0, 0.0));
+  TrajectoryRequest r = lineRequest({ a, b, c }, bounds(0.5, 1.0, 0.0, 0.0, 0.0, 0.0));
+  r.timing = "stretch";
+  r.times = { 0.0, 1.0, 3.0 };
+  const TrajectoryResult out = generate(r, test::unhurriedLimits());
+  // The speeds on the curve's own clock: √5 m/s and 1.5 rad/s on the first leg, 1 m/s and
+  // 0.25 rad/s on the second; the linear speed bound stretches by √5 / 0.5.
+  const double k = std::sqrt(5.0) / 0.5;
+  EXPECT_NEAR(out.time_scale, k, 1e-14 * k);
+  EXPECT_NEAR(out.duration, 3.0 * k, 1e-13 * k);
+  EXPECT_NEAR(out.figures.max_linear_speed, 0.5, 1e-15);
+  EXPECT_NEAR(out.figures.max_angular_speed, 1.5 / k, 1e-15);
+  EXPECT_EQ(out.figures.max_linear_acceleration, 0.0);
+  EXPECT_EQ(out.figures.energy, 0.0);
+  // The same as measured by quadrature on the curve itself.
+  const CurveFigures measured =
+      measureCurve(PiecewiseGeodesic<DoubleGeodesicSe3>({ a, b, c }, { 0.0, 1.0, 3.0 }), 1.0);
+  EXPECT_NEAR(out.figures.length, measured.length, 1e-12 * measured.length);
+  EXPECT_NEAR(out.figures.rotation_length, measured.rotation_length, 1e-12 * measured.rotation_length);
+  EXPECT_NEAR(out.figures.max_linear_speed * k, measured.max_linear_speed, 1e-12);
+  EXPECT_NEAR(out.figures.max_angular_speed * k, measured.max_angular_speed, 1e-12);
+  EXPECT_LT(measured.max_linear_acceleration + measured.max_angular_acceleration, 1e-12);
 }
 
 }  // namespace
