@@ -1,6 +1,6 @@
 // The jerk-limited stop of a start state: the start's motion brought to rest (zero velocity and
 // zero acceleration) with a continuous acceleration, for replanning under jerk bounds
-// (planner/start_state.h chooses between it and the joined motion).
+// (src/planner/start_state.cpp chooses between it and the joined motion).
 //
 // One axis (JerkStop). From speed v_0 and acceleration a_0 to v = a = 0 with the position free, in
 // least time under |a| ≤ A and |j| ≤ J, the acceleration is a trapezoid or a triangle in time: it
@@ -28,7 +28,7 @@
 // not bound the across axis (its acceleration only falls from |a_⊥|, to at most |a_⊥|/√2 on the
 // other side), and A_1 = sqrt(A² − |a_⊥|²) holds at all times. The sideways acceleration is gone
 // after about 2.4 |a_⊥| / J_2, so a larger A_1 = A_safe + f (A − A_safe), share f ∈ [0, 1], may
-// hold too; the planner lowers f from 1 until the measured rates hold (planner/start_state.cpp).
+// hold too; the planner lowers f from 1 until the measured rates hold (src/planner/start_brakes.cpp).
 // The speed may rise above |v| while a forward acceleration ramps down (as it would in any motion
 // under the jerk bound).
 //
@@ -43,7 +43,7 @@
 // is J_l(φ) φ̇ = φ̇ + ½ φ × φ̇ + O(|φ|²|φ̇|): the rotation's rates equal the axes' only to first order
 // in the angle turned while braking (at τ = 0 its jerk has the extra ½ ω_0 × ω̇_0). The
 // planner therefore evaluates the brake's rates from its exact jets and scales the per-axis
-// bounds down until every rate holds its bound (planner/start_state.h). After both channels stop
+// bounds down until every rate holds its bound (src/planner/start_brakes.cpp). After both channels stop
 // the brake holds its stop pose.
 #pragma once
 

@@ -218,7 +218,7 @@ double generalDuration(const std::shared_ptr<const Curve<G>>& path, const RateBo
 }
 
 /// The general timing's duration against the exact one: never shorter; at most 1 % longer (its
-/// tolerance, SPEC "Timing") where one channel's bounds decide the whole double S or there is no
+/// tolerance, docs/timing.md) where one channel's bounds decide the whole double S or there is no
 /// jerk bound. Where translation and rotation both move under jerk bounds and different channels
 /// bind (the speed in one, the jerk in the other), the general timing's window τ = max_c a′_c / j_c
 /// (jerk_limited.h) is longer than the scalar double S's min(A, √(V J)) / J: it is up to a third
