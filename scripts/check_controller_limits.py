@@ -65,7 +65,7 @@ except ImportError:
 COLUMNS = ["t", "x", "y", "z", "qx", "qy", "qz", "qw", "vx", "vy", "vz", "wx", "wy", "wz",
            "ax", "ay", "az", "alx", "aly", "alz"]
 
-# libfranka 0.9 (include/franka/rate_limiting.h, tags 0.8.0-0.9.2), nominal values.
+# libfranka 0.9 (its header franka/rate_limiting.h, tags 0.8.0-0.9.2), nominal values.
 FRANKA = {"linear_velocity": 2.0, "linear_acceleration": 13.0, "linear_jerk": 6500.0,
           "angular_velocity": 2.5, "angular_acceleration": 25.0, "angular_jerk": 12500.0}
 

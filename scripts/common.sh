@@ -114,7 +114,7 @@ se3_build() {
 
 # Compiler flags of the benchmarks' optional peers (bench/bench_peers.h), from local copies given by
 # path (never fetched, never committed): SE3_BENCH_SOPHUS_DIR (a Sophus checkout: its root holds
-# sophus/se3.hpp), SE3_BENCH_MANIF_DIR (manif's root: include/manif/SE3.h, external/tl/),
+# sophus/se3.hpp), SE3_BENCH_MANIF_DIR (manif's root: manif/SE3.h under its include folder, external/tl/),
 # SE3_BENCH_BASALT_DIR (basalt-headers' root: include/basalt/spline/; needs Sophus as well),
 # SE3_BENCH_RUCKIG_DIR (a Ruckig checkout with its CMake build in build/: bench_lin only).
 # Unset: that peer is left out. Sets the arrays se3_bench_peer_flags and se3_bench_ruckig_flags and

@@ -377,6 +377,20 @@ std::string readRequestFile(const std::string& path)
                                 " bytes (the limit of se3_interpolate's input)");
   return text;
 }
+
+/// The request file parsed as YAML.
+YAML::Node loadRequestFile(const std::string& path)
+{
+  const std::string text = readRequestFile(path);
+  try
+  {
+    return YAML::Load(text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw std::invalid_argument("request file '" + path + "' is not valid YAML: " + e.what());
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -385,16 +399,7 @@ int main(int argc, char** argv)
   try
   {
     const Arguments args = parseArguments(argc, argv);
-    YAML::Node root;
-    const std::string text = readRequestFile(args.request);
-    try
-    {
-      root = YAML::Load(text);
-    }
-    catch (const YAML::Exception& e)
-    {
-      throw std::invalid_argument("request file '" + args.request + "' is not valid YAML: " + e.what());
-    }
+    const YAML::Node root = loadRequestFile(args.request);
     const auto output = [&args](const Producer& csv) {
       if (args.output.empty())
         writeProduced(STDOUT_FILENO, csv, "the standard output");

@@ -175,6 +175,24 @@ void rejectRepeatedKeys(const YAML::Node& node, const std::string& field)
   }
 }
 
+/// Reads the optional field `name` of the request's map into *out when it is given (the field's
+/// name is the error's).
+void readField(const YAML::Node& root, const char* name, double* out)
+{
+  if (root[name])
+    *out = toDouble(root[name], name);
+}
+void readField(const YAML::Node& root, const char* name, std::string* out)
+{
+  if (root[name])
+    *out = toString(root[name], name);
+}
+void readField(const YAML::Node& root, const char* name, std::vector<double>* out)
+{
+  if (root[name])
+    *out = toDoubles(root[name], name);
+}
+
 /// The document check and every field the pose and sphere requests share, by name.
 template <class Request>
 void readCommonFields(const YAML::Node& root, Request* r)
@@ -198,58 +216,35 @@ void readCommonFields(const YAML::Node& root, Request* r)
                             "from; give the state explicitly as start_state: {pose: {position: [x, y, z], "
                             "orientation: [x, y, z, w]}, velocity: {linear: [..], angular: [..]}, acceleration: "
                             "{linear: [..], angular: [..]}}");
-  if (root["times"])
-    r->times = toDoubles(root["times"], "times");
-  if (root["curve"])
-    r->curve = toString(root["curve"], "curve");
-  if (root["geometry"])
-    r->geometry = toString(root["geometry"], "geometry");
+  readField(root, "times", &r->times);
+  readField(root, "curve", &r->curve);
+  readField(root, "geometry", &r->geometry);
   if (root["degree"])
     r->degree = static_cast<int>(toInteger(root["degree"], "degree", 0, 255));
-  if (root["knots"])
-    r->knots = toDoubles(root["knots"], "knots");
+  readField(root, "knots", &r->knots);
   if (root["continuity"])
     r->continuity = static_cast<int>(toInteger(root["continuity"], "continuity", 0, 255));
-  if (root["end_condition"])
-    r->end_condition = toString(root["end_condition"], "end_condition");
-  if (root["parameterization"])
-    r->parameterization = toString(root["parameterization"], "parameterization");
-  if (root["rotation_scale"])
-    r->rotation_scale = toDouble(root["rotation_scale"], "rotation_scale");
-  if (root["duration"])
-    r->duration = toDouble(root["duration"], "duration");
-  if (root["max_linear_velocity"])
-    r->max_linear_velocity = toDouble(root["max_linear_velocity"], "max_linear_velocity");
-  if (root["max_angular_velocity"])
-    r->max_angular_velocity = toDouble(root["max_angular_velocity"], "max_angular_velocity");
-  if (root["max_linear_acceleration"])
-    r->max_linear_acceleration = toDouble(root["max_linear_acceleration"], "max_linear_acceleration");
-  if (root["max_angular_acceleration"])
-    r->max_angular_acceleration = toDouble(root["max_angular_acceleration"], "max_angular_acceleration");
-  if (root["max_linear_jerk"])
-    r->max_linear_jerk = toDouble(root["max_linear_jerk"], "max_linear_jerk");
-  if (root["max_angular_jerk"])
-    r->max_angular_jerk = toDouble(root["max_angular_jerk"], "max_angular_jerk");
-  if (root["timing"])
-    r->timing = toString(root["timing"], "timing");
-  if (root["speed"])
-    r->speed = toDouble(root["speed"], "speed");
-  if (root["control_period"])
-    r->control_period = toDouble(root["control_period"], "control_period");
-  if (root["smoothing"])
-    r->smoothing = toDouble(root["smoothing"], "smoothing");
-  if (root["loss"])
-    r->loss = toString(root["loss"], "loss");
-  if (root["loss_scale"])
-    r->loss_scale = toDouble(root["loss_scale"], "loss_scale");
-  if (root["sample_times"])
-    r->sample_times = toDoubles(root["sample_times"], "sample_times");
-  if (root["sample_period"])
-    r->sample_period = toDouble(root["sample_period"], "sample_period");
+  readField(root, "end_condition", &r->end_condition);
+  readField(root, "parameterization", &r->parameterization);
+  readField(root, "rotation_scale", &r->rotation_scale);
+  readField(root, "duration", &r->duration);
+  readField(root, "max_linear_velocity", &r->max_linear_velocity);
+  readField(root, "max_angular_velocity", &r->max_angular_velocity);
+  readField(root, "max_linear_acceleration", &r->max_linear_acceleration);
+  readField(root, "max_angular_acceleration", &r->max_angular_acceleration);
+  readField(root, "max_linear_jerk", &r->max_linear_jerk);
+  readField(root, "max_angular_jerk", &r->max_angular_jerk);
+  readField(root, "timing", &r->timing);
+  readField(root, "speed", &r->speed);
+  readField(root, "control_period", &r->control_period);
+  readField(root, "smoothing", &r->smoothing);
+  readField(root, "loss", &r->loss);
+  readField(root, "loss_scale", &r->loss_scale);
+  readField(root, "sample_times", &r->sample_times);
+  readField(root, "sample_period", &r->sample_period);
   if (root["sample_count"])
     r->sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
-  if (root["sample_tolerance"])
-    r->sample_tolerance = toDouble(root["sample_tolerance"], "sample_tolerance");
+  readField(root, "sample_tolerance", &r->sample_tolerance);
   if (root["publish"])
     toBool(root["publish"], "publish");
   // The service's choice of response arrays: checked as the service does, so that one request

@@ -1,19 +1,22 @@
+// The goal trajectory (goal_trajectory.h): its points' rules, the chart polynomials (G1) between
+// them and the motion they make; its peaks and checks are goal_limits.cpp's.
 #include "se3_interpolation/execution/goal_trajectory.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <utility>
 
+#include "goal_trajectory_internal.h"
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/chart_hermite.h"
 #include "se3_interpolation/curves/curve.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/timing/jerk_limited.h"
-#include "se3_interpolation/timing/peak_search.h"
 
 namespace se3_interpolation
 {
+using namespace goal_detail;
+
 InvalidGoalError::InvalidGoalError(GoalError code, const std::string& what) : InvalidInputError(what), code_(code)
 {
 }
@@ -25,61 +28,6 @@ GoalError InvalidGoalError::code() const
 
 namespace
 {
-/// The rates of the motion, in the order of MotionLimits and MotionPeaks.
-using SixRates = std::array<double, 6>;
-
-/// What an error message says of each rate: its name, the node parameter bounding it, its unit.
-struct RateName
-{
-  const char* name;
-  const char* bound;
-  const char* unit;
-};
-constexpr std::array<RateName, 6> kRateNames{ { { "linear speed", "~max_linear_velocity", "m/s" },
-                                                { "angular speed", "~max_angular_velocity", "rad/s" },
-                                                { "linear acceleration", "~max_linear_acceleration", "m/s^2" },
-                                                { "angular acceleration", "~max_angular_acceleration", "rad/s^2" },
-                                                { "linear jerk", "~max_linear_jerk", "m/s^3" },
-                                                { "angular jerk", "~max_angular_jerk", "rad/s^3" } } };
-
-/// The index of the velocity, acceleration and jerk rates of a channel (0: linear, 1: angular).
-constexpr std::size_t velocityRate(std::size_t channel)
-{
-  return channel;
-}
-constexpr std::size_t accelerationRate(std::size_t channel)
-{
-  return 2 + channel;
-}
-constexpr std::size_t jerkRate(std::size_t channel)
-{
-  return 4 + channel;
-}
-
-SixRates boundsOf(const MotionLimits& l)
-{
-  return { l.max_linear_velocity,     l.max_angular_velocity, l.max_linear_acceleration,
-           l.max_angular_acceleration, l.max_linear_jerk,      l.max_angular_jerk };
-}
-
-std::string pointField(std::size_t i)
-{
-  return indexedField("trajectory.points", i);
-}
-
-/// A constant of this file for a message, in its shortest form ("1e-06").
-std::string shortNumber(double x)
-{
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", x);
-  return text;
-}
-
-[[noreturn]] void refuse(const std::string& message)
-{
-  throw InvalidGoalError(GoalError::kInvalidGoal, message);
-}
-
 /// How many derivatives the points give: 0 (poses only), 1 (velocities), 2 (and accelerations).
 int orderOf(const GoalPoint& p)
 {
@@ -206,49 +154,6 @@ private:
   int degree_ = 0;
 };
 
-}  // namespace
-
-/// The motion's kinematics, whatever its geometry.
-class GoalTrajectory::Interpolant
-{
-public:
-  Interpolant(std::vector<double> times, int order) : times_(std::move(times)), order_(order) {}
-  virtual ~Interpolant() = default;
-  /// Pose, velocity and acceleration at t (one-sided at a point).
-  virtual Kinematics at(double t, Side side) const = 0;
-  /// Velocity, acceleration and jerk at t (one-sided at a point).
-  virtual timing::Kinematics3 at3(double t, Side side) const = 0;
-
-  const std::vector<double>& times() const { return times_; }
-  int order() const { return order_; }
-
-  /// The six rates at t.
-  SixRates ratesAt(double t, Side side) const
-  {
-    const timing::Kinematics3 k = at3(t, side);
-    return { k.velocity.linear.norm(),     k.velocity.angular.norm(), k.acceleration.linear.norm(),
-             k.acceleration.angular.norm(), k.jerk.linear.norm(),      k.jerk.angular.norm() };
-  }
-
-  TrajectorySample stateAt(double t) const
-  {
-    const double tc = std::min(std::max(t, times_.front()), times_.back());
-    const Kinematics k = at(tc, Side::kRight);
-    TrajectorySample s;
-    s.time = tc;
-    s.pose = k.pose;
-    s.velocity = k.velocity;
-    s.acceleration = k.acceleration;
-    return s;
-  }
-
-private:
-  std::vector<double> times_;
-  int order_;
-};
-
-namespace
-{
 template <class G>
 class CurveInterpolant final : public GoalTrajectory::Interpolant
 {
@@ -266,125 +171,6 @@ public:
 private:
   GoalCurve<G> curve_;
 };
-
-/// The largest of f on a subinterval [lo, hi] of segment `segment`, with f's values at its ends and
-/// middle: refined by timing::detail::localMaxOf, which reports values only, so the argument of the
-/// largest is kept by the function it calls.
-template <class F>
-RatePeak refinedPeak(F f, double lo, double hi, std::size_t segment, double f0, double fm, double f1)
-{
-  RatePeak best{ f0, lo, segment };
-  for (const auto& [v, t] : { std::make_pair(fm, 0.5 * (lo + hi)), std::make_pair(f1, hi) })
-    if (v > best.value)
-      best = { v, t, segment };
-  timing::detail::localMaxOf(
-      [&](double lambda) {
-        const double t = lo + lambda * (hi - lo);
-        const double v = f(t);
-        if (v > best.value)
-          best = { v, t, segment };
-        return v;
-      },
-      f0, fm, f1);
-  return best;
-}
-
-/// The peaks of the six rates (file comment of the header). With `ceilings`, only as far as telling
-/// whether a peak exceeds its ceiling: a rate whose ceiling is 0 is not refined, nor a subinterval
-/// whose values already exceed it, and the margin of refinement is taken below the ceiling instead
-/// of below the largest value so far (the result is then a lower bound of the peaks, exact where
-/// they come within kPeakRefineMargin of their ceilings from below).
-MotionPeaks peaksOf(const GoalTrajectory::Interpolant& m, const SixRates* ceilings = nullptr)
-{
-  MotionPeaks peaks{};
-  const std::vector<double>& b = m.times();
-  auto consider = [&peaks](const SixRates& r, double t, std::size_t segment) {
-    for (std::size_t c = 0; c < r.size(); ++c)
-      if (r[c] > peaks[c].value)
-        peaks[c] = { r[c], t, segment };
-  };
-  if (b.size() == 1)
-  {
-    consider(m.ratesAt(b[0], Side::kRight), b[0], 0);
-    return peaks;
-  }
-  struct Span
-  {
-    double lo, hi;
-    std::size_t segment;
-    SixRates f0, fm, f1;
-  };
-  std::vector<Span> spans;
-  spans.reserve((b.size() - 1) * kPeakSubintervals);
-  for (std::size_t i = 0; i + 1 < b.size(); ++i)
-  {
-    const double step = (b[i + 1] - b[i]) / static_cast<double>(kPeakSubintervals);
-    for (std::size_t s = 0; s < kPeakSubintervals; ++s)
-    {
-      const double lo = b[i] + static_cast<double>(s) * step;
-      const double hi = s + 1 == kPeakSubintervals ? b[i + 1] : lo + step;
-      const double mid = 0.5 * (lo + hi);
-      Span span{ lo, hi, i, m.ratesAt(lo, Side::kRight), m.ratesAt(mid, Side::kRight), m.ratesAt(hi, Side::kLeft) };
-      consider(span.f0, lo, i);
-      consider(span.fm, mid, i);
-      consider(span.f1, hi, i);
-      spans.push_back(span);
-    }
-  }
-  for (const Span& span : spans)
-    for (std::size_t c = 0; c < peaks.size(); ++c)
-    {
-      const double largest = std::max({ span.f0[c], span.fm[c], span.f1[c] });
-      if (ceilings && (!((*ceilings)[c] > 0.0) || largest > (*ceilings)[c]))
-        continue;
-      const double threshold = (ceilings ? (*ceilings)[c] : peaks[c].value) * (1.0 - kPeakRefineMargin);
-      if (largest < threshold && !timing::detail::parabolaPeaksInside(span.f0[c], span.fm[c], span.f1[c], threshold))
-        continue;
-      const RatePeak p = refinedPeak([&m, c](double t) { return m.ratesAt(t, Side::kRight)[c]; }, span.lo, span.hi,
-                                     span.segment, span.f0[c], span.fm[c], span.f1[c]);
-      if (p.value > peaks[c].value)
-        peaks[c] = p;
-    }
-  return peaks;
-}
-
-/// Refuses a velocity jump at an interior point where an acceleration (or jerk) is bounded, and an
-/// acceleration jump where a jerk is: the bounded rate is an impulse there.
-void requireNoJumps(const GoalTrajectory::Interpolant& m, const SixRates& bounds)
-{
-  if (m.order() >= 2)
-    return;  // C² by construction
-  const std::vector<double>& b = m.times();
-  for (std::size_t i = 1; i + 1 < b.size(); ++i)
-  {
-    const Kinematics l = m.at(b[i], Side::kLeft);
-    const Kinematics r = m.at(b[i], Side::kRight);
-    const double h = std::min(b[i] - b[i - 1], b[i + 1] - b[i]);
-    for (std::size_t c = 0; c < 2; ++c)
-    {
-      const Eigen::Vector3d& vl = c == 0 ? l.velocity.linear : l.velocity.angular;
-      const Eigen::Vector3d& vr = c == 0 ? r.velocity.linear : r.velocity.angular;
-      const Eigen::Vector3d& al = c == 0 ? l.acceleration.linear : l.acceleration.angular;
-      const Eigen::Vector3d& ar = c == 0 ? r.acceleration.linear : r.acceleration.angular;
-      const bool velocity_jumps = (vl - vr).norm() > timing::kCornerTolerance * (vl.norm() + vr.norm());
-      const bool acceleration_jumps =
-          (al - ar).norm() > timing::kAccelerationJumpTolerance * (al.norm() + ar.norm() + vl.norm() / h);
-      for (std::size_t rate : { accelerationRate(c), jerkRate(c) })
-      {
-        const bool jumps = velocity_jumps || (rate == jerkRate(c) && acceleration_jumps);
-        if (bounds[rate] <= 0.0 || !jumps)
-          continue;
-        const std::size_t cause = velocity_jumps ? velocityRate(c) : accelerationRate(c);
-        const Eigen::Vector3d jump = velocity_jumps ? Eigen::Vector3d(vr - vl) : Eigen::Vector3d(ar - al);
-        refuse(pointField(i) + ": the " + kRateNames[cause].name + " jumps there by " + formatNumber(jump.norm()) +
-               " " + kRateNames[cause].unit + ", so the " + kRateNames[rate].name + " is unbounded (" +
-               kRateNames[rate].bound + " = " + formatNumber(bounds[rate]) + " " + kRateNames[rate].unit +
-               "); give every point velocities and accelerations (a C² trajectory)");
-      }
-    }
-  }
-}
-
 }  // namespace
 
 GoalTrajectory::GoalTrajectory(std::vector<GoalPoint> points, GeometryType geometry)
@@ -452,86 +238,6 @@ Motion GoalTrajectory::motion(const std::string& frame_id, const std::string& ch
 MotionPeaks GoalTrajectory::peaks() const
 {
   return peaksOf(*interpolant_);
-}
-
-namespace
-{
-/// The peaks checkLimits compares with the bounds: the velocities' and accelerations' of the
-/// motion, the jerks as each segment's mean |Δp̈| / h and |Δω̇| / h between its points (file comment).
-MotionPeaks checkedPeaks(const GoalTrajectory::Interpolant& m, const SixRates* ceilings)
-{
-  MotionPeaks peaks = peaksOf(m, ceilings);
-  const std::vector<double>& b = m.times();
-  peaks[4] = RatePeak();
-  peaks[5] = RatePeak();
-  for (std::size_t i = 0; i + 1 < b.size(); ++i)
-  {
-    const Kinematics k0 = m.at(b[i], Side::kRight);
-    const Kinematics k1 = m.at(b[i + 1], Side::kLeft);
-    const double h = b[i + 1] - b[i];
-    const double linear = (k1.acceleration.linear - k0.acceleration.linear).norm() / h;
-    const double angular = (k1.acceleration.angular - k0.acceleration.angular).norm() / h;
-    if (linear > peaks[4].value)
-      peaks[4] = { linear, b[i], i };
-    if (angular > peaks[5].value)
-      peaks[5] = { angular, b[i], i };
-  }
-  return peaks;
-}
-}  // namespace
-
-double GoalTrajectory::boundExcess(const MotionLimits& limits, double tolerance) const
-{
-  const SixRates bounds = boundsOf(limits);
-  SixRates ceilings;
-  for (std::size_t c = 0; c < bounds.size(); ++c)
-    ceilings[c] = bounds[c] * (1.0 + tolerance);
-  const MotionPeaks peaks = checkedPeaks(*interpolant_, &ceilings);
-  double excess = -1.0;
-  for (std::size_t c = 0; c < bounds.size(); ++c)
-    if (bounds[c] > 0.0)
-      excess = std::max(excess, peaks[c].value / bounds[c] - 1.0);
-  return excess;
-}
-
-void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) const
-{
-  const SixRates bounds = boundsOf(limits);
-  requireNoJumps(*interpolant_, bounds);
-  const MotionPeaks peaks = checkedPeaks(*interpolant_, nullptr);
-  std::size_t worst = bounds.size();
-  double worst_ratio = 1.0 + tolerance;
-  for (std::size_t c = 0; c < bounds.size(); ++c)
-    if (bounds[c] > 0.0 && peaks[c].value > worst_ratio * bounds[c])
-    {
-      worst = c;
-      worst_ratio = peaks[c].value / bounds[c];
-    }
-  if (worst == bounds.size())
-    return;
-  const RatePeak& p = peaks[worst];
-  const RateName& r = kRateNames[worst];
-  const bool mean = worst >= 4;
-  refuse(pointField(p.segment) + ": between it and " + pointField(p.segment + 1) + " the " +
-         (mean ? "mean " : "") + r.name + " reaches " + formatNumber(p.value) + " " + r.unit + " at time_from_start " +
-         formatNumber(p.time) + " s, above " + r.bound + " = " + formatNumber(bounds[worst]) + " " + r.unit +
-         (worst == 2 || worst == 3 ?
-              " (where a trajectory's acceleration jumps between two points, as time_optimal's does without a jerk "
-              "bound, its interpolation overshoots: generate it with max_linear_jerk and max_angular_jerk)" :
-              ""));
-}
-
-void GoalTrajectory::requireEndsAtRest() const
-{
-  const Kinematics k = interpolant_->at(endTime(), Side::kLeft);
-  const double linear = k.velocity.linear.norm();
-  const double angular = k.velocity.angular.norm();
-  if (linear <= kRestLinear && angular <= kRestAngular)
-    return;
-  refuse(pointField(size() - 1) + ": the motion ends moving (linear speed " + formatNumber(linear) +
-         " m/s, angular speed " + formatNumber(angular) + " rad/s; at rest is below " + shortNumber(kRestLinear) +
-         " m/s and " + shortNumber(kRestAngular) + " rad/s): give the last point zero velocities, or plan it to stop there (the ~generate service's "
-         "end_condition: clamped, or timing: time_optimal)");
 }
 
 }  // namespace se3_interpolation

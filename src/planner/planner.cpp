@@ -286,6 +286,34 @@ template PlannedMotion<PoseSpace, ScrewSe3> planMotion<PoseSpace, ScrewSe3>(cons
 
 namespace
 {
+/// Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
+/// response as ∞ or NaN: throws InterpolationError naming the first figure or waypoint time that
+/// is not finite.
+template <class Space>
+void requireFiniteFigures(const BasicResult<Space>& out, const CurveFigures& fig)
+{
+  const std::pair<const char*, double> figures[] = {
+    { "time_scale", out.time_scale },
+    { "duration", out.duration },
+    { "length", fig.length },
+    { "rotation_length", fig.rotation_length },
+    { "max_linear_speed", fig.max_linear_speed },
+    { "max_angular_speed", fig.max_angular_speed },
+    { "max_linear_acceleration", fig.max_linear_acceleration },
+    { "max_angular_acceleration", fig.max_angular_acceleration },
+    { "energy", fig.energy },
+  };
+  for (const auto& f : figures)
+    if (!std::isfinite(f.second))
+      throw InterpolationError(std::string("the trajectory's ") + f.first + " is " + formatNumber(f.second) +
+                               " (the input's magnitudes are too large: positions, times, rotation_scale or "
+                               "max_* bounds)");
+  for (std::size_t i = 0; i < out.waypoint_times.size(); ++i)
+    if (!std::isfinite(out.waypoint_times[i]))
+      throw InterpolationError(indexedField("waypoints", i) + ": its stretched time is " +
+                               formatNumber(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
+}
+
 template <class Space, class G>
 BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits, const SampleSink<Space>* sink)
 {
@@ -309,28 +337,7 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   // At the start time from the left, as the first sample: the state the motion starts from.
   const double t0 = curve->startTime();
   out.state_at = [curve, t0](double t) { return sampleAt(*curve, t, nullptr, t == t0 ? Side::kLeft : Side::kRight); };
-  // Overflow (huge positions, times, rotation_scale or tiny max_* bounds) must not reach the
-  // response as ∞ or NaN.
-  const std::pair<const char*, double> figures[] = {
-    { "time_scale", out.time_scale },
-    { "duration", out.duration },
-    { "length", fig.length },
-    { "rotation_length", fig.rotation_length },
-    { "max_linear_speed", fig.max_linear_speed },
-    { "max_angular_speed", fig.max_angular_speed },
-    { "max_linear_acceleration", fig.max_linear_acceleration },
-    { "max_angular_acceleration", fig.max_angular_acceleration },
-    { "energy", fig.energy },
-  };
-  for (const auto& f : figures)
-    if (!std::isfinite(f.second))
-      throw InterpolationError(std::string("the trajectory's ") + f.first + " is " + formatNumber(f.second) +
-                               " (the input's magnitudes are too large: positions, times, rotation_scale or "
-                               "max_* bounds)");
-  for (std::size_t i = 0; i < out.waypoint_times.size(); ++i)
-    if (!std::isfinite(out.waypoint_times[i]))
-      throw InterpolationError(indexedField("waypoints", i) + ": its stretched time is " +
-                               formatNumber(out.waypoint_times[i]) + " (the times or max_* bounds are too extreme)");
+  requireFiniteFigures(out, fig);
 
   const std::vector<double> ts = sampleTimes(r.sampling, curve->startTime(), curve->endTime(), limits);
   // Again with the final sample count (a stretch lengthens a sample_period's sampling).

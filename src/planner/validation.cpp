@@ -17,20 +17,6 @@ namespace
 using se3_interpolation::requireFinite;  // the scalar overload, beside the vector ones below
 using se3_interpolation::requireBounded;  // the Vector3d overload, beside the others below
 
-/// A step of at least 1 ns keeps rounded nanoseconds distinct; the margin absorbs the
-/// rounding of t0 + (t1 - t0) i / (n - 1) near 1 ns spacing.
-constexpr double kResolvableStep = kRosDurationResolution * (1.0 - 1e-6);
-
-/// Generated sample times: each after the previous by at least 1 ns.
-void requireResolvable(const std::vector<double>& ts, const std::string& field)
-{
-  for (std::size_t i = 1; i < ts.size(); ++i)
-    if (!(ts[i] - ts[i - 1] >= kResolvableStep))
-      throw InvalidInputError(field + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) + " are " +
-                              formatNumber(ts[i] - ts[i - 1]) + " s apart, below the 1 ns resolution of time_from_start" +
-                              " (fewer samples or a longer duration)");
-}
-
 /// A vector of R^{m+1} (sphere points and tangents): components named [j].
 void requireFinite(const Eigen::VectorXd& v, const std::string& field)
 {
@@ -300,6 +286,57 @@ void applyStartState(const StartState& /*raw*/, int /*raw_degree*/, ValidatedSph
 {
   throw InvalidInputError("start_state: starting from a given state is for poses only (not on the sphere)");
 }
+/// degree (default and range), knots and continuity, once the curve and waypoints are valid.
+template <class Space>
+void validateShapeFields(const BasicRequest<Space>& r, BasicValidatedRequest<Space>* v)
+{
+  const std::size_t n = r.waypoints.size();
+  if (r.degree < 0)
+    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
+  const int max_degree = static_cast<int>(n) - 1;
+  v->degree = r.degree == 0 ? std::min(RequestDefaults::kDegree, max_degree) : r.degree;
+  if ((familyFields(v->curve) & kDegreeField) != 0u && v->degree > max_degree)
+    throw InvalidInputError("degree: " + std::to_string(v->degree) + " is too high for " + std::to_string(n) +
+                            " waypoints (at most " + std::to_string(max_degree) + ")");
+  if (!r.knots.empty())
+  {
+    requireFamilyTakes(v->curve, kKnotsField, true, "knots");
+    validateKnots(r.knots, n, v->degree);
+    for (std::size_t i = 0; i < r.knots.size(); ++i)
+      requireRosDuration(r.knots[i], indexedField("knots", i));
+    v->knots = r.knots;
+  }
+  if (r.continuity < 0 || r.continuity > kMaxBlendingContinuity)
+    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... " +
+                            std::to_string(kMaxBlendingContinuity));
+  v->continuity = r.continuity == 0 ? RequestDefaults::kContinuity : r.continuity;
+}
+
+/// duration, the bounds, timing and speed.
+template <class Space>
+void validateTimingFields(const BasicRequest<Space>& r, BasicValidatedRequest<Space>* v)
+{
+  requireFiniteNonNegative(r.duration, "duration");
+  requireRosDuration(r.duration, "duration");
+  v->duration = r.duration;
+  requireFiniteNonNegative(r.max_linear_velocity, "max_linear_velocity");
+  requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
+  requireFiniteNonNegative(r.max_linear_acceleration, "max_linear_acceleration");
+  requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
+  v->max_linear_velocity = r.max_linear_velocity;
+  v->max_angular_velocity = r.max_angular_velocity;
+  v->max_linear_acceleration = r.max_linear_acceleration;
+  v->max_angular_acceleration = r.max_angular_acceleration;
+  requireFiniteNonNegative(r.max_linear_jerk, "max_linear_jerk");
+  requireFiniteNonNegative(r.max_angular_jerk, "max_angular_jerk");
+  v->max_linear_jerk = r.max_linear_jerk;
+  v->max_angular_jerk = r.max_angular_jerk;
+  v->timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
+  requireFiniteNonNegative(r.speed, "speed");
+  v->speed = r.speed;
+  if (v->timing == Timing::kConstantSpeed)
+    requireConstantSpeedFields(*v);
+}
 }  // namespace
 
 std::string withLimitPrefix(const std::string& message, const std::string& prefix)
@@ -371,25 +408,7 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
                                 ": identical consecutive waypoints need explicit times (to dwell)");
   requireUniqueGeodesics(v.waypoints);
 
-  if (r.degree < 0)
-    throw InvalidInputError("degree: " + std::to_string(r.degree) + " must be >= 1");
-  const int max_degree = static_cast<int>(n) - 1;
-  v.degree = r.degree == 0 ? std::min(RequestDefaults::kDegree, max_degree) : r.degree;
-  if ((familyFields(v.curve) & kDegreeField) != 0u && v.degree > max_degree)
-    throw InvalidInputError("degree: " + std::to_string(v.degree) + " is too high for " + std::to_string(n) +
-                            " waypoints (at most " + std::to_string(max_degree) + ")");
-  if (!r.knots.empty())
-  {
-    requireFamilyTakes(v.curve, kKnotsField, true, "knots");
-    validateKnots(r.knots, n, v.degree);
-    for (std::size_t i = 0; i < r.knots.size(); ++i)
-      requireRosDuration(r.knots[i], indexedField("knots", i));
-    v.knots = r.knots;
-  }
-  if (r.continuity < 0 || r.continuity > kMaxBlendingContinuity)
-    throw InvalidInputError("continuity: " + std::to_string(r.continuity) + " is outside 1 ... " +
-                            std::to_string(kMaxBlendingContinuity));
-  v.continuity = r.continuity == 0 ? RequestDefaults::kContinuity : r.continuity;
+  validateShapeFields(r, &v);
 
   v.start_velocity = validVelocity(r.start_velocity, v.waypoints.front(), "start_velocity");
   v.end_velocity = validVelocity(r.end_velocity, v.waypoints.back(), "end_velocity");
@@ -405,26 +424,7 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
     v.velocities.push_back(validVelocity(r.velocities[i], v.waypoints[i], indexedField("velocities", i)));
   }
 
-  requireFiniteNonNegative(r.duration, "duration");
-  requireRosDuration(r.duration, "duration");
-  v.duration = r.duration;
-  requireFiniteNonNegative(r.max_linear_velocity, "max_linear_velocity");
-  requireFiniteNonNegative(r.max_angular_velocity, "max_angular_velocity");
-  requireFiniteNonNegative(r.max_linear_acceleration, "max_linear_acceleration");
-  requireFiniteNonNegative(r.max_angular_acceleration, "max_angular_acceleration");
-  v.max_linear_velocity = r.max_linear_velocity;
-  v.max_angular_velocity = r.max_angular_velocity;
-  v.max_linear_acceleration = r.max_linear_acceleration;
-  v.max_angular_acceleration = r.max_angular_acceleration;
-  requireFiniteNonNegative(r.max_linear_jerk, "max_linear_jerk");
-  requireFiniteNonNegative(r.max_angular_jerk, "max_angular_jerk");
-  v.max_linear_jerk = r.max_linear_jerk;
-  v.max_angular_jerk = r.max_angular_jerk;
-  v.timing = parseName(r.timing, "timing", RequestDefaults::kTiming);
-  requireFiniteNonNegative(r.speed, "speed");
-  v.speed = r.speed;
-  if (v.timing == Timing::kConstantSpeed)
-    requireConstantSpeedFields(v);
+  validateTimingFields(r, &v);
 
   validateFitFields(r, &v);
 
@@ -456,54 +456,6 @@ void requireFiniteNonNegative(double x, const std::string& field)
     throw InvalidInputError(field + ": " + formatNumber(x) + " must be >= 0");
 }
 
-void requireRosDuration(double t, const std::string& field)
-{
-  if (!(std::abs(t) <= kRosDurationMaxSeconds))
-    throw InvalidInputError(field + ": " + formatNumber(t) + " s is outside ROS's duration range (|t| <= " +
-                            formatNumber(kRosDurationMaxSeconds) + " s, signed 32-bit seconds)");
-}
-
-void validateTimeSpan(double start_time, double end_time, const std::string& cause)
-{
-  for (double t : { start_time, end_time })
-    if (!(std::abs(t) <= kRosDurationMaxSeconds))
-      throw InvalidInputError(cause + ": the trajectory would span [" + formatNumber(start_time) + ", " +
-                              formatNumber(end_time) + "] s, beyond ROS's duration range (|t| <= " +
-                              formatNumber(kRosDurationMaxSeconds) + " s)");
-}
-
-void validateStampedSpan(double stamp, double start_time, double end_time, const std::string& stamp_field)
-{
-  if (!(stamp >= 0.0 && stamp <= kRosTimeMaxSeconds))
-    throw InvalidInputError(stamp_field + ": " + formatNumber(stamp) + " s is not a ROS time");
-  if (!(stamp + start_time >= 0.0))
-    throw InvalidInputError(stamp_field + ": the trajectory would start at " + formatNumber(stamp + start_time) +
-                            " s, before time 0 (stamp + the first time < 0)");
-  if (!(stamp + end_time <= kRosTimeMaxSeconds))
-    throw InvalidInputError(stamp_field + ": the trajectory would end at " + formatNumber(stamp + end_time) +
-                            " s, after the last ROS time " + formatNumber(kRosTimeMaxSeconds) +
-                            " s (unsigned 32-bit seconds)");
-}
-
-void validateFrameId(const std::string& id, const std::string& field)
-{
-  if (id.empty())
-    throw InvalidInputError(field + ": is empty");
-  if (id.size() > kMaxFrameIdLength)
-    throw InvalidInputError(field + ": " + quotedText(id) + " is longer than " + std::to_string(kMaxFrameIdLength) +
-                            " characters");
-  if (id.front() == '/')
-    throw InvalidInputError(field + ": " + quotedText(id) + " starts with '/' (tf2 frame ids have no leading slash)");
-  for (std::size_t i = 0; i < id.size(); ++i)
-  {
-    const unsigned char c = static_cast<unsigned char>(id[i]);
-    if (c < 0x20 || c == 0x7F)
-      throw InvalidInputError(field + ": " + quotedText(id) + " contains a control character at " + std::to_string(i));
-    if (std::isspace(c))
-      throw InvalidInputError(field + ": " + quotedText(id) + " contains white space at " + std::to_string(i));
-  }
-}
-
 void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
 {
   if (times.empty())
@@ -518,86 +470,4 @@ void validateTimes(const std::vector<double>& times, std::size_t num_waypoints)
                               "], below the 1 ns resolution of time_from_start");
   }
 }
-
-Sampling validateSampling(const std::vector<double>& sample_times, double sample_period, std::uint32_t sample_count,
-                          const PlannerLimits& limits)
-{
-  if (sample_times.size() > limits.max_samples)
-    throw LimitExceededError("sample_times: " + std::to_string(sample_times.size()) +
-                             " samples requested; the limit (max_samples) is " + std::to_string(limits.max_samples));
-  for (std::size_t i = 0; i < sample_times.size(); ++i)
-  {
-    requireFinite(sample_times[i], indexedField("sample_times", i));
-    requireRosDuration(sample_times[i], indexedField("sample_times", i));
-    if (i > 0 && sample_times[i] < sample_times[i - 1])
-      throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(sample_times[i]) +
-                              " is before the previous sample time (sample_times must be non-decreasing)");
-  }
-  requireFiniteNonNegative(sample_period, "sample_period");
-  if (sample_period > 0.0 && sample_period < kRosDurationResolution)
-    throw InvalidInputError("sample_period: " + formatNumber(sample_period) +
-                            " s is below the 1 ns resolution of time_from_start");
-  if (sample_count == 1)
-    throw InvalidInputError("sample_count: 1 is too few (at least 2: both ends)");
-  Sampling s;
-  s.sample_times = sample_times;
-  s.sample_period = sample_period;
-  s.sample_count = sample_count == 0 ? RequestDefaults::kSampleCount : sample_count;
-  if (sample_times.empty() && sample_period == 0.0 && s.sample_count > limits.max_samples)
-    throw LimitExceededError("sample_count: " + std::to_string(s.sample_count) +
-                             " samples requested; the limit (max_samples) is " + std::to_string(limits.max_samples));
-  return s;
-}
-
-std::vector<double> sampleTimes(const Sampling& r, double t0, double t1, const PlannerLimits& limits)
-{
-  std::vector<double> ts;
-  if (!r.sample_times.empty())
-  {
-    const double tol = 1e-9 * std::max(1.0, std::abs(t1));
-    for (std::size_t i = 0; i < r.sample_times.size(); ++i)
-    {
-      const double t = r.sample_times[i];
-      if (t < t0 - tol || t > t1 + tol)
-        throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(t) +
-                                " s is outside the trajectory [" + formatNumber(t0) + ", " + formatNumber(t1) + "] s");
-      ts.push_back(std::min(std::max(t, t0), t1));
-      const double step = i > 0 ? ts[i] - ts[i - 1] : 0.0;
-      if (step > 0.0 && step < kResolvableStep)
-        throw InvalidInputError(indexedField("sample_times", i) + ": " + formatNumber(t) + " s is only " +
-                                formatNumber(step) + " s after the previous sample (time_from_start resolves 1 ns)");
-    }
-    return ts;
-  }
-  if (r.sample_period > 0.0)
-  {
-    if (r.sample_period < kRosDurationResolution)
-      throw InvalidInputError("sample_period: " + formatNumber(r.sample_period) +
-                              " s is below the 1 ns resolution of time_from_start");
-    const double count = std::floor((t1 - t0) / r.sample_period) + 2.0;
-    if (!(count <= static_cast<double>(limits.max_samples)))
-      throw LimitExceededError("sample_period: " + formatNumber(r.sample_period) + " s gives " + formatNumber(count) +
-                               " samples; the limit (max_samples) is " + std::to_string(limits.max_samples));
-    // Both ends always; a regular sample closer to t1 than the tolerance merges into t1.
-    const double tol = std::max(1e-9 * r.sample_period, kRosDurationResolution);
-    ts.push_back(t0);
-    for (std::size_t i = 1;; ++i)
-    {
-      const double t = t0 + static_cast<double>(i) * r.sample_period;
-      if (!(t < t1 - tol))
-        break;
-      ts.push_back(t);
-    }
-    ts.push_back(t1);
-    requireResolvable(ts, "sample_period");
-    return ts;
-  }
-  ts.resize(r.sample_count);
-  for (std::size_t i = 0; i < ts.size(); ++i)
-    ts[i] = t0 + (t1 - t0) * static_cast<double>(i) / static_cast<double>(ts.size() - 1);
-  ts.back() = t1;
-  requireResolvable(ts, "sample_count");
-  return ts;
-}
-
 }  // namespace se3_interpolation

@@ -105,6 +105,65 @@ bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTraje
   return true;  // errors travel in res.success / res.message (a false return loses them)
 }
 
+InterpolationNode::Waypoints InterpolationNode::gatherWaypoints(const GenerateTrajectory::Request& req,
+                                                               const NodeParameters& params) const
+{
+  Waypoints w;
+  if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
+  {
+    WaypointTopics::Buffer::Snapshot buffered = waypoint_topics_->buffer().snapshot();
+    w.recorded_times = buffered.recordedTimes();
+    w.poses = std::move(buffered.waypoints);
+    w.frame = buffered.frame_id;
+    if (w.poses.size() < 2)
+      throw InvalidInputError("waypoints: 0 given and the ~waypoint buffer " +
+                              (w.poses.empty() ? std::string("is empty") : "holds only 1") +
+                              "; at least 2 are needed");
+  }
+  else
+  {
+    w.poses = req.waypoints.poses;
+    w.frame = req.waypoints.header.frame_id.empty() ? params.frame_id : req.waypoints.header.frame_id;
+  }
+  validateFrameId(w.frame, "waypoints.header.frame_id");
+  if (!req.waypoint_frames.empty())
+  {
+    const std::size_t max_waypoints = params.limits().max_waypoints;
+    if (w.poses.size() + req.waypoint_frames.size() > max_waypoints)
+      throw LimitExceededError("waypoints: " + std::to_string(w.poses.size()) + " poses and " +
+                               std::to_string(req.waypoint_frames.size()) +
+                               " waypoint_frames given; the limit (~max_waypoints) is " +
+                               std::to_string(max_waypoints));
+    const std::vector<geometry_msgs::Pose> taught = lookUpWaypointFrames(req.waypoint_frames, w.frame, params.tf_timeout);
+    w.poses.insert(w.poses.end(), taught.begin(), taught.end());
+  }
+  return w;
+}
+
+ros::Time InterpolationNode::startOf(const GenerateTrajectory::Request& req, const NodeParameters& params,
+                                     const std::string& frame, const std::string& child,
+                                     std::vector<double>* recorded_times, TrajectoryRequest* r) const
+{
+  ros::Time stamp = req.waypoints.header.stamp;
+  // A fit of the buffer without times: the poses streamed on ~waypoint are a recording, timed by
+  // their stamps (after the first one's). It is replayed from its first pose, at its own pace:
+  // the recording is the motion, so it does not replan from the current one (from_current).
+  bool from_current = req.from_current;
+  if (r->curve == FitFamily::kName && r->times.empty() && !recorded_times->empty())
+  {
+    r->times = std::move(*recorded_times);
+    from_current = false;
+  }
+  if (from_current)
+  {
+    // The switch time T_s: the request's stamp, else ~replan_lead from now; times count from it.
+    if (stamp.isZero())
+      stamp = ros::Time::now() + ros::Duration(params.replan_lead);
+    startFromCurrent(stamp, frame, child, r);
+  }
+  return stamp;
+}
+
 void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res)
 {
   std::vector<std::string> filled;  // the request fields taken from the node's parameters
@@ -112,36 +171,10 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
   {
     const NodeParameters params = parameters_->get();
     const PlannerLimits limits = params.limits();
-    std::vector<geometry_msgs::Pose> poses;
-    std::string frame;
-    std::vector<double> recorded_times;  // the buffered waypoints' stamps, as a recording
-    if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
-    {
-      WaypointTopics::Buffer::Snapshot buffered = waypoint_topics_->buffer().snapshot();
-      recorded_times = buffered.recordedTimes();
-      poses = std::move(buffered.waypoints);
-      frame = buffered.frame_id;
-      if (poses.size() < 2)
-        throw InvalidInputError("waypoints: 0 given and the ~waypoint buffer " +
-                                (poses.empty() ? std::string("is empty") : "holds only 1") +
-                                "; at least 2 are needed");
-    }
-    else
-    {
-      poses = req.waypoints.poses;
-      frame = req.waypoints.header.frame_id.empty() ? params.frame_id : req.waypoints.header.frame_id;
-    }
-    validateFrameId(frame, "waypoints.header.frame_id");
-    if (!req.waypoint_frames.empty())
-    {
-      if (poses.size() + req.waypoint_frames.size() > limits.max_waypoints)
-        throw LimitExceededError("waypoints: " + std::to_string(poses.size()) + " poses and " +
-                                 std::to_string(req.waypoint_frames.size()) +
-                                 " waypoint_frames given; the limit (~max_waypoints) is " +
-                                 std::to_string(limits.max_waypoints));
-      const std::vector<geometry_msgs::Pose> taught = lookUpWaypointFrames(req.waypoint_frames, frame, params.tf_timeout);
-      poses.insert(poses.end(), taught.begin(), taught.end());
-    }
+    Waypoints waypoints = gatherWaypoints(req, params);
+    const std::vector<geometry_msgs::Pose>& poses = waypoints.poses;
+    const std::string& frame = waypoints.frame;
+    std::vector<double>& recorded_times = waypoints.recorded_times;
     const std::string child = req.child_frame_id.empty() ? params.child_frame_id : req.child_frame_id;
     validateFrameId(child, "child_frame_id");
     if (child == frame)
@@ -150,23 +183,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     const ResponseOutputs outputs = parseResponseOutputs(req.outputs);
     TrajectoryRequest r = fromMsg(req, poses);
     filled = applyRequestDefaults(params, &r);
-    ros::Time stamp = req.waypoints.header.stamp;
-    // A fit of the buffer without times: the poses streamed on ~waypoint are a recording, timed by
-    // their stamps (after the first one's). It is replayed from its first pose, at its own pace:
-    // the recording is the motion, so it does not replan from the current one (from_current).
-    bool from_current = req.from_current;
-    if (r.curve == FitFamily::kName && r.times.empty() && !recorded_times.empty())
-    {
-      r.times = std::move(recorded_times);
-      from_current = false;
-    }
-    if (from_current)
-    {
-      // The switch time T_s: the request's stamp, else ~replan_lead from now; times count from it.
-      if (stamp.isZero())
-        stamp = ros::Time::now() + ros::Duration(params.replan_lead);
-      startFromCurrent(stamp, frame, child, &r);
-    }
+    ros::Time stamp = startOf(req, params, frame, child, &recorded_times, &r);
     const std::chrono::steady_clock::time_point planning = std::chrono::steady_clock::now();
     const TrajectoryResult result = se3_interpolation::generate(r, limits);
     const std::chrono::steady_clock::time_point filling = std::chrono::steady_clock::now();

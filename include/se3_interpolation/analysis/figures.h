@@ -35,7 +35,7 @@ struct CurveFigures
   double max_linear_acceleration = 0.0;
   double max_angular_acceleration = 0.0;
   /// Peak |d³p/dt³| (m/s³) and |ω̈| (rad/s³): measured only when a jerk bound is set
-  /// (analysis/jerk_figures.h, or the jerk-limited timing's own check); 0 otherwise.
+  /// (timing/jerk_peaks.h, or the jerk-limited timing's own check); 0 otherwise.
   double max_linear_jerk = 0.0;
   double max_angular_jerk = 0.0;
 };

@@ -250,6 +250,42 @@ private:
     return true;
   }
 
+  /// The corrector of one predictor step of followPath from (z, λ) along the unit tangent (tz, tl)
+  /// by ds: Newton on R(z_c, λ_c) = 0 and ⟨tangent, (z_c − z, λ_c − λ)⟩ = ds (the norm weighted by
+  /// σ²) by block elimination, from the predicted (*zc, *lc), at most kIterationsPerStep iterations
+  /// (*used counts them). Whether it converged to kPathTolerance; false where an iteration fails
+  /// or wanders farther than ds.
+  bool correct(const Eigen::VectorXd& z, double lambda, const Eigen::VectorXd& tz, double tl, double ds,
+               double sigma2, Eigen::VectorXd* zc, double* lc, int* used, int* budget, Residual* r) const
+  {
+    for (; *used < kIterationsPerStep && *budget > 0; ++*used)
+    {
+      if (!system_.residual(*zc, *lc, r))
+        return false;
+      if (system_.converged(*r, kPathTolerance))
+        return true;
+      --*budget;
+      Eigen::VectorXd b;
+      // lambdaDerivative ends with residual(zc, 1): w_i, G_i at zc for the Jacobian.
+      if (!lambdaDerivative(*zc, &b) || !system_.factorized(*lc))
+        return false;
+      Eigen::VectorXd a = -r->r;
+      system_.solveInPlace(&a);
+      system_.solveInPlace(&b);
+      const double g = tz.dot(*zc - z) / sigma2 + tl * (*lc - lambda) - ds;
+      const double denominator = tl - tz.dot(b) / sigma2;
+      if (!a.allFinite() || !b.allFinite() || denominator == 0.0)
+        return false;
+      const double dl = (-g - tz.dot(a) / sigma2) / denominator;
+      const Eigen::VectorXd dz = a - b * dl;
+      if (std::sqrt(dz.squaredNorm() / sigma2 + dl * dl) > ds)
+        return false;  // the corrector wanders off: a shorter step
+      *zc += dz;
+      *lc += dl;
+    }
+    return false;
+  }
+
   /// Pseudo-arclength continuation (Keller) of R(z, λ) = 0 from a solution (*z, λ) to λ = 1:
   /// predictor along the unit tangent, Newton corrector on R = 0 and ⟨tangent, Δ⟩ = step by block
   /// elimination with the banded LU; past λ = 1, Newton's method from the secant's point there.
@@ -277,37 +313,8 @@ private:
       --*budget;  // each step costs a tangent at least
       Eigen::VectorXd zc = z + ds * tz;
       double lc = lambda + ds * tl;
-      bool ok = false;
       int used = 0;
-      for (; used < kIterationsPerStep && *budget > 0; ++used)
-      {
-        if (!system_.residual(zc, lc, &r))
-          break;
-        if (system_.converged(r, kPathTolerance))
-        {
-          ok = true;
-          break;
-        }
-        --*budget;
-        Eigen::VectorXd b;
-        // lambdaDerivative ends with residual(zc, 1): w_i, G_i at zc for the Jacobian.
-        if (!lambdaDerivative(zc, &b) || !system_.factorized(lc))
-          break;
-        Eigen::VectorXd a = -r.r;
-        system_.solveInPlace(&a);
-        system_.solveInPlace(&b);
-        const double g = tz.dot(zc - z) / sigma2 + tl * (lc - lambda) - ds;
-        const double denominator = tl - tz.dot(b) / sigma2;
-        if (!a.allFinite() || !b.allFinite() || denominator == 0.0)
-          break;
-        const double dl = (-g - tz.dot(a) / sigma2) / denominator;
-        const Eigen::VectorXd dz = a - b * dl;
-        if (std::sqrt(dz.squaredNorm() / sigma2 + dl * dl) > ds)
-          break;  // the corrector wanders off: a shorter step
-        zc += dz;
-        lc += dl;
-      }
-      if (!ok)
+      if (!correct(z, lambda, tz, tl, ds, sigma2, &zc, &lc, &used, budget, &r))
       {
         ds *= 0.5;
         continue;

@@ -191,6 +191,38 @@ bool screwSlerpJet(const Pose<Jet<K>>& a, const Pose<Jet<K>>& b, const Jet<K>& l
   return true;
 }
 
+/// dV(Ω)[e_k] w = 2A'Ω_k Ω × w + A e_k × w + 2B'Ω_k Ω × (Ω × w) + B (e_k × (Ω × w) + Ω × (e_k × w)),
+/// the derivative of V(Ω) w along e_k, given u = Ω × w, in the scalar S (double, or a first-order
+/// jet along Ω), from A, B and A', B' at |Ω|² (screwTransitionDerivatives).
+template <class Om, class S, class W, class U>
+auto screwLeftDV(const Om& om, const S& a, const S& b, const S& da, const S& db, int k, const W& w, const U& u)
+{
+  using Vec = std::decay_t<U>;
+  const Vec y = Vec::Unit(k);
+  const auto yw = y.cross(w).eval();
+  const auto dx = 2.0 * om[k];  // 2 Ω·e_k
+  return (u * (da * dx) + yw * a + om.cross(u) * (db * dx) + (y.cross(u) + om.cross(yw)) * b).eval();
+}
+
+/// V(Ω) e_k, and Q_l(Ω, n) e_k = dV(Ω)[e_k] n − (V(Ω) e_k) × (V(Ω) n) with n = −v, for k < 3, as the
+/// columns of *v_columns and *q_columns (screwTransitionDerivatives).
+template <class Om, class S, class N, class Columns>
+void screwLeftJacobianColumns(const Om& om, const S& a, const S& b, const S& da, const S& db, const N& n,
+                              Columns* v_columns, Columns* q_columns)
+{
+  const auto un = om.cross(n).eval();
+  const auto vn = (n + un * a + om.cross(un) * b).eval();
+  for (int k = 0; k < 3; ++k)
+  {
+    using Vec = std::decay_t<decltype(un)>;
+    const Vec y = Vec::Unit(k);
+    const auto uy = om.cross(y).eval();
+    const auto vy = (y + uy * a + om.cross(uy) * b).eval();
+    v_columns->col(k) = vy;
+    q_columns->col(k) = screwLeftDV(om, a, b, da, db, k, n, un) - vy.cross(vn);
+  }
+}
+
 /// The derivatives D = dF(0) and Q = d²F(0) of the chart transition F(δ) = Log(Exp(−L) Exp(L + δ))
 /// (the C² solve's map between the charts at a segment's ends, chart_transition.h), in closed
 /// form. With g(s) = Exp(−L) Exp(L + s d), g⁻¹ ġ = J_r(L + s d) d = J_r(F) Ḟ (J_r the right
@@ -212,32 +244,6 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
   const double x = omega.squaredNorm();
   const ScrewCoefficients c = screwCoefficients(x);
   const ScrewSecondDerivatives c2 = screwSecondDerivatives(x, c);
-  // dV(Ω)[e_k] w = 2A'Ω_k Ω × w + A e_k × w + 2B'Ω_k Ω × (Ω × w) + B (e_k × (Ω × w) + Ω × (e_k × w)),
-  // the derivative of V(Ω) w along e_k, given u = Ω × w, in the scalar S (double, or a
-  // first-order jet along Ω), from A, B and A', B' at |Ω|².
-  auto leftDV = [](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db, int k,
-                   const auto& w, const auto& u) {
-    using Vec = std::decay_t<decltype(u)>;
-    const Vec y = Vec::Unit(k);
-    const auto yw = y.cross(w).eval();
-    const auto dx = 2.0 * om[k];  // 2 Ω·e_k
-    return (u * (da * dx) + yw * a + om.cross(u) * (db * dx) + (y.cross(u) + om.cross(yw)) * b).eval();
-  };
-  // V(Ω) e_k, and Q_l(Ω, n) e_k = dV(Ω)[e_k] n − (V(Ω) e_k) × (V(Ω) n) with n = −v, for k < 3.
-  auto leftJacobianColumns = [&leftDV](const auto& om, const auto& a, const auto& b, const auto& da, const auto& db,
-                                       const auto& n, auto* v_columns, auto* q_columns) {
-    const auto un = om.cross(n).eval();
-    const auto vn = (n + un * a + om.cross(un) * b).eval();
-    for (int k = 0; k < 3; ++k)
-    {
-      using Vec = std::decay_t<decltype(un)>;
-      const Vec y = Vec::Unit(k);
-      const auto uy = om.cross(y).eval();
-      const auto vy = (y + uy * a + om.cross(uy) * b).eval();
-      v_columns->col(k) = vy;
-      q_columns->col(k) = leftDV(om, a, b, da, db, k, n, un) - vy.cross(vn);
-    }
-  };
   // dJ_r(L)[e_j], j < 3: along the rotation, Ω(s) = −(ω_L + s e_j), from first-order jets.
   std::array<Eigen::Matrix<double, 6, 6>, 3> rotation_derivative;
   for (int j = 0; j < 3; ++j)
@@ -251,7 +257,7 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
     jda.coefficient(1) = c2.dda * dx;
     jdb.coefficient(1) = c2.ddb * dx;
     Eigen::Matrix<J1, 3, 3> v_columns, q_columns;
-    leftJacobianColumns(om, ja, jb, jda, jdb, Vector3<J1>(lin.cast<J1>()), &v_columns, &q_columns);
+    screwLeftJacobianColumns(om, ja, jb, jda, jdb, Vector3<J1>(lin.cast<J1>()), &v_columns, &q_columns);
     rotation_derivative[j].setZero();
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k)
@@ -272,7 +278,7 @@ inline void screwTransitionDerivatives(const Vector6<double>& log, Eigen::Matrix
   // (N = −v, Q_l linear in it), and 0 on the translation coordinates.
   auto translationDerivative = [&](int a_index, int b_index) {
     const Vector3<double> w = Vector3<double>::Unit(b_index);
-    return Vector3<double>(-leftDV(omega, c.a, c.b, c.da, c.db, a_index, w, Vector3<double>(omega.cross(w))) +
+    return Vector3<double>(-screwLeftDV(omega, c.a, c.b, c.da, c.db, a_index, w, Vector3<double>(omega.cross(w))) +
                            d->block<3, 1>(0, a_index).cross(d->block<3, 1>(0, b_index)));
   };
   q->setZero();

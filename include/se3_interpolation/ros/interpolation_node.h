@@ -68,6 +68,21 @@ private:
   bool clearWaypoints(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   /// Validates, generates and (if asked) publishes; fills `res` and never throws.
   void generateInto(const GenerateTrajectory::Request& req, GenerateTrajectory::Response& res);
+  /// A request's waypoints in their frame: the request's poses (in its header's frame, else
+  /// ~frame_id) and its waypoint_frames looked up in that frame, or, when it gives neither, the
+  /// ~waypoint buffer's poses with their stamps as a recording's times.
+  struct Waypoints
+  {
+    std::vector<geometry_msgs::Pose> poses;
+    std::string frame;
+    std::vector<double> recorded_times;  ///< the buffered waypoints' stamps (empty for the request's)
+  };
+  Waypoints gatherWaypoints(const GenerateTrajectory::Request& req, const NodeParameters& params) const;
+  /// The motion's stamp (the request's, ~replan_lead from now when it starts from the current
+  /// motion, or zero) and its start: from the current motion (from_current, startFromCurrent), or
+  /// a recording's own times (a fit of the buffer without times, moved out of *recorded_times).
+  ros::Time startOf(const GenerateTrajectory::Request& req, const NodeParameters& params, const std::string& frame,
+                    const std::string& child, std::vector<double>* recorded_times, TrajectoryRequest* r) const;
   /// Publishes the topics and plays the trajectory on the moving frame, unless goals own the frame
   /// (FollowTrajectoryServer::ownsFrame); returns whether it was played.
   bool publish(const TrajectoryResult& result, const nav_msgs::Path& path,

@@ -76,7 +76,7 @@ double testW2(int n, double u)
   if (n == 1)
     return (1 - u) * (1 - u) * u;  // §4
   if (n == 2)
-    return std::pow(1 - u, 4) * u + 4 * std::pow(1 - u, 3) * u * u;  // §4 as corrected (see blending.h)
+    return std::pow(1 - u, 4) * u + 4 * std::pow(1 - u, 3) * u * u;  // §4 as corrected (see curves/blended_spline.h)
   return bernsteinPow(controlW2(n), u);
 }
 
