@@ -11,7 +11,7 @@
 // loss(s) = s (`squared`) or Huber's loss(s) = s for s ≤ δ², 2δ√s − δ² beyond (`huber`, δ = loss_scale).
 // The mean (1/N) makes λ independent of the recording rate.
 //
-// How it is solved (src/fitting/bspline_fit.cpp):
+// How it is solved (src/fitting/, whose units src/fitting/bspline_fit_detail.h lists):
 //   - double geodesic: the translation is the Euclidean B-spline Σ B_j(t) p_j, so its part of E
 //     is linear least squares, solved exactly (banded normal equations; with λ = 0 the classical
 //     least-squares spline on the same knots); the rotation part is a B-spline on SO(3), fitted by
