@@ -7,7 +7,8 @@
 - function size: no function body in include/ or src/ over MAX_FUNCTION_LINES lines, from the line
   of its opening brace to the line of its closing brace;
 - named paths: every path of this repository that a comment (C++, Python, shell, CMake) or a page
-  (README.md, docs/, CHANGELOG.rst) names exists.
+  (README.md, docs/, CHANGELOG.rst) names exists;
+- the header table: every public header has its row in docs/api.md.
 
 Prints each finding as FILE:LINE: message, then `structure: N passed, N failed`; exits 1 on a
 finding. Usage: check_structure.py [ROOT] (default: the repository holding this script).
@@ -21,9 +22,11 @@ MAX_FUNCTION_LINES = 80
 
 # Lowest first: a folder includes only itself and the folders before it. `base` is
 # include/se3_interpolation/*.h (exceptions, deadline, name tables), which every layer may use;
-# `arm` (the kinematic chain of a robot arm) needs the mathematics and geometry only.
-LAYERS = ["base", "math", "geometry", "curves", "analysis", "timing", "fitting", "arm", "planner",
-          "execution", "python", "ros", "cli"]
+# `arm` (the kinematic chain of a robot arm) needs the mathematics and geometry only. The execution
+# (goals, playback, stops) is below the planner: the planner samples its motions for it
+# (sample_tolerance refines the samples until the goal they make follows the motion).
+LAYERS = ["base", "math", "geometry", "curves", "analysis", "timing", "fitting", "arm", "execution",
+          "planner", "python", "ros", "cli"]
 
 # Files that the build generates, named in comments: dynamic_reconfigure's header of cfg/*.cfg
 # and the node parameter table that cfg/node_parameter_table.py writes.
@@ -229,6 +232,20 @@ def check_named_paths(root):
     return findings
 
 
+def check_api_table(root):
+    """Every public header of include/se3_interpolation/ has its row in docs/api.md (as `folder/name.h`,
+    or its folder's `folder/*.h`)."""
+    with open(os.path.join(root, "docs", "api.md"), errors="replace") as f:
+        page = f.read()
+    findings = []
+    for path in source_files(root, ["include/se3_interpolation"], (".h",)):
+        name = os.path.relpath(path, "include/se3_interpolation")
+        pattern = os.path.join(os.path.dirname(name), "*.h")
+        if "`%s`" % name not in page and "`%s`" % pattern not in page:
+            findings.append("%s: not in docs/api.md's table of headers" % path)
+    return findings
+
+
 def main():
     root = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), ".."))
     production = list(source_files(root, ["include/se3_interpolation", "src"], (".h", ".cpp", ".py")))
@@ -239,6 +256,7 @@ def main():
         ("files of at most %d lines" % MAX_FILE_LINES, file_findings),
         ("functions of at most %d lines" % MAX_FUNCTION_LINES, function_findings),
         ("paths named in comments and pages exist", check_named_paths(root)),
+        ("every public header in docs/api.md", check_api_table(root)),
     ]
     passed = failed = 0
     for name, findings in rules:

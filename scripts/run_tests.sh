@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, runs every test (unit, CLI, rostest integration, the rviz
-# screenshot, the README's command blocks, the Python module's pytest suite, catkin_lint and the
-# install space, sanitizers) and prints `N passed, N failed`. Exits non-zero if any test fails. Idempotent.
+# Installs what is missing, checks the structure rules, builds, runs every test (unit, CLI, rostest
+# integration, the rviz screenshot, the README's command blocks, the Python module's pytest suite,
+# catkin_lint and the install space, sanitizers) and prints `N passed, N failed`. Exits non-zero if
+# any test fails. Idempotent.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
+mkdir -p "$SE3_WS"
+# The structure rules first (scripts/check_structure.py: a second, no build); counted below.
+structure_status=0
+/usr/bin/python3 "$SE3_ROOT/scripts/check_structure.py" >"$SE3_WS/structure.log" 2>&1 || structure_status=$?
+grep -v '^PASS' "$SE3_WS/structure.log" || true
 # The sanitized build (plain CMake, ROS-free, about 13 minutes on 2 cores) and its unit tests at
 # nice 19 from the start, beside everything below, on the CPU the rest leaves idle (the catkin
 # build's serial steps, the rostests' waits on ROS start-up and sleeps); counted at the end.
-mkdir -p "$SE3_WS"
 SE3_SANITIZE_PHASE=unit nice -n 19 bash "$SE3_ROOT/scripts/run_sanitizers.sh" >"$SE3_WS/sanitizers_unit.log" 2>&1 &
 sanitized_unit_tests=$!
 # Each test is built once: the unit tests of test/unit/ in the sanitized build above, the
@@ -76,6 +81,7 @@ count_stage() {
   failed=$((failed + stage_failed))
   echo "$prefix stage done at ${SECONDS} s"
 }
+count_stage structure "$SE3_ROOT/scripts/check_structure.py" "$SE3_WS/structure.log" "$structure_status"
 # Every ```bash block of README.md and of docs/*.md, run verbatim in order (scripts/check_readme.sh):
 # each block is a test.
 run_counted_stage readme "$SE3_ROOT/scripts/check_readme.sh" "$SE3_WS/readme_summary.log"

@@ -10,7 +10,7 @@
 #include "se3_interpolation/analysis/kinematics.h"
 #include "se3_interpolation/curves/chart_hermite.h"
 #include "se3_interpolation/curves/curve.h"
-#include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/geometry/value_checks.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 
 namespace se3_interpolation

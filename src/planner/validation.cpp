@@ -24,34 +24,12 @@ void requireFinite(const Eigen::VectorXd& v, const std::string& field)
     requireFinite(v[j], indexedField(field, static_cast<std::size_t>(j)));
 }
 
-/// A finite number of magnitude at most kMaxMagnitude.
-void requireBounded(double x, const std::string& field)
-{
-  requireFinite(x, field);
-  if (!(std::abs(x) <= kMaxMagnitude))
-    throw InvalidInputError(field + ": " + formatNumber(x) + " is beyond the magnitude limit " +
-                            formatNumber(kMaxMagnitude) + " (larger values can overflow the curve's acceleration)");
-}
-
 /// A sphere tangent of bounded magnitude: components named [j].
 void requireBounded(const Eigen::VectorXd& v, const std::string& field)
 {
   for (Eigen::Index j = 0; j < v.size(); ++j)
     if (!(std::abs(v[j]) <= kMaxMagnitude))
       requireBounded(v[j], indexedField(field, static_cast<std::size_t>(j)));
-}
-
-/// A norm within [kMinUnitNorm, kMaxUnitNorm], else InvalidInputError naming `field`;
-/// `what` says what the unit object is ("quaternion x, y, z, w" or "vector").
-void requireUnitNorm(double norm, const std::string& field, const std::string& prefix, const char* what)
-{
-  if (!(norm >= kMinUnitNorm && norm <= kMaxUnitNorm))
-  {
-    char range[64];
-    std::snprintf(range, sizeof(range), "[%g, %g]", kMinUnitNorm, kMaxUnitNorm);
-    throw InvalidInputError(field + ": " + prefix + "norm " + formatNumber(norm) + " is outside " + range +
-                            " (expected a unit " + what + ")");
-  }
 }
 
 /// A field only some families take (FamilyField) is refused, when `given`, for the others that
@@ -351,30 +329,7 @@ std::string withLimitPrefix(const std::string& message, const std::string& prefi
   return out;
 }
 
-void requireBounded(const Eigen::Vector3d& v, const std::string& field)
-{
-  static const char* kAxis[] = { ".x", ".y", ".z" };
-  for (int i = 0; i < 3; ++i)
-    if (!(std::abs(v[i]) <= kMaxMagnitude))
-      requireBounded(v[i], field + kAxis[i]);
-}
 
-Quaternion<double> validateQuaternion(const Quaternion<double>& q, const std::string& field)
-{
-  const double c[] = { q.x(), q.y(), q.z(), q.w() };
-  static const char* kName[] = { ".x", ".y", ".z", ".w" };
-  for (int i = 0; i < 4; ++i)
-    requireFinite(c[i], field + kName[i]);
-  const double n = std::sqrt(q.coeffs().squaredNorm());
-  requireUnitNorm(n, field, "quaternion ", "quaternion x, y, z, w");
-  return Quaternion<double>(q.coeffs() / n);
-}
-
-Pose<double> validatePose(const Pose<double>& raw, const std::string& field)
-{
-  requireBounded(raw.p, field + ".position");
-  return Pose<double>(validateQuaternion(raw.q, field + ".orientation"), raw.p);
-}
 
 template <class Space>
 BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const PlannerLimits& limits)
@@ -442,12 +397,6 @@ BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const
 
 template ValidatedRequest validateRequest<PoseSpace>(const TrajectoryRequest&, const PlannerLimits&);
 template ValidatedSphereRequest validateRequest<SphereSpace>(const SphereRequest&, const PlannerLimits&);
-
-void requireFinite(double x, const std::string& field)
-{
-  if (!std::isfinite(x))
-    throw InvalidInputError(field + ": " + formatNumber(x) + " is not a finite number");
-}
 
 void requireFiniteNonNegative(double x, const std::string& field)
 {

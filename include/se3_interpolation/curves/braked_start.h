@@ -1,6 +1,6 @@
 // Replanning from a state that cannot continue along a curve within the bounds: the start state's
 // motion braked to rest along its own directions, then a motion from rest (the planner's
-// applyTimingFromStart, planner.cpp).
+// start-state unit, src/planner/start_state.cpp).
 //
 // From the start pose (R_0, p_0) with spatial twist (v_0, ω_0) (README, "Conventions"), each
 // channel decelerates at a constant rate along its own direction until it stops:

@@ -51,7 +51,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/execution/playback.h"
-#include "se3_interpolation/planner/request.h"
+#include "se3_interpolation/geometry/trajectory_sample.h"
 
 namespace se3_interpolation
 {

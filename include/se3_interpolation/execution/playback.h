@@ -48,7 +48,7 @@
 #include <utility>
 
 #include "se3_interpolation/execution/stop_law.h"
-#include "se3_interpolation/planner/request.h"
+#include "se3_interpolation/geometry/trajectory_sample.h"
 
 namespace se3_interpolation
 {

@@ -33,7 +33,7 @@
 #include <functional>
 
 #include "se3_interpolation/execution/goal_trajectory.h"
-#include "se3_interpolation/planner/request.h"
+#include "se3_interpolation/geometry/trajectory_sample.h"
 
 namespace se3_interpolation
 {

@@ -39,7 +39,7 @@
 #include <functional>
 #include <memory>
 
-#include "se3_interpolation/planner/request.h"
+#include "se3_interpolation/geometry/trajectory_sample.h"
 
 namespace se3_interpolation
 {

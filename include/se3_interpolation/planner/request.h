@@ -26,6 +26,7 @@
 #include "se3_interpolation/curves/end_condition.h"
 #include "se3_interpolation/fitting/bspline_fit.h"
 #include "se3_interpolation/geometry/geometry.h"
+#include "se3_interpolation/geometry/trajectory_sample.h"
 
 namespace se3_interpolation
 {
@@ -40,11 +41,6 @@ enum class CurveType
   kHermite,
   kBlended,
   kFit
-};
-enum class GeometryType
-{
-  kDoubleGeodesic,
-  kScrew
 };
 enum class Parameterization
 {
@@ -124,14 +120,6 @@ struct Sampling
   /// m of chord distance; > 0: samples inserted until a goal made of them executes the motion
   /// (execution/sample_refinement.h). Poses only.
   double sample_tolerance = 0.0;
-};
-
-struct TrajectorySample
-{
-  double time = 0.0;  ///< s after the request stamp
-  Pose<double> pose;  ///< world_T_body, quaternion sign-continuous along the samples
-  Twist velocity;
-  Twist acceleration;
 };
 
 struct SphereSample
