@@ -18,7 +18,7 @@ sanitized_unit_tests=$!
 # Each test is built once: the unit tests of test/unit/ in the sanitized build above, the
 # request-space grid (test_request_space, which needs an optimised build) and the ROS tests here;
 # the benchmarks are not built (no stage runs them; scripts/run_benchmarks.sh builds its own).
-se3_build -DSE3_CATKIN_UNIT_TESTS=OFF -DSE3_BENCHMARKS=OFF
+se3_build -Dse3_interpolation_CATKIN_UNIT_TESTS=OFF -Dse3_interpolation_BENCHMARKS=OFF
 # The test binaries on both cores (run_tests below runs the tests one at a time, -j1, and would
 # build them on one).
 (cd "$SE3_WS" && catkin_make tests -j2 >"$SE3_WS/tests_build.log" 2>&1) ||
