@@ -163,9 +163,6 @@ void ArmModel::applyLimits(const JointLimitsFile& limits)
         throw ArmModelError(prefix + "a continuous joint has no position limits");
       l.min_position = entry.min_position.value_or(l.min_position);
       l.max_position = entry.max_position.value_or(l.max_position);
-      if (l.min_position > l.max_position)
-        throw ArmModelError(prefix + "min_position " + formatNumber(l.min_position) + " > max_position " +
-                            formatNumber(l.max_position));
     }
     l.max_velocity = entry.max_velocity.value_or(l.max_velocity);
     l.max_acceleration = entry.max_acceleration.value_or(l.max_acceleration);

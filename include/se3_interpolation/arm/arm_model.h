@@ -98,7 +98,7 @@ public:
   /// Replaces the chain joints' limits by the file's values (JointLimitsFile). An entry naming a
   /// joint the URDF lacks is refused (ArmModelError naming the file and joint); entries for URDF
   /// joints off the chain are ignored (a MoveIt file covers the whole robot). A position range
-  /// given for a continuous joint is refused; the resulting min_position > max_position too.
+  /// given for a continuous joint is refused.
   void applyLimits(const JointLimitsFile& limits);
 
   const std::string& baseLink() const { return base_link_; }

@@ -56,7 +56,7 @@ struct JointLimits
 };
 
 /// One joint's entry of a limits file: the values whose has_* flag is true, each already checked
-/// (finite; rates positive; min_position ≤ max_position).
+/// (finite; rates positive; has_position_limits gives both positions, min_position ≤ max_position).
 struct JointLimitsEntry
 {
   std::optional<double> min_position;
