@@ -11,12 +11,13 @@ namespace arm
 void ArmModel::checkJointVector(const JointVectorRef& v, const std::string& field) const
 {
   if (v.size() != dof())
-    throw ArmModelError(field + ": " + std::to_string(v.size()) + " entries, the chain " + base_link_ + " → " +
-                        tip_link_ + " has " + std::to_string(dof()) + " joints");
+    throw ArmModelError(field + ": " + std::to_string(v.size()) + " entries, the chain " + quotedText(base_link_) +
+                        " → " + quotedText(tip_link_) + " has " + std::to_string(dof()) + " joints");
   for (Eigen::Index i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
       throw ArmModelError(indexedField(field, static_cast<std::size_t>(i)) + " (joint " +
-                          joints_[static_cast<std::size_t>(i)].name + "): not finite (" + formatNumber(v[i]) + ")");
+                          quotedText(joints_[static_cast<std::size_t>(i)].name) + "): not finite (" +
+                          formatNumber(v[i]) + ")");
 }
 
 void ArmModel::forward(const JointVectorRef& q, Eigen::Isometry3d* base_T_tip, Eigen::Vector3d* z,

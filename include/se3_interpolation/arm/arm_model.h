@@ -126,8 +126,8 @@ public:
   void kinematics(const JointVectorRef& q, const JointVectorRef& qd, Eigen::Isometry3d* base_T_tip,
                   ArmJacobian* jacobian, ArmJacobian* jacobian_derivative) const;
 
-  /// Throws ArmModelError ("<field>: 5 entries, the chain base_link → tool0 has 6 joints",
-  /// "<field>[2]: not finite (nan)") unless v has n finite entries.
+  /// Throws ArmModelError ("<field>: 5 entries, the chain 'base_link' → 'tool0' has 6 joints",
+  /// "<field>[2] (joint 'elbow_joint'): not finite (nan)") unless v has n finite entries.
   void checkJointVector(const JointVectorRef& v, const std::string& field) const;
 
 private:

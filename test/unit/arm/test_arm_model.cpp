@@ -7,6 +7,8 @@
 
 #include <random>
 
+#include <Eigen/SVD>
+
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 
@@ -73,19 +75,28 @@ Eigen::VectorXd vec(std::initializer_list<double> v)
   return q;
 }
 
-/// UR5e singular configurations: wrist (q5 = 0), elbow stretched (q3 = 0), shoulder (the wrist
-/// centre on the base axis: q2 = −π/2, q3 = 0 with the wrist's offsets, and q5 = 0 again).
+/// UR5e singular configurations (rank J < 6, checked in Ur5eForwardKinematicsIsTheStandardDhProduct):
+/// wrist (q5 = 0: axes 4 and 6 parallel), elbow (q3 = 0: the arm stretched), the arm upright with
+/// both at once (rank 3), and the zero pose turned about the base.
 std::vector<Eigen::VectorXd> ur5eSingular()
 {
   return { vec({ 0.3, -1.0, 1.2, 0.4, 0.0, 0.7 }), vec({ 0.3, -1.0, 0.0, 0.4, 1.1, 0.7 }),
            vec({ 0.0, -M_PI / 2, 0.0, -M_PI / 2, 0.0, 0.0 }), vec({ 1.0, 0.0, 0.0, 0.0, 0.0, 0.0 }) };
 }
 
-/// Panda singular configurations: q2 = 0 with q4 at its upper limit region, q6 and q4 aligned.
+/// Panda singular configurations (rank J < 6, checked in PandaForwardKinematicsIsTheModifiedDhProduct):
+/// q2 = 0 (axes 1 and 3 on one line) with q3 = ±π/2, within the limits; the stretched arm at zero
+/// (q4 = 0 is outside the limits, FK does not care).
 std::vector<Eigen::VectorXd> pandaSingular()
 {
-  return { vec({ 0.0, 0.0, 0.0, -0.0698, 0.0, 0.0, 0.0 }), vec({ 0.5, 0.0, -0.5, -1.5, 0.0, 1.5, 0.3 }),
-           vec({ 0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785 }), vec({ 1.0, 0.4, 0.2, -0.0698, 0.3, 0.0, -1.0 }) };
+  return { vec({ 0.0, 0.0, M_PI / 2, -M_PI / 2, 0.0, M_PI / 2, 0.0 }), vec({ 0.7, 0.0, -M_PI / 2, -3.0, M_PI / 2, 2.0, -1.0 }),
+           vec({ 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }) };
+}
+
+/// The smallest of J's six singular values.
+double smallestSingularValue(const ArmModel& model, const Eigen::VectorXd& q)
+{
+  return Eigen::JacobiSVD<Eigen::MatrixXd>(Eigen::MatrixXd(model.jacobian(q))).singularValues()[5];
 }
 
 void expectNear(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double tol, const std::string& what)
@@ -142,6 +153,8 @@ TEST(ArmModel, Ur5eForwardKinematicsIsTheStandardDhProduct)
     qs.insert(qs.end(), set.begin(), set.end());
   for (const Eigen::VectorXd& q : qs)
     expectNear(m.base_T_tip(q).matrix(), test::ur5eDh(q), 1e-12, "UR5e at " + ::testing::PrintToString(q));
+  for (const Eigen::VectorXd& q : ur5eSingular())
+    EXPECT_LT(smallestSingularValue(m, q), 1e-12) << ::testing::PrintToString(q);
   // At zero the arm lies stretched along −x (a2 + a3), the flange pointing down the wrist offsets.
   const Eigen::Vector3d p0 = m.base_T_tip(Eigen::VectorXd::Zero(6)).translation();
   EXPECT_TRUE(p0.isApprox(Eigen::Vector3d(-0.425 - 0.3922, -0.1333 - 0.0996, 0.1625 - 0.0997), 1e-15)) << p0;
@@ -163,6 +176,8 @@ TEST(ArmModel, PandaForwardKinematicsIsTheModifiedDhProduct)
     expectNear(m.base_T_tip(q).matrix(), test::pandaDh(q), 1e-12, at);
     expectNear(tcp.base_T_tip(q).matrix(), test::pandaDh(q) * flange_T_tcp.matrix(), 1e-12, at + " (TCP)");
   }
+  for (const Eigen::VectorXd& q : pandaSingular())
+    EXPECT_LT(smallestSingularValue(m, q), 1e-12) << ::testing::PrintToString(q);
 }
 
 TEST(ArmModel, PandaLimitsFromTheUrdfAndTheLimitsFile)

@@ -170,13 +170,13 @@ TEST(ArmModelInput, BadUrdfsAndLinksAreRefusedByName)
 TEST(ArmModelInput, BadJointVectorsAreRefusedByName)
 {
   const ArmModel m = ur5e();
-  expectRefused([&] { m.base_T_tip(Eigen::VectorXd::Zero(5)); }, { "q: 5 entries", "base_link → tool0 has 6 joints" });
+  expectRefused([&] { m.base_T_tip(Eigen::VectorXd::Zero(5)); }, { "q: 5 entries", "the chain 'base_link' → 'tool0' has 6 joints" });
   Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
   q[2] = std::nan("");
-  expectRefused([&] { m.jacobian(q); }, { "q[2]", "elbow_joint", "not finite" });
+  expectRefused([&] { m.jacobian(q); }, { "q[2] (joint 'elbow_joint'): not finite (nan)" });
   q[2] = 0.0;
   q[5] = INFINITY;
-  expectRefused([&] { m.basePoseOfTip(q); }, { "q[5]", "wrist_3_joint", "inf" });
+  expectRefused([&] { m.basePoseOfTip(q); }, { "q[5] (joint 'wrist_3_joint'): not finite (inf)" });
   q[5] = 0.0;
   expectRefused([&] { m.jacobianDerivative(q, Eigen::VectorXd::Zero(7)); }, { "qd: 7 entries" });
   Eigen::VectorXd qd = Eigen::VectorXd::Zero(6);
@@ -186,7 +186,7 @@ TEST(ArmModelInput, BadJointVectorsAreRefusedByName)
     ArmJacobian jd;
     m.kinematics(q, qd, nullptr, nullptr, &jd);
   },
-                { "qd[0]", "shoulder_pan_joint" });
+                { "qd[0] (joint 'shoulder_pan_joint'): not finite (-inf)" });
 }
 
 TEST(ArmModelInput, BadLimitsFilesAreRefusedByName)
