@@ -148,8 +148,10 @@ ArmModel ArmModel::fromUrdfFile(const std::string& path, const std::string& base
 void ArmModel::applyLimits(const JointLimitsFile& limits)
 {
   const std::string where = quotedText(limits.source) + ": ";
-  for (const auto& [name, entry] : limits.joints)
+  for (const auto& named_entry : limits.joints)
   {
+    const std::string& name = named_entry.first;
+    const JointLimitsEntry& entry = named_entry.second;
     const std::string prefix = where + "joint " + quotedText(name) + ": ";
     if (std::find(urdf_joint_names_.begin(), urdf_joint_names_.end(), name) == urdf_joint_names_.end())
       throw ArmModelError(where + "joint " + quotedText(name) + " is not in the URDF " + quotedText(source_));

@@ -67,11 +67,11 @@ struct ArmJoint
   std::string name;  ///< the URDF joint's name
   JointType type = JointType::kRevolute;
   /// Fixed transform from the previous movable joint's child frame (the base for the first joint)
-  /// to this joint's frame: the URDF <origin>s of the fixed joints between and of this joint (m).
+  /// to this joint's frame: the URDF `<origin>`s of the fixed joints between and of this joint (m).
   Eigen::Isometry3d prev_T_joint = Eigen::Isometry3d::Identity();
-  /// Unit axis in this joint's frame (the URDF <axis>, normalised).
+  /// Unit axis in this joint's frame (the URDF `<axis>`, normalised).
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-  /// From the URDF's <limit> (lower, upper except for continuous joints; velocity), then the limits
+  /// From the URDF's `<limit>` (lower, upper except for continuous joints; velocity), then the limits
   /// file (applyLimits).
   JointLimits limits;
 

@@ -133,6 +133,40 @@ TEST(ArmModelInput, PrismaticContinuousAndFixedJointsInTheMiddle)
   EXPECT_EQ(ArmModel(kMixedUrdf, "mount", "tool").jointNames(), (std::vector<std::string>{ "spin", "tilt" }));
 }
 
+TEST(ArmModelInput, PrismaticJointsBetweenRevoluteJoints)
+{
+  // A turning base, a tilted telescope (prismatic along a skew axis) and a wrist: the prismatic
+  // axis turns with the links before it, so its J̇ column is not zero.
+  const char* urdf = R"(<robot name="telescope">
+    <link name="b"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="t"/>
+    <joint name="turn" type="revolute"><parent link="b"/><child link="l1"/><origin xyz="0 0 0.3"/>
+      <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    <joint name="reach" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="0.1 0 0" rpy="0.2 -0.5 0.1"/>
+      <axis xyz="1 0 1"/><limit lower="0" upper="0.5" effort="1" velocity="1"/></joint>
+    <joint name="wrist" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0 0.05 0.1"/>
+      <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    <joint name="flange" type="fixed"><parent link="l3"/><child link="t"/><origin xyz="0.2 0 0" rpy="0 0.3 0"/></joint>
+  </robot>)";
+  const ArmModel m(urdf, "b", "t");
+  const KDL::Chain chain = test::kdlChain(urdf, "b", "t");
+  KDL::ChainJntToJacSolver jac(chain);
+  for (const Eigen::Vector3d& q3 : { Eigen::Vector3d(0.4, 0.2, -0.7), Eigen::Vector3d(-2.0, 0.45, 1.3) })
+  {
+    const Eigen::VectorXd q = q3;
+    KDL::JntArray kq(3);
+    kq.data = q;
+    KDL::Jacobian kj(3);
+    ASSERT_GE(jac.JntToJac(kq, kj), 0);
+    Eigen::MatrixXd kdl_omega_first(6, 3);
+    kdl_omega_first << kj.data.bottomRows(3), kj.data.topRows(3);
+    EXPECT_LE((Eigen::MatrixXd(m.jacobian(q)) - kdl_omega_first).cwiseAbs().maxCoeff(), 1e-15);
+    const Eigen::VectorXd qd = Eigen::Vector3d(1.1, -0.4, 0.8);
+    const Eigen::MatrixXd jd = m.jacobianDerivative(q, qd);
+    EXPECT_GT(jd.col(1).norm(), 0.1);
+    EXPECT_LE((jd - test::finiteDifferenceJacobianRate(m, q, qd, 1e-6)).cwiseAbs().maxCoeff(), 1e-8);
+  }
+}
+
 TEST(ArmModelInput, BadUrdfsAndLinksAreRefusedByName)
 {
   expectRefused([] { ArmModel("<robot name='x'><link", "a", "b", "broken.urdf"); }, { "broken.urdf", "not a valid URDF" });
