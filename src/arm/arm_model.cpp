@@ -1,6 +1,7 @@
 // The chain of arm/arm_model.h from a URDF: the walk from the tip up to the base, the fixed joints
 // folded into the movable joints' transforms, the URDF's limits checked; applyLimits.
 #include "se3_interpolation/arm/arm_model.h"
+#include "source_name.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,7 @@ std::string readTextFile(const std::string& path, const char* what)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw ArmModelError(std::string(what) + " " + quotedText(path) + ": cannot be read");
+    throw ArmModelError(std::string(what) + " " + quotedSource(path) + ": cannot be read");
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -87,7 +88,7 @@ ArmModel::ArmModel(const std::string& urdf_text, const std::string& base_link, c
                    const std::string& source)
   : source_(source), base_link_(base_link), tip_link_(tip_link)
 {
-  const std::string where = quotedText(source) + ": ";
+  const std::string where = quotedSource(source) + ": ";
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(urdf_text);
   if (!model)
     throw ArmModelError(where + "not a valid URDF (urdfdom could not parse it)");
@@ -147,14 +148,14 @@ ArmModel ArmModel::fromUrdfFile(const std::string& path, const std::string& base
 
 void ArmModel::applyLimits(const JointLimitsFile& limits)
 {
-  const std::string where = quotedText(limits.source) + ": ";
+  const std::string where = quotedSource(limits.source) + ": ";
   for (const auto& named_entry : limits.joints)
   {
     const std::string& name = named_entry.first;
     const JointLimitsEntry& entry = named_entry.second;
     const std::string prefix = where + "joint " + quotedText(name) + ": ";
     if (std::find(urdf_joint_names_.begin(), urdf_joint_names_.end(), name) == urdf_joint_names_.end())
-      throw ArmModelError(where + "joint " + quotedText(name) + " is not in the URDF " + quotedText(source_));
+      throw ArmModelError(where + "joint " + quotedText(name) + " is not in the URDF " + quotedSource(source_));
     const auto joint = std::find_if(joints_.begin(), joints_.end(), [&](const ArmJoint& j) { return j.name == name; });
     if (joint == joints_.end())
       continue;

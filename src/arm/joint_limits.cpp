@@ -1,5 +1,6 @@
 // MoveIt's joint_limits.yaml (arm/joint_limits.h): read with yaml-cpp, every value checked.
 #include "se3_interpolation/arm/joint_limits.h"
+#include "source_name.h"
 
 #include <cmath>
 #include <fstream>
@@ -92,7 +93,7 @@ JointLimitsEntry readEntry(const YAML::Node& node, const std::string& where)
 
 JointLimitsFile parseJointLimits(const std::string& yaml_text, const std::string& source)
 {
-  const std::string where = quotedText(source) + ": ";
+  const std::string where = quotedSource(source) + ": ";
   YAML::Node root;
   try
   {
@@ -121,7 +122,7 @@ JointLimitsFile readJointLimitsFile(const std::string& path)
 {
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw ArmModelError("joint limits file " + quotedText(path) + ": cannot be read");
+    throw ArmModelError("joint limits file " + quotedSource(path) + ": cannot be read");
   std::ostringstream s;
   s << in.rdbuf();
   return parseJointLimits(s.str(), path);

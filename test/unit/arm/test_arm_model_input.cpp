@@ -172,6 +172,9 @@ TEST(ArmModelInput, BadUrdfsAndLinksAreRefusedByName)
   expectRefused([] { ArmModel("<robot name='x'><link", "a", "b", "broken.urdf"); }, { "broken.urdf", "not a valid URDF" });
   expectRefused([] { ArmModel("", "a", "b", "empty.urdf"); }, { "empty.urdf" });
   expectRefused([] { ArmModel::fromUrdfFile("/nonexistent/robot.urdf", "a", "b"); }, { "/nonexistent/robot.urdf", "cannot be read" });
+  // A long path keeps its end, the file's name.
+  expectRefused([] { ArmModel::fromUrdfFile("/nonexistent/catkin_ws/src/my_robot_description/urdf/my_robot.urdf", "a", "b"); },
+                { "URDF file '.../my_robot_description/urdf/my_robot.urdf': cannot be read" });
   expectRefused([] { ArmModel(kMixedUrdf, "base", "tool", "mixed.urdf"); }, { "mixed.urdf", "'base'", "not in the URDF" });
   expectRefused([] { ArmModel(kMixedUrdf, "base_link", "tool0", "mixed.urdf"); }, { "'tool0'", "not in the URDF" });
   expectRefused([] { ArmModel(kMixedUrdf, "tool", "base_link", "mixed.urdf"); },
