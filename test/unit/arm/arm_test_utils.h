@@ -24,9 +24,11 @@ namespace se3_interpolation
 {
 namespace test
 {
+/// config/robots/<name> of the source tree this header is in (test/unit/arm/arm_test_utils.h).
 inline std::string robotFile(const std::string& name)
 {
-  return std::string(SE3_ROBOTS_DIR) + "/" + name;
+  const std::string here = __FILE__;
+  return here.substr(0, here.rfind("/test/unit/arm/")) + "/config/robots/" + name;
 }
 
 inline std::string readText(const std::string& path)
