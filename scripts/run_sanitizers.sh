@@ -14,8 +14,11 @@
 # target slowed down about fourfold; SE3_FUZZ_MIN_RUNS overrides it for every target) fails it.
 # The last line is `sanitizers: N passed, N failed` (the unit test cases plus those); exits
 # non-zero on any failure.
-# SE3_SANITIZE_BUILD_ONLY=1: only the build (scripts/run_tests.sh runs it at nice 19 beside the
-# catkin tests, then runs this script again, which finds the build up to date).
+# SE3_SANITIZE_PHASE: `all` (default) the build, the unit tests and the fuzz targets; `unit` the build
+# and the unit tests; `fuzz` the build and the fuzz targets. scripts/run_tests.sh runs `unit` at
+# nice 19 beside its other stages from the start, and `fuzz` (whose explorations need their cores:
+# targets.txt's minimum inputs) at the end, which finds the build up to date. Each phase prints its
+# own last line.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 
@@ -34,9 +37,14 @@ if ! { cmake -S "$SE3_ROOT/test/sanitize" -B "$build" -DCMAKE_CXX_COMPILER=clang
   exit 1
 fi
 echo "built in ${SECONDS} s"
-if [ "${SE3_SANITIZE_BUILD_ONLY:-0}" = 1 ]; then
-  exit 0
-fi
+phase=${SE3_SANITIZE_PHASE:-all}
+case "$phase" in
+  all | unit | fuzz) ;;
+  *)
+    echo "SE3_SANITIZE_PHASE=$phase: expected all, unit or fuzz" >&2
+    exit 2
+    ;;
+esac
 
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 
@@ -56,7 +64,6 @@ print(len(run), len(bad))
 ' "$1"
 }
 
-rm -rf "$results"
 mkdir -p "$results"
 passed=0
 failed=0
@@ -99,19 +106,23 @@ unit_test_job() {
   echo "$((run - bad)) $bad" >"$results/$name.counts"
 }
 
-# Longest source first (the longest-running tests are among the longest sources: the request-space
-# grid, jerk-limited timing, goal trajectories), so that no long test starts last.
-mapfile -t unit_tests < <(for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp'); do
-  echo "$(wc -l <"$source") $(basename "$source" .cpp)"
-done | sort -k1,1nr -k2 | awk '{print $2}')
-for name in "${unit_tests[@]}"; do
-  se3_start_job unit_test_job "$name"
-done
-se3_finish_jobs
-for name in $(printf '%s\n' "${unit_tests[@]}" | sort); do
-  collect_job "$name"
-done
-echo "unit tests done at ${SECONDS} s"
+if [ "$phase" != fuzz ]; then
+  rm -f "$results"/test_*
+  # Longest source first (the longest-running tests are among the longest sources: replanning,
+  # jerk-limited timing, goal trajectories), so that no long test starts last.
+  # test_request_space is not among them (test/sanitize/CMakeLists.txt: it runs in the optimised build).
+  mapfile -t unit_tests < <(for source in $(find "$SE3_ROOT/test/unit" -name 'test_*.cpp' ! -name test_request_space.cpp); do
+    echo "$(wc -l <"$source") $(basename "$source" .cpp)"
+  done | sort -k1,1nr -k2 | awk '{print $2}')
+  for name in "${unit_tests[@]}"; do
+    se3_start_job unit_test_job "$name"
+  done
+  se3_finish_jobs
+  for name in $(printf '%s\n' "${unit_tests[@]}" | sort); do
+    collect_job "$name"
+  done
+  echo "unit tests done at ${SECONDS} s"
+fi
 
 # A fixed seed makes a CI run reproducible (a finding replays with the same command); a long
 # exploratory run sets SE3_FUZZ_SEED=0 (libFuzzer then picks a random seed).
@@ -164,24 +175,27 @@ fuzz_job() {
   } >"$results/$target.out"
   echo "$p $f" >"$results/$target.counts"
 }
-mapfile -t fuzz_targets < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
-for line in "${fuzz_targets[@]}"; do
-  read -r target seeds max_len min_runs <<<"$line"
-  se3_start_job fuzz_job "$target" "$seeds" "$max_len" "$min_runs"
-done
-se3_finish_jobs
-fuzz_total=0
-fuzz_findings=0
-for line in "${fuzz_targets[@]}"; do
-  read -r target _ <<<"$line"
-  collect_job "$target"
-  runs=0
-  finding=""
-  [ -f "$results/$target.fuzz" ] && read -r runs finding <"$results/$target.fuzz"
-  fuzz_total=$((fuzz_total + runs))
-  [ -z "$finding" ] || fuzz_findings=$((fuzz_findings + 1))
-done
-echo "fuzzing: $fuzz_total inputs explored, $fuzz_findings targets with findings"
+if [ "$phase" != unit ]; then
+  rm -f "$results"/fuzz_*
+  mapfile -t fuzz_targets < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
+  for line in "${fuzz_targets[@]}"; do
+    read -r target seeds max_len min_runs <<<"$line"
+    se3_start_job fuzz_job "$target" "$seeds" "$max_len" "$min_runs"
+  done
+  se3_finish_jobs
+  fuzz_total=0
+  fuzz_findings=0
+  for line in "${fuzz_targets[@]}"; do
+    read -r target _ <<<"$line"
+    collect_job "$target"
+    runs=0
+    finding=""
+    [ -f "$results/$target.fuzz" ] && read -r runs finding <"$results/$target.fuzz"
+    fuzz_total=$((fuzz_total + runs))
+    [ -z "$finding" ] || fuzz_findings=$((fuzz_findings + 1))
+  done
+  echo "fuzzing: $fuzz_total inputs explored, $fuzz_findings targets with findings"
+fi
 
 echo "done in ${SECONDS} s"
 echo "sanitizers: $passed passed, $failed failed"
