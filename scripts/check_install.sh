@@ -94,7 +94,7 @@ contents() {
   for f in "$bin/se3_interpolation_node" "$bin/se3_interpolate"; do
     [ -x "$f" ] || { echo "missing program: $f"; missing=1; }
   done
-  for f in "$prefix"/lib/libse3_interpolation_{core,ros,nodelet}.so "$share"/{package.xml,nodelet_plugins.xml} \
+  for f in "$prefix"/lib/libse3_interpolation_{arm,core,ros,nodelet}.so "$share"/{package.xml,nodelet_plugins.xml} \
            "$share/cfg/InterpolationNode.cfg" "$prefix"/include/se3_interpolation/{InterpolationNodeConfig.h,GenerateTrajectory.h} \
            "$prefix/include/se3_interpolation/planner/planner.h" "$prefix/include/se3_interpolation/node_parameter_table.h" \
            "$prefix"/lib/python3/dist-packages/se3_interpolation/{__init__.py,_core.cpython-*.so}; do

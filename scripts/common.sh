@@ -13,7 +13,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.bash" --env-only
 # dynamic_reconfigure and nodelet packages give the run-time parameter server (and dynparam) and the
 # nodelet manager. catkin-lint gives catkin_lint (scripts/check_install.sh). librosbag-storage-dev
 # (rosbag_storage) lets se3_interpolate read recorded waypoints from a bag (--bag). pybind11-dev builds
-# the Python module (src/python/), python3-pytest runs its tests (test/python/).
+# the Python module (src/python/), python3-pytest runs its tests (test/python/). liburdfdom-dev lets
+# the arm model (src/arm/) read URDFs; liborocos-kdl-dev is its tests' reference (and the benchmarks').
 SE3_APT_PACKAGES=(
   build-essential cmake ros-core-dev rosbash tf2-tools libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libnodeletlib-dev libnodeletlib-tools
@@ -23,7 +24,7 @@ SE3_APT_PACKAGES=(
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev doxygen
   catkin-lint libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
-  librosbag-storage-dev python3-scipy pybind11-dev python3-pytest
+  librosbag-storage-dev python3-scipy pybind11-dev python3-pytest liburdfdom-dev
 )
 
 # Prints the first local TCP port from 11398 to 11497 that is free to bind (the ROS master of a
