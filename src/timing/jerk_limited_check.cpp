@@ -155,39 +155,12 @@ bool JerkSolver::pathVaries(const PathJet3& a, const PathJet3& m, const PathJet3
 double JerkSolver::verify()
 {
   const std::vector<double> path_breaks = path_.breakpoints();
-  struct Piece
-  {
-    std::size_t segment;
-    double lo, hi;
-    Jet<3> middle;  ///< s at the middle: the piece's cubic
-    Rates6 f0, fm, f1;
-  };
-  std::vector<Piece> all;  ///< the pieces the search may take
-  /// A part of a piece still to be checked: its times, cubic (at its middle), the path's jets and
-  /// the rates at its ends, and how often it was halved.
-  struct Part
-  {
-    double lo, hi;
-    Jet<3> middle;
-    PathJet3 jr, jl;
-    Rates6 f0, f1;
-    int depth;
-  };
-  std::vector<Part> parts;
+  CheckTally tally;
   splitFloor();
-  Rates6 peak{};
-  std::array<double, 2> energy{};  ///< ∫|a|² dt per channel, Simpson's rule on every piece
   std::vector<double> times;
   std::vector<double> crossing;
   std::vector<double>& motion_breaks = profile_.breakpoints;
-  motion_breaks.clear();
-  {
-    // (Reserved: the pieces are about twice the grid's intervals, and growing costs copies.)
-    std::size_t room = path_breaks.size();
-    for (const auto& g : profile_.segments)
-      room += 2 * (g.last - g.first + 1);
-    motion_breaks.reserve(room);
-  }
+  reserveMotionBreaks(path_breaks.size());
   std::size_t count = 0;
   for (std::size_t k = 0; k < profile_.segments.size(); ++k)
   {
@@ -212,43 +185,70 @@ double JerkSolver::verify()
       else if (!std::isnan(crossing[i]))
         jr = segmentPathJet(g, crossing[i], Side::kRight);
       jl = segmentPathJet(g, std::isnan(crossing[i + 1]) ? sl.value() : crossing[i + 1], Side::kLeft);
-      // The piece, halved while the path's rates vary too much across a part for the parabola
-      // through its ends and middle to stand for it (pathVaries).
-      parts.clear();
-      parts.push_back(Part{ lo, hi, middle, jr, jl, rates(jr, sr), rates(jl, sl), 0 });
-      while (!parts.empty())
-      {
-        const Part a = parts.back();
-        parts.pop_back();
-        const PathJet3 jm = segmentPathJet(g, a.middle.value(), Side::kRight);
-        const Rates6 fm = rates(jm, a.middle);
-        const double quarter = 0.25 * (a.hi - a.lo), centre = 0.5 * (a.lo + a.hi);
-        if (a.depth < kMaxSplitDepth &&
-            pathVaries(a.jr, jm, a.jl, shifted(a.middle, 2.0 * quarter).value() - shifted(a.middle, -2.0 * quarter).value()))
-        {
-          parts.push_back(Part{ centre, a.hi, shifted(a.middle, quarter), jm, a.jl, fm, a.f1, a.depth + 1 });
-          parts.push_back(Part{ a.lo, centre, shifted(a.middle, -quarter), a.jr, jm, a.f0, fm, a.depth + 1 });
-          continue;
-        }
-        for (int q = 0; q < 6; ++q)
-          peak[q] = std::max({ peak[q], a.f0[q], fm[q], a.f1[q] });
-        for (int c = 0; c < 2; ++c)
-          energy[c] += (a.hi - a.lo) / 6.0 *
-                       (a.f0[2 + c] * a.f0[2 + c] + 4.0 * fm[2 + c] * fm[2 + c] + a.f1[2 + c] * a.f1[2 + c]);
-        // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
-        // does not reach the threshold of the peaks so far never reaches the final one (the same
-        // pieces are searched, in the same order, without holding every piece's values).
-        bool candidate = false;
-        for (int q = 0; q < 6 && !candidate; ++q)
-          candidate = detail::parabolaPeaksInside(a.f0[q], fm[q], a.f1[q], peak[q] * (1.0 - kRefineMargin));
-        if (candidate)
-          all.push_back(Piece{ k, a.lo, a.hi, a.middle, a.f0, fm, a.f1 });
-      }
+      checkPiece(k, CheckPart{ lo, hi, middle, jr, jl, rates(jr, sr), rates(jl, sl), 0 }, &tally);
     }
   }
+  searchPieces(tally.candidates, &tally.peak);
+  peak_ = tally.peak;
+  energy_ = tally.energy;
+  return stretchNeeded(tally.peak);
+}
+
+void JerkSolver::reserveMotionBreaks(std::size_t path_breaks)
+{
+  profile_.breakpoints.clear();
+  // (Reserved: the pieces are about twice the grid's intervals, and growing costs copies.)
+  std::size_t room = path_breaks;
+  for (const auto& g : profile_.segments)
+    room += 2 * (g.last - g.first + 1);
+  profile_.breakpoints.reserve(room);
+}
+
+void JerkSolver::checkPiece(std::size_t k, const CheckPart& piece, CheckTally* tally) const
+{
+  const auto& g = profile_.segments[k];
+  Rates6& peak = tally->peak;
+  std::vector<CheckPart>& parts = tally->parts;
+  // The piece, halved while the path's rates vary too much across a part for the parabola
+  // through its ends and middle to stand for it (pathVaries).
+  parts.clear();
+  parts.push_back(piece);
+  while (!parts.empty())
+  {
+    const CheckPart a = parts.back();
+    parts.pop_back();
+    const PathJet3 jm = segmentPathJet(g, a.middle.value(), Side::kRight);
+    const Rates6 fm = rates(jm, a.middle);
+    const double quarter = 0.25 * (a.hi - a.lo), centre = 0.5 * (a.lo + a.hi);
+    if (a.depth < kMaxSplitDepth &&
+        pathVaries(a.jr, jm, a.jl, shifted(a.middle, 2.0 * quarter).value() - shifted(a.middle, -2.0 * quarter).value()))
+    {
+      parts.push_back(CheckPart{ centre, a.hi, shifted(a.middle, quarter), jm, a.jl, fm, a.f1, a.depth + 1 });
+      parts.push_back(CheckPart{ a.lo, centre, shifted(a.middle, -quarter), a.jr, jm, a.f0, fm, a.depth + 1 });
+      continue;
+    }
+    for (int q = 0; q < 6; ++q)
+      peak[q] = std::max({ peak[q], a.f0[q], fm[q], a.f1[q] });
+    for (int c = 0; c < 2; ++c)
+      tally->energy[c] += (a.hi - a.lo) / 6.0 *
+                          (a.f0[2 + c] * a.f0[2 + c] + 4.0 * fm[2 + c] * fm[2 + c] + a.f1[2 + c] * a.f1[2 + c]);
+    // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
+    // does not reach the threshold of the peaks so far never reaches the final one (the same
+    // pieces are searched, in the same order, without holding every piece's values).
+    bool candidate = false;
+    for (int q = 0; q < 6 && !candidate; ++q)
+      candidate = detail::parabolaPeaksInside(a.f0[q], fm[q], a.f1[q], peak[q] * (1.0 - kRefineMargin));
+    if (candidate)
+      tally->candidates.push_back(CheckPiece{ k, a.lo, a.hi, a.middle, a.f0, fm, a.f1 });
+  }
+}
+
+void JerkSolver::searchPieces(const std::vector<CheckPiece>& candidates, Rates6* peak_io) const
+{
+  Rates6& peak = *peak_io;
   // The interior maxima where the parabola through ends and middle peaks near the largest value.
-  count = 0;
-  for (const Piece& p : all)
+  std::size_t count = 0;
+  for (const CheckPiece& p : candidates)
   {
     checkDeadlineEvery(count++, kPointsPerDeadlineCheck / 16, kPhase);
     const auto& g = profile_.segments[p.segment];
@@ -264,8 +264,10 @@ double JerkSolver::verify()
                                       p.f0[q], p.fm[q], p.f1[q]));
     }
   }
-  peak_ = peak;
-  energy_ = energy;
+}
+
+double JerkSolver::stretchNeeded(const Rates6& peak) const
+{
   double k = 1.0;
   for (int c = 0; c < 2; ++c)
   {

@@ -93,6 +93,50 @@ private:
 
 void JerkSolver::run(const RateBounds& b)
 {
+  const double s_start = startRun(b);
+  StoppingPath stopping(path_, s_start);
+  const double first_stop = stopping.stops().empty() ? path_.end() : stopping.stops().front();
+  if (fixed_start_ && !(s_start < first_stop))
+    throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
+                            "before path time " + formatNumber(first_stop) +
+                            " s; start slower, place the first waypoint farther away, or raise the bounds");
+  TimeOptimalOptions o = options_.grid;
+  o.start_speed = lead_speed_;
+  o.hold_start = false;
+  collectGridJets(stopping.breakpoints().size() - 1, &o);
+  // One solver for all runs: the grid and its jets depend on the path and the grid options only,
+  // so the reruns reuse them (TimeOptimalSolver::firstPassAgain). Each run's first pass decides
+  // the next run; only the last gets local passes (kUnderlyingLocalPasses), and its final check
+  // only for a moving start (whose corrections it makes): from rest, the final check of the
+  // jerk-limited motion (verify) holds it to the bounds and stretches it once.
+  time_optimal_detail::TimeOptimalSolver underlying(stopping, b, o, true);
+  TimingProfile base = underlying.firstPass();
+  if (grid_ != base.s)
+    throw InterpolationError("timing: the jerk-limited timing's grid changed between its runs");
+  factor_.assign(grid_.size(), 1.0);
+  cap_.resize(grid_.size());
+  for (std::size_t i = 0; i < grid_.size(); ++i)
+    cap_[i] = path_caps_[i] * path_caps_[i];
+  evaluateSpeeds();
+  o.local_limits = [this](double s) { return localLimit(s); };
+  findSegments(base);
+  if (cap_stationary_ && capStationaryPoints(base))
+    rerun(&underlying, o, &base);
+  if (slowShortSegments(base))
+    rerun(&underlying, o, &base);
+  // Plateaus where s̈_T switches sign within a window.
+  setWindows(base);
+  if (addPlateaus(base))
+    rerun(&underlying, o, &base);
+  base = fixed_start_ ? underlying.finish() : underlying.localPasses(kUnderlyingLocalPasses);
+  keepSegments(base);
+  if (seg_tau_.size() != seg_first_.size())
+    setWindows(base);
+  buildProfile(std::move(base));
+}
+
+double JerkSolver::startRun(const RateBounds& b)
+{
   under_ = b;
   tau_ = 0.0;
   for (int c = 0; c < 2; ++c)
@@ -113,15 +157,11 @@ void JerkSolver::run(const RateBounds& b)
       throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
                               "before path time " + formatNumber(x) +
                               " s; start slower, place the first waypoint farther away, or raise the bounds");
-  StoppingPath stopping(path_, s_start);
-  const double first_stop = stopping.stops().empty() ? path_.end() : stopping.stops().front();
-  if (fixed_start_ && !(s_start < first_stop))
-    throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
-                            "before path time " + formatNumber(first_stop) +
-                            " s; start slower, place the first waypoint farther away, or raise the bounds");
-  TimeOptimalOptions o = options_.grid;
-  o.start_speed = lead_speed_;
-  o.hold_start = false;
+  return s_start;
+}
+
+void JerkSolver::collectGridJets(std::size_t pieces, TimeOptimalOptions* o)
+{
   // The first run evaluates the path's third-order jets at its grid points and caps the speed
   // for the path's share of the jerk there (pathSpeedCap); the later runs reuse them.
   grid_.clear();
@@ -130,13 +170,12 @@ void JerkSolver::run(const RateBounds& b)
   path_caps_.clear();
   {
     // (Room for the grid: about twice the uniform one at most, time_optimal.cpp.)
-    const std::size_t pieces = stopping.breakpoints().size() - 1;
-    const std::size_t uniform = std::max(o.min_intervals, pieces * o.intervals_per_piece) + pieces + 1;
+    const std::size_t uniform = std::max(o->min_intervals, pieces * o->intervals_per_piece) + pieces + 1;
     grid_.reserve(2 * uniform);
     jets_.reserve(2 * uniform);
     path_caps_.reserve(2 * uniform);
   }
-  o.local_limits = [this](double s) {
+  o->local_limits = [this](double s) {
     grid_.push_back(s);
     jets_.push_back(path_.jet3(s, s >= path_.end() ? Side::kLeft : Side::kRight));
     path_caps_.push_back(pathSpeedCap(jets_.back()));
@@ -144,24 +183,10 @@ void JerkSolver::run(const RateBounds& b)
     l.speed_cap = path_caps_.back();
     return l;
   };
-  // One solver for all runs: the grid and its jets depend on the path and the grid options only,
-  // so the reruns reuse them (TimeOptimalSolver::firstPassAgain). Each run's first pass decides
-  // the next run; only the last gets local passes (kUnderlyingLocalPasses), and its final check
-  // only for a moving start (whose corrections it makes): from rest, the final check of the
-  // jerk-limited motion (verify) holds it to the bounds and stretches it once.
-  time_optimal_detail::TimeOptimalSolver underlying(stopping, b, o, true);
-  TimingProfile base = underlying.firstPass();
-  if (grid_ != base.s)
-    throw InterpolationError("timing: the jerk-limited timing's grid changed between its runs");
-  factor_.assign(grid_.size(), 1.0);
-  cap_.resize(grid_.size());
-  for (std::size_t i = 0; i < grid_.size(); ++i)
-    cap_[i] = path_caps_[i] * path_caps_[i];
-  evaluateSpeeds();
-  o.local_limits = [this](double s) { return localLimit(s); };
-  findSegments(base);
-  if (cap_stationary_ && capStationaryPoints(base))
-    rerun(&underlying, o, &base);
+}
+
+bool JerkSolver::slowShortSegments(const TimingProfile& base)
+{
   // Short segments: lower the acceleration (and the window) by f.
   bool short_segments = false;
   for (std::size_t k = 0; k < seg_first_.size(); ++k)
@@ -175,17 +200,7 @@ void JerkSolver::run(const RateBounds& b)
         factor_[i] = std::min(factor_[i], seg_f_[k]);
     }
   }
-  if (short_segments)
-    rerun(&underlying, o, &base);
-  // Plateaus where s̈_T switches sign within a window.
-  setWindows(base);
-  if (addPlateaus(base))
-    rerun(&underlying, o, &base);
-  base = fixed_start_ ? underlying.finish() : underlying.localPasses(kUnderlyingLocalPasses);
-  keepSegments(base);
-  if (seg_tau_.size() != seg_first_.size())
-    setWindows(base);
-  buildProfile(std::move(base));
+  return short_segments;
 }
 
 bool JerkSolver::capStationaryPoints(const TimingProfile& base)

@@ -64,6 +64,20 @@ private:
   /// The three runs of the underlying timing (file comment) and the segments of the result.
   void run(const RateBounds& b);
 
+  /// The start of a run: the underlying bounds b, the window τ and the lead speed ṡ_T0; returns
+  /// s_a′, where the underlying timing starts (file comment). A moving start that brakes too hard
+  /// for the window, or passes a corner or a C¹ joint before s_a′, is refused.
+  double startRun(const RateBounds& b);
+
+  /// Sets o's local limits to collect the grid's points, the path's third-order jets there and
+  /// the speed caps for the path's share of the jerk (pathSpeedCap) on the first run; room for
+  /// the grid of a stopping path of `pieces` analytic pieces.
+  void collectGridJets(std::size_t pieces, TimeOptimalOptions* o);
+
+  /// Lowers the acceleration factor (and the window) of the segments shorter than kShortSegment
+  /// windows by f = ∛(T² / (8 τ²)), T the segment's duration; returns whether any segment is short.
+  bool slowShortSegments(const TimingProfile& base);
+
   /// The underlying timing's first pass again with the local limits (firstPassAgain); the
   /// segments keep their factors (keepSegments).
   void rerun(time_optimal_detail::TimeOptimalSolver* underlying, const TimeOptimalOptions& o, TimingProfile* base);
@@ -143,6 +157,54 @@ private:
   /// The final check (file comment): the peaks of the six rates over every piece, the figures,
   /// and the stretch k they need. Returns k.
   double verify();
+
+  /// A piece of the final check: its segment, times, cubic (at its middle) and the rates at its
+  /// ends and middle; one the interior search may take (verify).
+  struct CheckPiece
+  {
+    std::size_t segment;
+    double lo, hi;
+    Jet<3> middle;  ///< s at the middle: the piece's cubic
+    Rates6 f0, fm, f1;
+  };
+
+  /// A part of a piece still to be checked: its times, cubic (at its middle), the path's jets and
+  /// the rates at its ends, and how often it was halved.
+  struct CheckPart
+  {
+    double lo, hi;
+    Jet<3> middle;
+    PathJet3 jr, jl;
+    Rates6 f0, f1;
+    int depth;
+  };
+
+  /// What the final check gathers over the pieces: the peaks, the energy, the pieces the interior
+  /// search may take, and the stack of parts (reused from piece to piece).
+  struct CheckTally
+  {
+    Rates6 peak{};
+    std::array<double, 2> energy{};  ///< ∫|a|² dt per channel, Simpson's rule on every piece
+    std::vector<CheckPiece> candidates;
+    std::vector<CheckPart> parts;
+  };
+
+  /// Clears the motion's breakpoints and reserves room for them (about twice the grid's intervals
+  /// beside the path's `path_breaks` breakpoints).
+  void reserveMotionBreaks(std::size_t path_breaks);
+
+  /// Checks one piece of segment k (verify): halved while the path varies across a part
+  /// (pathVaries); each part's rates at its ends and middle into the peaks and the energy, and the
+  /// parts the interior search may take into the candidates.
+  void checkPiece(std::size_t k, const CheckPart& piece, CheckTally* tally) const;
+
+  /// The interior maxima of the candidates where the parabola through their ends and middle peaks
+  /// near the largest value, into *peak.
+  void searchPieces(const std::vector<CheckPiece>& candidates, Rates6* peak) const;
+
+  /// The stretch k the peaks need: the largest of 1 and each rate's ratio to its bound, to the
+  /// power 1, 1/2, 1/3 for speed, acceleration and jerk.
+  double stretchNeeded(const Rates6& peak) const;
 
   /// The floors of |C′|² below which a channel counts as still in pathVaries (time_optimal's
   /// kMoveTolerance of the largest at the grid's points).

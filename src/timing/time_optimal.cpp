@@ -161,6 +161,15 @@ void TimeOptimalSolver::addPoint(double s, const PathJet& right, const PathJet* 
 
 void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
 {
+  const std::vector<double> b = gridBreakpoints();
+  const UniformGrid uniform = uniformGrid(b, options);
+  refineGrid(uniform);
+  if (hold_start_)
+    holdStart();
+}
+
+std::vector<double> TimeOptimalSolver::gridBreakpoints() const
+{
   std::vector<double> b = path_.breakpoints();
   for (double x : b)
     if (!std::isfinite(x))
@@ -172,6 +181,12 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   if (b.size() < 2 || !(b.back() > b.front()) || !std::isfinite(b.back() - b.front()))
     throw InvalidInputError("timing: 'time_optimal' needs a path of positive duration (this one spans " +
                             formatNumber(b.empty() ? 0.0 : b.back() - b.front()) + " s)");
+  return b;
+}
+
+TimeOptimalSolver::UniformGrid TimeOptimalSolver::uniformGrid(const std::vector<double>& b,
+                                                              const TimeOptimalOptions& options)
+{
   const double total = b.back() - b.front();
   const std::size_t pieces = b.size() - 1;
   // The number of uniform intervals on piece j.
@@ -187,10 +202,11 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   // The uniform grid's points and their jets first: the scale of each channel's |C′|. (Reserved:
   // the grid's vectors are large, and growing them costs copies and fresh pages.)
   // (The left sides only at the pieces' inner ends, where they may differ: index and jet.)
-  std::vector<double> s;
-  std::vector<PathJet> right;
-  std::vector<std::pair<std::size_t, PathJet>> left;
-  std::vector<bool> corner;
+  UniformGrid g;
+  std::vector<double>& s = g.s;
+  std::vector<PathJet>& right = g.right;
+  std::vector<std::pair<std::size_t, PathJet>>& left = g.left;
+  std::vector<bool>& corner = g.corner;
   s.reserve(uniform);
   right.reserve(uniform);
   left.reserve(pieces);
@@ -222,7 +238,16 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
   for (int c = 0; c < 2; ++c)
     refine_floor_[c] = kMoveTolerance * kMoveTolerance * largest[c];
   grid_limit_ = kMaxRefineGrowth * s.size();
-  // Then the refined grid (room for twice the uniform one's points; refinement rarely needs more).
+  return g;
+}
+
+void TimeOptimalSolver::refineGrid(const UniformGrid& uniform)
+{
+  const std::vector<double>& s = uniform.s;
+  const std::vector<PathJet>& right = uniform.right;
+  const std::vector<std::pair<std::size_t, PathJet>>& left = uniform.left;
+  const std::vector<bool>& corner = uniform.corner;
+  // The refined grid (room for twice the uniform one's points; refinement rarely needs more).
   const std::size_t n = s.size();
   const std::size_t room = 2 * n + 1;
   profile_.s.reserve(room);
@@ -246,19 +271,20 @@ void TimeOptimalSolver::buildGrid(const TimeOptimalOptions& options)
     refine(s[i], right[i], s[i + 1], next ? *next : right[i + 1], 0);
   }
   addPoint(s[n - 1], right[n - 1], nullptr, false);
-  if (hold_start_)
-  {
-    // The held first interval [s_0, s_0 + ε]: a new point after s_0, and new middles on both sides.
-    const double s0 = profile_.s[0];
-    const double held = s0 + kHoldFraction * (profile_.s[1] - s0);
-    const PathJet j = path_.jet(held, Side::kRight);
-    profile_.s.insert(profile_.s.begin() + 1, held);
-    right_.insert(right_.begin() + 1, PointData{ j, j, kInf });
-    left_of_.insert(left_of_.begin() + 1, kSameAsRight);
-    corner_.insert(corner_.begin() + 1, false);
-    middle_[0] = path_.jet(0.5 * (held + profile_.s[2]), Side::kRight);
-    middle_.insert(middle_.begin(), path_.jet(0.5 * (s0 + held), Side::kRight));
-  }
+}
+
+void TimeOptimalSolver::holdStart()
+{
+  // The held first interval [s_0, s_0 + ε]: a new point after s_0, and new middles on both sides.
+  const double s0 = profile_.s[0];
+  const double held = s0 + kHoldFraction * (profile_.s[1] - s0);
+  const PathJet j = path_.jet(held, Side::kRight);
+  profile_.s.insert(profile_.s.begin() + 1, held);
+  right_.insert(right_.begin() + 1, PointData{ j, j, kInf });
+  left_of_.insert(left_of_.begin() + 1, kSameAsRight);
+  corner_.insert(corner_.begin() + 1, false);
+  middle_[0] = path_.jet(0.5 * (held + profile_.s[2]), Side::kRight);
+  middle_.insert(middle_.begin(), path_.jet(0.5 * (s0 + held), Side::kRight));
 }
 
 void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)

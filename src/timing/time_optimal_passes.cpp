@@ -276,28 +276,7 @@ void TimeOptimalSolver::forward()
       else
       {
         recovering = true;
-        // Braking at the acceleration bounds, which hold at the interval's ends: a margin for
-        // its interior, which no later pass checks.
-        for (std::size_t j : { i, i + 1 })
-        {
-          for (int c = 2; c < 4; ++c)
-            factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
-          changed_[j] = 1;
-        }
-        const Interval free = controls(i, x[i], kInf);
-        if (free.isEmpty())
-        {
-          // No braking keeps within the acceleration bounds here: the path bends too sharply
-          // for this speed. The least acceleration is taken and its excess reported.
-          chosen = leastAccelerationControl(i, x[i], d);
-          const Rates r = needs(right_[i].raw, x[i], chosen);
-          for (int c = 2; c < 4; ++c)
-            profile_.recovery_excess = std::max(profile_.recovery_excess, r[c] * r[c]);
-        }
-        else
-        {
-          chosen = std::min(std::max((next - x[i]) / (2.0 * d), free.lo), free.hi);
-        }
+        chosen = recoveryControl(i, x[i], next, d);
       }
     }
     double following = std::max(x[i] + 2.0 * d * chosen, 0.0);
@@ -323,6 +302,34 @@ void TimeOptimalSolver::forward()
     t[i + 1] = t[i] + 2.0 * d / rate;
   }
   profile_.recovery_end = t[checkedFrom()];
+}
+
+double TimeOptimalSolver::recoveryControl(std::size_t i, double x, double next, double d)
+{
+  double chosen = 0.0;
+  // Braking at the acceleration bounds, which hold at the interval's ends: a margin for
+  // its interior, which no later pass checks.
+  for (std::size_t j : { i, i + 1 })
+  {
+    for (int c = 2; c < 4; ++c)
+      factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
+    changed_[j] = 1;
+  }
+  const Interval free = controls(i, x, kInf);
+  if (free.isEmpty())
+  {
+    // No braking keeps within the acceleration bounds here: the path bends too sharply
+    // for this speed. The least acceleration is taken and its excess reported.
+    chosen = leastAccelerationControl(i, x, d);
+    const Rates r = needs(right_[i].raw, x, chosen);
+    for (int c = 2; c < 4; ++c)
+      profile_.recovery_excess = std::max(profile_.recovery_excess, r[c] * r[c]);
+  }
+  else
+  {
+    chosen = std::min(std::max((next - x) / (2.0 * d), free.lo), free.hi);
+  }
+  return chosen;
 }
 
 double TimeOptimalSolver::leastAccelerationControl(std::size_t i, double x, double d) const

@@ -165,6 +165,32 @@ private:
   /// and checks read: right- and left-sided at each point, and at the middle of each interval.
   void buildGrid(const TimeOptimalOptions& options);
 
+  /// The uniform grid buildGrid refines: its points, the right-sided jets there, the left-sided
+  /// ones at the pieces' inner ends (index and jet) and which of those are corners.
+  struct UniformGrid
+  {
+    std::vector<double> s;
+    std::vector<PathJet> right;
+    std::vector<std::pair<std::size_t, PathJet>> left;
+    std::vector<bool> corner;
+  };
+
+  /// The path's breakpoints, sorted and distinct; a path with a non-finite time or of no positive
+  /// duration is refused.
+  std::vector<double> gridBreakpoints() const;
+
+  /// The uniform grid on the breakpoints b: max(intervals_per_piece, the piece's share of
+  /// min_intervals) intervals per piece; sets the refinement's floors of |C′|² and its limit on
+  /// the grid's size.
+  UniformGrid uniformGrid(const std::vector<double>& b, const TimeOptimalOptions& options);
+
+  /// The grid points, refined between the uniform grid's points (refine), with their jets.
+  void refineGrid(const UniformGrid& uniform);
+
+  /// Inserts the held first interval [s_0, s_0 + ε] (TimeOptimalOptions::hold_start): a new point
+  /// after s_0, and new middles on both sides.
+  void holdStart();
+
   void evaluateGrid(const TimeOptimalOptions& options);
 
   /// Checks that the motion at this point is bounded and floors stationary points.
@@ -221,6 +247,12 @@ private:
   /// bounds allow: the recovery, which ends at the grid point recovery_end_. A start that cannot be
   /// brought to rest before a velocity corner or the end of the path is an error.
   void forward();
+
+  /// The recovery's control on interval i from x (forward): the hardest braking the acceleration
+  /// bounds allow towards the next set (`next`), with the margin kRecoveryMargin on those bounds at
+  /// both ends of the interval; where no braking keeps within them, the least acceleration, whose
+  /// excess goes into the profile's recovery_excess.
+  double recoveryControl(std::size_t i, double x, double next, double d);
 
   /// The first interval the checks hold to the bounds: after the recovery from a start that
   /// exceeds a bound; else all of them (a start within the bounds that must brake for what lies

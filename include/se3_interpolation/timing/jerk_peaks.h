@@ -1,7 +1,7 @@
 // timing/: jerk_peaks.h (this header): the peak jerk of a curve on its own clock, which the uniform
 // stretch (timing `stretch`) divides by k³ to meet max_linear_jerk / max_angular_jerk.
 //
-// The jerk of a pose curve is (p⃛, ω̈) (spatial; jerk_limited.h, kinematics3FromJet), of a sphere
+// The jerk of a pose curve is (p⃛, ω̈) (spatial; path_jet3.h, kinematics3FromJet), of a sphere
 // curve the covariant D³x/dt³ (sphereKinematics3FromJet), both exact from the curve's third-order
 // jets. Within an analytic piece the jerk is smooth: each piece is cut into subintervals
 // (subintervalsPerPiece, as the figures are), every subinterval evaluated at its two ends (one-sided)
