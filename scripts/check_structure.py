@@ -8,13 +8,15 @@
   of its opening brace to the line of its closing brace;
 - named paths: every path of this repository that a comment (C++, Python, shell, CMake) or a page
   (README.md, docs/, CHANGELOG.rst) names exists;
-- the header table: every public header has its row in docs/api.md.
+- the header table: every public header has its row in docs/api.md;
+- the format: the C++ of include/ and src/ is as clang-format writes it with .clang-format.
 
 Prints each finding as FILE:LINE: message, then `structure: N passed, N failed`; exits 1 on a
 finding. Usage: check_structure.py [ROOT] (default: the repository holding this script).
 """
 import os
 import re
+import subprocess
 import sys
 
 MAX_FILE_LINES = 500
@@ -232,6 +234,21 @@ def check_named_paths(root):
     return findings
 
 
+def check_format(root, files):
+    """The C++ of include/ and src/ as clang-format writes it with the committed .clang-format."""
+    try:
+        result = subprocess.run(["clang-format", "--dry-run", "--style=file"] + files, cwd=root,
+                                capture_output=True, text=True)
+    except OSError:
+        return ["clang-format is not installed (Debian package clang-format)"]
+    drifted = sorted({line.split(":")[0] for line in result.stderr.splitlines() if ": warning: code should be" in line})
+    findings = ["%s: not as clang-format writes it (clang-format -i --style=file %s)" % (path, path)
+                for path in drifted]
+    if result.returncode != 0 and not findings:
+        findings.append("clang-format failed: " + result.stderr.strip()[:500])
+    return findings
+
+
 def check_api_table(root):
     """Every public header of include/se3_interpolation/ has its row in docs/api.md (as `folder/name.h`,
     or its folder's `folder/*.h`)."""
@@ -257,6 +274,7 @@ def main():
         ("functions of at most %d lines" % MAX_FUNCTION_LINES, function_findings),
         ("paths named in comments and pages exist", check_named_paths(root)),
         ("every public header in docs/api.md", check_api_table(root)),
+        ("clang-format of include/ and src/", check_format(root, cpp)),
     ]
     passed = failed = 0
     for name, findings in rules:

@@ -23,7 +23,7 @@ SE3_APT_PACKAGES=(
   python3-visualization-msgs python3-std-srvs python3-trajectory-msgs python3-tf2-ros
   libyaml-cpp-dev libgtest-dev googletest libbenchmark-dev liborocos-kdl-dev python3-yaml
   python3-matplotlib python3-numpy python3-pil rviz xvfb imagemagick valgrind clang libclang-rt-14-dev doxygen
-  catkin-lint libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
+  catkin-lint clang-format libactionlib-dev libactionlib-msgs-dev python3-actionlib python3-actionlib-msgs
   librosbag-storage-dev python3-scipy pybind11-dev python3-pytest liburdfdom-dev
 )
 

@@ -46,7 +46,8 @@ E parseName(const std::string& name, const std::string& field, E default_value)
   for (const auto& n : NameTable<E>::kNames)
     if (name == n.first)
       return n.second;
-  throw InvalidInputError(field + ": unknown value " + quotedText(name) + " (expected one of: " + knownNames<E>() + ")");
+  throw InvalidInputError(field + ": unknown value " + quotedText(name) + " (expected one of: " + knownNames<E>() +
+                          ")");
 }
 
 }  // namespace se3_interpolation

@@ -128,13 +128,16 @@ private:
     if (pending_.size() >= threads_)
       handOnFirst();
     const std::launch policy = threads_ > 1 ? std::launch::async : std::launch::deferred;
-    pending_.push_back(std::async(policy, [this](std::unique_ptr<Job> job) {
-      char* p = job->text.get();
-      for (std::size_t i = 0; i < job->rows; ++i)
-        p = row_(job->samples[i], p);
-      job->size = static_cast<std::size_t>(p - job->text.get());
-      return job;
-    }, std::move(filling_)));
+    pending_.push_back(std::async(
+        policy,
+        [this](std::unique_ptr<Job> job) {
+          char* p = job->text.get();
+          for (std::size_t i = 0; i < job->rows; ++i)
+            p = row_(job->samples[i], p);
+          job->size = static_cast<std::size_t>(p - job->text.get());
+          return job;
+        },
+        std::move(filling_)));
   }
 
   void handOnFirst()
@@ -187,20 +190,24 @@ template class CsvWriter<SphereSample>;
 
 CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink)
 {
-  return CsvWriter<TrajectorySample>(kPoseHeader, kPoseColumns * kCellChars, [](const TrajectorySample& s, char* p) {
-    p = cell(p, s.time, ',');
-    for (double v : { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.x(), s.pose.q.y(), s.pose.q.z(), s.pose.q.w() })
-      p = cell(p, v, ',');
-    for (const Eigen::Vector3d* v : { &s.velocity.linear, &s.velocity.angular, &s.acceleration.linear })
-    {
-      p = cell(p, v->x(), ',');
-      p = cell(p, v->y(), ',');
-      p = cell(p, v->z(), ',');
-    }
-    p = cell(p, s.acceleration.angular.x(), ',');
-    p = cell(p, s.acceleration.angular.y(), ',');
-    return cell(p, s.acceleration.angular.z(), '\n');
-  }, std::move(sink));
+  return CsvWriter<TrajectorySample>(
+      kPoseHeader, kPoseColumns * kCellChars,
+      [](const TrajectorySample& s, char* p) {
+        p = cell(p, s.time, ',');
+        for (double v :
+             { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.x(), s.pose.q.y(), s.pose.q.z(), s.pose.q.w() })
+          p = cell(p, v, ',');
+        for (const Eigen::Vector3d* v : { &s.velocity.linear, &s.velocity.angular, &s.acceleration.linear })
+        {
+          p = cell(p, v->x(), ',');
+          p = cell(p, v->y(), ',');
+          p = cell(p, v->z(), ',');
+        }
+        p = cell(p, s.acceleration.angular.x(), ',');
+        p = cell(p, s.acceleration.angular.y(), ',');
+        return cell(p, s.acceleration.angular.z(), '\n');
+      },
+      std::move(sink));
 }
 
 CsvWriter<SphereSample> sphereCsvWriter(Eigen::Index dimension, CsvSink sink)
@@ -209,14 +216,15 @@ CsvWriter<SphereSample> sphereCsvWriter(Eigen::Index dimension, CsvSink sink)
   for (Eigen::Index j = 1; j <= dimension; ++j)
     header += ",x" + std::to_string(j);
   header += '\n';
-  return CsvWriter<SphereSample>(std::move(header), (static_cast<std::size_t>(dimension) + 1) * kCellChars,
-                                 [](const SphereSample& s, char* p) {
-                                   p = cell(p, s.time, ',');
-                                   for (Eigen::Index j = 0; j + 1 < s.point.size(); ++j)
-                                     p = cell(p, s.point[j], ',');
-                                   return cell(p, s.point[s.point.size() - 1], '\n');
-                                 },
-                                 std::move(sink));
+  return CsvWriter<SphereSample>(
+      std::move(header), (static_cast<std::size_t>(dimension) + 1) * kCellChars,
+      [](const SphereSample& s, char* p) {
+        p = cell(p, s.time, ',');
+        for (Eigen::Index j = 0; j + 1 < s.point.size(); ++j)
+          p = cell(p, s.point[j], ',');
+        return cell(p, s.point[s.point.size() - 1], '\n');
+      },
+      std::move(sink));
 }
 
 void writePoseCsv(const TrajectoryResult& result, const CsvSink& sink)

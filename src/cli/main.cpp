@@ -75,10 +75,10 @@ struct Arguments
   std::string request;
   std::string output;
   std::string space = "pose";
-  se3_interpolation::PlannerLimits limits;  ///< --max-work-seconds raises or lowers limits.max_work_seconds
-  std::string waypoints;                    ///< --waypoints FILE.csv
+  se3_interpolation::PlannerLimits limits;   ///< --max-work-seconds raises or lowers limits.max_work_seconds
+  std::string waypoints;                     ///< --waypoints FILE.csv
   se3_interpolation::cli::BagSelection bag;  ///< --bag, --topic, --frame, --parent
-  std::string save_bspline;                 ///< --save-bspline FILE.yaml
+  std::string save_bspline;                  ///< --save-bspline FILE.yaml
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -133,7 +133,9 @@ Arguments parseArguments(int argc, char** argv)
   if (!a.waypoints.empty() && !a.bag.path.empty())
     throw std::invalid_argument("--waypoints and --bag: give the recorded waypoints from one of them");
   if (a.bag.path.empty() && !(a.bag.topic.empty() && a.bag.frame.empty() && a.bag.parent.empty()))
-    throw std::invalid_argument(std::string(!a.bag.topic.empty() ? "--topic" : !a.bag.frame.empty() ? "--frame" : "--parent") +
+    throw std::invalid_argument(std::string(!a.bag.topic.empty() ? "--topic" :
+                                            !a.bag.frame.empty() ? "--frame" :
+                                                                   "--parent") +
                                 ": reads a bag; give it with --bag FILE.bag");
   if (!a.bag.path.empty() && a.bag.topic.empty())
     throw std::invalid_argument("--topic: missing; --bag reads the poses of one topic (--topic NAME)");
@@ -189,7 +191,8 @@ void printSphereFigures(const se3_interpolation::SphereResult& r)
 void printFigures(const se3_interpolation::TrajectoryResult& r)
 {
   std::cerr << std::setprecision(12) << "duration: " << r.duration << "\nlength: " << r.figures.length
-            << "\nrotation_length: " << r.figures.rotation_length << "\nmax_linear_speed: " << r.figures.max_linear_speed
+            << "\nrotation_length: " << r.figures.rotation_length
+            << "\nmax_linear_speed: " << r.figures.max_linear_speed
             << "\nmax_angular_speed: " << r.figures.max_angular_speed
             << "\npeak_linear_acceleration: " << r.figures.max_linear_acceleration
             << "\npeak_angular_acceleration: " << r.figures.max_angular_acceleration
@@ -200,8 +203,8 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
   if (r.stop_time > 0.0)
     std::cerr << "stop_time: " << r.stop_time << "\n";
   if (r.constant_speed_end > r.constant_speed_start)
-    std::cerr << "constant_speed_start: " << r.constant_speed_start
-              << "\nconstant_speed_end: " << r.constant_speed_end << "\n";
+    std::cerr << "constant_speed_start: " << r.constant_speed_start << "\nconstant_speed_end: " << r.constant_speed_end
+              << "\n";
   if (!r.knots.empty())
     std::cerr << "residual_linear: " << r.residual_linear << "\nresidual_angular: " << r.residual_angular
               << "\ncontrol_poses: " << r.control_points.size() << "\n";
@@ -211,8 +214,8 @@ void printFigures(const se3_interpolation::TrajectoryResult& r)
 /// The fields of a fit request that the fitted B-spline replaces: the curve and its data and
 /// options. Every other field (timing, bounds, speed, sampling, rotation_scale, start state, ...)
 /// shapes the timed motion or its samples and goes into the replay as given.
-const char* const kFitOnlyFields[] = { "curve", "geometry", "degree", "knots", "waypoints", "times",
-                                       "control_period", "smoothing", "loss", "loss_scale" };
+const char* const kFitOnlyFields[] = { "curve", "geometry",       "degree",    "knots", "waypoints",
+                                       "times", "control_period", "smoothing", "loss",  "loss_scale" };
 
 /// The fields of `root` (the request file) other than kFitOnlyFields, as YAML; "" when none.
 std::string replayedFields(const YAML::Node& root)
@@ -246,11 +249,10 @@ std::string bsplineRequest(const se3_interpolation::TrajectoryResult& r, const s
       s += (s.size() > 1 ? ", " : "") + number(v);
     return s + "]";
   };
-  std::string text = "# The B-spline se3_interpolate fitted to " + source +
-                     " (curve fit, residual_linear " + number(r.residual_linear) + " m, residual_angular " +
-                     number(r.residual_angular) + " rad): replays the fitted motion.\ncurve: bspline\ngeometry: " +
-                     geometry + "\ndegree: " + std::to_string(r.knots.size() - r.control_points.size() - 1) +
-                     "\nknots: [";
+  std::string text = "# The B-spline se3_interpolate fitted to " + source + " (curve fit, residual_linear " +
+                     number(r.residual_linear) + " m, residual_angular " + number(r.residual_angular) +
+                     " rad): replays the fitted motion.\ncurve: bspline\ngeometry: " + geometry +
+                     "\ndegree: " + std::to_string(r.knots.size() - r.control_points.size() - 1) + "\nknots: [";
   for (std::size_t i = 0; i < r.knots.size(); ++i)
     text += (i ? ", " : "") + number(r.knots[i]);
   text += "]\nwaypoints:\n";
@@ -414,10 +416,11 @@ int main(int argc, char** argv)
       output([&](const se3::cli::CsvSink& sink) {
         se3::cli::CsvWriter<se3::SphereSample> writer =
             se3::cli::sphereCsvWriter(request.waypoints.empty() ? 0 : request.waypoints.front().size(), sink);
-        result = se3::generate(request, args.limits, se3::SampleSink<se3::SphereSpace>([&writer](
-                                                         const se3::SphereSample* first, std::size_t count) {
-                                 writer.add(first, count);
-                               }));
+        result = se3::generate(request, args.limits,
+                               se3::SampleSink<se3::SphereSpace>(
+                                   [&writer](const se3::SphereSample* first, std::size_t count) {
+                                     writer.add(first, count);
+                                   }));
         writer.finish();
       });
       printSphereFigures(result);
@@ -426,17 +429,18 @@ int main(int argc, char** argv)
     {
       recorded = readRecorded(args);
       const se3::TrajectoryRequest request =
-          recorded ? se3::cli::requestFromYaml(root, recorded->waypoints, recorded->times, recorded->source)
-                   : se3::cli::requestFromYaml(root);
+          recorded ? se3::cli::requestFromYaml(root, recorded->waypoints, recorded->times, recorded->source) :
+                     se3::cli::requestFromYaml(root);
       se3::TrajectoryResult result;
       if (args.save_bspline.empty())
         // The samples go to the output as they are computed (planner.h, SampleSink).
         output([&](const se3::cli::CsvSink& sink) {
           se3::cli::CsvWriter<se3::TrajectorySample> writer = se3::cli::poseCsvWriter(sink);
-          result = se3::generate(request, args.limits, se3::SampleSink<se3::PoseSpace>([&writer](
-                                                           const se3::TrajectorySample* first, std::size_t count) {
-                                   writer.add(first, count);
-                                 }));
+          result = se3::generate(request, args.limits,
+                                 se3::SampleSink<se3::PoseSpace>(
+                                     [&writer](const se3::TrajectorySample* first, std::size_t count) {
+                                       writer.add(first, count);
+                                     }));
           writer.finish();
         });
       else
@@ -450,8 +454,7 @@ int main(int argc, char** argv)
             se3::toString(se3::parseName(request.geometry, "geometry", se3::RequestDefaults::kGeometry));
         const std::string text =
             bsplineRequest(result, geometry, recorded ? recorded->source : "'" + args.request + "'", root);
-        writeAtomically(args.save_bspline,
-                        [&text](const se3::cli::CsvSink& sink) { sink(text.data(), text.size()); });
+        writeAtomically(args.save_bspline, [&text](const se3::cli::CsvSink& sink) { sink(text.data(), text.size()); });
         output([&result](const se3::cli::CsvSink& sink) { se3::cli::writePoseCsv(result, sink); });
       }
       if (recorded)

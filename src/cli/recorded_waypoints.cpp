@@ -74,8 +74,8 @@ std::vector<StampedPose> readTopic(rosbag::Bag& bag, const BagSelection& selecti
     rosbag::View all(bag);
     for (const rosbag::ConnectionInfo* c : all.getConnections())
       topics.insert(c->topic + " (" + c->datatype + ")");
-    throw InvalidInputError(topic + ": no message on it in '" + selection.path + "' (its topics: " +
-                            (topics.empty() ? std::string("none") : quotedList(topics)) + ")");
+    throw InvalidInputError(topic + ": no message on it in '" + selection.path +
+                            "' (its topics: " + (topics.empty() ? std::string("none") : quotedList(topics)) + ")");
   }
   for (const rosbag::ConnectionInfo* c : view.getConnections())
   {
@@ -133,7 +133,8 @@ std::vector<StampedPose> selectFrames(std::vector<StampedPose> poses, const BagS
                               " (its child frames: " + (children.empty() ? "none" : quotedList(children)) + ")");
     poses = std::move(of_frame);
   }
-  const std::string what = datatype == kPoseStamped ? "poses on " + where : "transforms of '" + poses.front().child + "' in " + where;
+  const std::string what =
+      datatype == kPoseStamped ? "poses on " + where : "transforms of '" + poses.front().child + "' in " + where;
   std::set<std::string> parents;
   for (const StampedPose& p : poses)
     parents.insert(p.parent);
@@ -145,8 +146,8 @@ std::vector<StampedPose> selectFrames(std::vector<StampedPose> poses, const BagS
     return poses;
   }
   if (parents.count(selection.parent) == 0)
-    throw InvalidInputError("--parent '" + selection.parent + "': none of the " + what + " is given in it (their frames: " +
-                            quotedList(parents) + ")");
+    throw InvalidInputError("--parent '" + selection.parent + "': none of the " + what +
+                            " is given in it (their frames: " + quotedList(parents) + ")");
   std::vector<StampedPose> in_parent;
   for (StampedPose& p : poses)
     if (p.parent == selection.parent)
@@ -160,9 +161,12 @@ RecordedWaypoints readWaypointsBag(const BagSelection& selection)
   rosbag::Bag bag;
   // A bag cut short (a recording killed, a copy interrupted) has no index at its end: rosbag says
   // "Bag unindexed" or, where the header points past the end, "wanted 4 bytes, read 0 bytes".
-  const std::string cut_short = "; the bag looks cut short (a recording or a copy interrupted before its index was "
-                                "written): `rosbag reindex " + selection.path + "` rebuilds the index from the "
-                                "messages it holds";
+  const std::string cut_short =
+      "; the bag looks cut short (a recording or a copy interrupted before its index was "
+      "written): `rosbag reindex " +
+      selection.path +
+      "` rebuilds the index from the "
+      "messages it holds";
   try
   {
     bag.open(selection.path, rosbag::bagmode::Read);
@@ -243,8 +247,8 @@ std::string withRecordedOrigin(const std::string& message, const RecordedWaypoin
   }
   if (best == std::string::npos)
     return message;
-  return message + " (waypoints[" + std::to_string(index) + "] and times[" + std::to_string(index) +
-         "] come from " + recordedOrigin(recorded, index) + ")";
+  return message + " (waypoints[" + std::to_string(index) + "] and times[" + std::to_string(index) + "] come from " +
+         recordedOrigin(recorded, index) + ")";
 }
 
 }  // namespace cli

@@ -32,8 +32,8 @@ namespace cli
 struct RecordedWaypoints
 {
   std::vector<Pose<double>> waypoints;
-  std::vector<double> times;  ///< seconds: the CSV's t, or after the bag's first pose's stamp
-  std::string frame_id;       ///< a bag's frame (header.frame_id or the transforms' parent); empty for a CSV
+  std::vector<double> times;        ///< seconds: the CSV's t, or after the bag's first pose's stamp
+  std::string frame_id;             ///< a bag's frame (header.frame_id or the transforms' parent); empty for a CSV
   std::int64_t time_origin_ns = 0;  ///< a bag's first stamp (ns since the epoch), at times = 0; 0 for a CSV
   std::string source;               ///< the option and file, e.g. "--waypoints 'recording.csv'"
   std::size_t first_line = 0;       ///< a CSV's line of waypoints[0] (2); 0 for a bag

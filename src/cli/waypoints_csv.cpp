@@ -44,8 +44,8 @@ std::vector<Cell> splitCells(std::string_view line)
   for (;;)
   {
     const std::size_t comma = line.find(',', start);
-    cells.push_back({ line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start),
-                      start });
+    cells.push_back(
+        { line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start), start });
     if (comma == std::string_view::npos)
       return cells;
     start = comma + 1;
@@ -202,7 +202,8 @@ private:
           listed += ", ... (" + std::to_string(cells.size()) + " cells)";
         refuseHere(0, "column '" + std::string(kWaypointColumns[k]) +
                           "': missing from the header (t,x,y,z,qx,qy,qz,qw are found by name, in any order; its "
-                          "cells: " + listed + ")");
+                          "cells: " +
+                          listed + ")");
       }
   }
 
@@ -239,12 +240,12 @@ private:
 
   RecordedWaypoints r_;
   std::size_t max_rows_;
-  std::string pending_;                ///< the start of a line whose end is in a later piece
-  bool cr_ended_piece_ = false;        ///< the last piece ended in '\r' (a '\n' next is its "\r\n")
-  std::uint64_t offset_ = 0;           ///< bytes of the file taken so far
+  std::string pending_;                 ///< the start of a line whose end is in a later piece
+  bool cr_ended_piece_ = false;         ///< the last piece ended in '\r' (a '\n' next is its "\r\n")
+  std::uint64_t offset_ = 0;            ///< bytes of the file taken so far
   std::uint64_t next_line_offset_ = 0;  ///< the file's offset of the next line's start
-  std::uint64_t line_offset_ = 0;      ///< the file's offset of the line being parsed
-  std::size_t line_ = 0;               ///< its number (1-based); 0 before the first
+  std::uint64_t line_offset_ = 0;       ///< the file's offset of the line being parsed
+  std::size_t line_ = 0;                ///< its number (1-based); 0 before the first
   /// role_[c]: which of kWaypointColumns header cell c is, or kColumnCount for another column.
   std::vector<std::size_t> role_;
 };

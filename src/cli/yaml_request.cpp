@@ -88,7 +88,8 @@ void requireKeys(const YAML::Node& node, const std::string& field, const std::se
 
 /// The components of a list [x, y, ...] or of a ROS message map {x: .., y: .., ...}; in the map
 /// form a missing component is 0, as when `rosservice call` fills a geometry_msgs message.
-std::vector<double> toComponents(const YAML::Node& node, const std::string& field, const std::vector<std::string>& names)
+std::vector<double> toComponents(const YAML::Node& node, const std::string& field,
+                                 const std::vector<std::string>& names)
 {
   std::string list = "[";
   std::string map = "{";
@@ -175,6 +176,46 @@ void rejectRepeatedKeys(const YAML::Node& node, const std::string& field)
   }
 }
 
+/// The keys a request file may hold: the service's fields, the CLI's start_state, and the service's
+/// child_frame_id, publish and from_current, which are checked and refused or ignored.
+const std::set<std::string> kRequestKeys = { "waypoints",
+                                             "times",
+                                             "curve",
+                                             "geometry",
+                                             "degree",
+                                             "knots",
+                                             "continuity",
+                                             "end_condition",
+                                             "start_velocity",
+                                             "end_velocity",
+                                             "start_acceleration",
+                                             "velocities",
+                                             "parameterization",
+                                             "rotation_scale",
+                                             "duration",
+                                             "max_linear_velocity",
+                                             "max_angular_velocity",
+                                             "max_linear_acceleration",
+                                             "max_angular_acceleration",
+                                             "max_linear_jerk",
+                                             "max_angular_jerk",
+                                             "timing",
+                                             "speed",
+                                             "control_period",
+                                             "smoothing",
+                                             "loss",
+                                             "loss_scale",
+                                             "sample_times",
+                                             "sample_period",
+                                             "sample_count",
+                                             "sample_tolerance",
+                                             "child_frame_id",
+                                             "publish",
+                                             "blend_radius",
+                                             "from_current",
+                                             "start_state",
+                                             "outputs" };
+
 /// Reads the optional field `name` of the request's map into *out when it is given (the field's
 /// name is the error's).
 void readField(const YAML::Node& root, const char* name, double* out)
@@ -202,20 +243,17 @@ void readCommonFields(const YAML::Node& root, Request* r)
   rejectRepeatedKeys(root, "");
   // The service looks these up with tf2; the command-line tool has no TF.
   if (root.IsMap() && root["waypoint_frames"])
-    throw InvalidInputError("waypoint_frames: the command-line tool has no TF to look frames up in; give their "
-                            "poses in waypoints (the node's ~generate service takes waypoint_frames)");
-  requireKeys(root, "",
-              { "waypoints", "times", "curve", "geometry", "degree", "knots", "continuity", "end_condition",
-                "start_velocity", "end_velocity", "start_acceleration", "velocities", "parameterization",
-                "rotation_scale", "duration", "max_linear_velocity", "max_angular_velocity",
-                "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk", "max_angular_jerk", "timing", "speed", "control_period", "smoothing", "loss", "loss_scale", "sample_times", "sample_period",
-                "sample_count", "sample_tolerance", "child_frame_id", "publish", "blend_radius", "from_current", "start_state", "outputs" });
+    throw InvalidInputError(
+        "waypoint_frames: the command-line tool has no TF to look frames up in; give their "
+        "poses in waypoints (the node's ~generate service takes waypoint_frames)");
+  requireKeys(root, "", kRequestKeys);
   // The service's from_current starts from the motion the node plays; the CLI plays none.
   if (root["from_current"] && toBool(root["from_current"], "from_current"))
-    throw InvalidInputError("from_current: the CLI plays no trajectory, so there is no current motion to start "
-                            "from; give the state explicitly as start_state: {pose: {position: [x, y, z], "
-                            "orientation: [x, y, z, w]}, velocity: {linear: [..], angular: [..]}, acceleration: "
-                            "{linear: [..], angular: [..]}}");
+    throw InvalidInputError(
+        "from_current: the CLI plays no trajectory, so there is no current motion to start "
+        "from; give the state explicitly as start_state: {pose: {position: [x, y, z], "
+        "orientation: [x, y, z, w]}, velocity: {linear: [..], angular: [..]}, acceleration: "
+        "{linear: [..], angular: [..]}}");
   readField(root, "times", &r->times);
   readField(root, "curve", &r->curve);
   readField(root, "geometry", &r->geometry);
@@ -281,8 +319,9 @@ void readWaypoints(const YAML::Node& root, TrajectoryRequest* r)
     poses.reset(given["poses"]);
   }
   if (!poses || !poses.IsSequence())
-    throw InvalidInputError("waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
-                            "{header: {frame_id: ..}, poses: [...]} as in the service)");
+    throw InvalidInputError(
+        "waypoints: missing (a list of {position: [x, y, z], orientation: [x, y, z, w]}, or "
+        "{header: {frame_id: ..}, poses: [...]} as in the service)");
   for (std::size_t i = 0; i < poses.size(); ++i)
     r->waypoints.push_back(toPose(poses[i], indexedField("waypoints", i)));
 }
@@ -331,7 +370,6 @@ TrajectoryRequest poseRequestFromYaml(const YAML::Node& root, bool read_waypoint
 }
 }  // namespace
 
-
 std::vector<std::vector<double>> vectorsFromYaml(const YAML::Node& node, const std::string& field)
 {
   if (!node.IsSequence())
@@ -352,8 +390,8 @@ TrajectoryRequest requestFromYaml(const YAML::Node& root, std::vector<Pose<doubl
 {
   for (const char* field : { "waypoints", "times" })
     if (root && root.IsMap() && root[field])
-      throw InvalidInputError(std::string(field) + ": given both in the request file and by " + source +
-                              "; with " + source + " the request file carries the other fields only");
+      throw InvalidInputError(std::string(field) + ": given both in the request file and by " + source + "; with " +
+                              source + " the request file carries the other fields only");
   TrajectoryRequest r = poseRequestFromYaml(root, false);
   r.waypoints = std::move(waypoints);
   r.times = std::move(times);

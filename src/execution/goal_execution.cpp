@@ -40,8 +40,7 @@ std::string stateDifference(const TrajectorySample& shown, const TrajectorySampl
   const double da = (start.acceleration.linear - shown.acceleration.linear).norm();
   const double dal = (start.acceleration.angular - shown.acceleration.angular).norm();
   if (da > kSpliceTolerance || dal > kSpliceTolerance)
-    return "its acceleration differs from the frame's by " + withUnit(da, "m/s^2") + " and " +
-           withUnit(dal, "rad/s^2");
+    return "its acceleration differs from the frame's by " + withUnit(da, "m/s^2") + " and " + withUnit(dal, "rad/s^2");
   return "";
 }
 }  // namespace
@@ -55,8 +54,8 @@ PoseError poseError(const Pose<double>& desired, const Pose<double>& actual)
 }
 
 GoalStart checkGoalStart(const GoalTrajectory& goal, Nanoseconds stamp, Nanoseconds now,
-                         const std::function<std::optional<PlaybackState>(Nanoseconds)>& shown_at,
-                         double rest_linear, double rest_angular)
+                         const std::function<std::optional<PlaybackState>(Nanoseconds)>& shown_at, double rest_linear,
+                         double rest_angular)
 {
   const Nanoseconds end = stamp + toNanoseconds(goal.endTime());
   if (end < now)
@@ -90,8 +89,8 @@ GoalStart checkGoalStart(const GoalTrajectory& goal, Nanoseconds stamp, Nanoseco
   throw InvalidGoalError(GoalError::kInvalidGoal,
                          "trajectory.points[0]: the goal does not start at the frame's " +
                              std::string(at_rest ? "held pose" : "current motion") + ": " + difference +
-                             (at_rest ? " (start it at the held pose, at rest)"
-                                      : " (generate it with from_current, and send it before its stamp)"));
+                             (at_rest ? " (start it at the held pose, at rest)" :
+                                        " (generate it with from_current, and send it before its stamp)"));
 }
 
 GoalSupervisor::GoalSupervisor(const GoalTolerances& tolerances, Nanoseconds end, const Pose<double>& last)

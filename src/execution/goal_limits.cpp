@@ -185,9 +185,9 @@ void GoalTrajectory::checkLimits(const MotionLimits& limits, double tolerance) c
   const RatePeak& p = peaks[worst];
   const RateName& r = kRateNames[worst];
   const bool mean = worst >= 4;
-  refuse(pointField(p.segment) + ": between it and " + pointField(p.segment + 1) + " the " +
-         (mean ? "mean " : "") + r.name + " reaches " + formatNumber(p.value) + " " + r.unit + " at time_from_start " +
-         formatNumber(p.time) + " s, above " + r.bound + " = " + formatNumber(bounds[worst]) + " " + r.unit +
+  refuse(pointField(p.segment) + ": between it and " + pointField(p.segment + 1) + " the " + (mean ? "mean " : "") +
+         r.name + " reaches " + formatNumber(p.value) + " " + r.unit + " at time_from_start " + formatNumber(p.time) +
+         " s, above " + r.bound + " = " + formatNumber(bounds[worst]) + " " + r.unit +
          (worst == 2 || worst == 3 ?
               " (where a trajectory's acceleration jumps between two points, as time_optimal's does without a jerk "
               "bound, its interpolation overshoots: generate it with max_linear_jerk and max_angular_jerk)" :
@@ -203,7 +203,8 @@ void GoalTrajectory::requireEndsAtRest() const
     return;
   refuse(pointField(size() - 1) + ": the motion ends moving (linear speed " + formatNumber(linear) +
          " m/s, angular speed " + formatNumber(angular) + " rad/s; at rest is below " + shortNumber(kRestLinear) +
-         " m/s and " + shortNumber(kRestAngular) + " rad/s): give the last point zero velocities, or plan it to stop there (the ~generate service's "
+         " m/s and " + shortNumber(kRestAngular) +
+         " rad/s): give the last point zero velocities, or plan it to stop there (the ~generate service's "
          "end_condition: clamped, or timing: time_optimal)");
 }
 

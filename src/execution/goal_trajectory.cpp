@@ -17,9 +17,7 @@ namespace se3_interpolation
 {
 using namespace goal_detail;
 
-InvalidGoalError::InvalidGoalError(GoalError code, const std::string& what) : InvalidInputError(what), code_(code)
-{
-}
+InvalidGoalError::InvalidGoalError(GoalError code, const std::string& what) : InvalidInputError(what), code_(code) {}
 
 GoalError InvalidGoalError::code() const
 {
@@ -64,15 +62,17 @@ void validatePoints(std::vector<GoalPoint>* points)
     requireBounded(p.pose.p, field + ".transforms[0].translation");
     p.pose.q = validateQuaternion(p.pose.q, field + ".transforms[0].rotation");
     if (p.acceleration && !p.velocity)
-      throw InvalidInputError(field + ".accelerations: given without velocities (give velocities with them, or "
-                                      "neither)");
+      throw InvalidInputError(field +
+                              ".accelerations: given without velocities (give velocities with them, or "
+                              "neither)");
     if (orderOf(p) != order)
     {
       const bool velocities = p.velocity.has_value() != points->front().velocity.has_value();
       const std::string what = velocities ? "velocities" : "accelerations";
       const bool here = velocities ? p.velocity.has_value() : p.acceleration.has_value();
-      throw InvalidInputError(field + "." + what + ": " + (here ? "given here but not at " : "missing here but given at ") +
-                              pointField(0) + " (give " + what + " at every point or at none)");
+      throw InvalidInputError(field + "." + what + ": " +
+                              (here ? "given here but not at " : "missing here but given at ") + pointField(0) +
+                              " (give " + what + " at every point or at none)");
     }
     if (p.velocity)
     {

@@ -49,7 +49,7 @@ constexpr std::size_t jerkRate(std::size_t channel)
 
 inline SixRates boundsOf(const MotionLimits& l)
 {
-  return { l.max_linear_velocity,     l.max_angular_velocity, l.max_linear_acceleration,
+  return { l.max_linear_velocity,      l.max_angular_velocity, l.max_linear_acceleration,
            l.max_angular_acceleration, l.max_linear_jerk,      l.max_angular_jerk };
 }
 
@@ -90,7 +90,7 @@ public:
   goal_detail::SixRates ratesAt(double t, Side side) const
   {
     const timing::Kinematics3 k = at3(t, side);
-    return { k.velocity.linear.norm(),     k.velocity.angular.norm(), k.acceleration.linear.norm(),
+    return { k.velocity.linear.norm(),      k.velocity.angular.norm(), k.acceleration.linear.norm(),
              k.acceleration.angular.norm(), k.jerk.linear.norm(),      k.jerk.angular.norm() };
   }
 

@@ -225,8 +225,8 @@ void Playback::hold(Nanoseconds now)
     latest_ = heldEntry(*e, now, loop_);
 }
 
-std::pair<std::shared_ptr<const Playback::Entry>, Nanoseconds>
-Playback::stopEntry(const std::shared_ptr<const Entry>& shown, Nanoseconds now, bool loop, const StopLimits& limits)
+std::pair<std::shared_ptr<const Playback::Entry>, Nanoseconds> Playback::stopEntry(
+    const std::shared_ptr<const Entry>& shown, Nanoseconds now, bool loop, const StopLimits& limits)
 {
   StoppedMotion stopped;
   stopped.loop = loop && !shown->held;
@@ -277,7 +277,7 @@ Playback::stopEntry(const std::shared_ptr<const Entry>& shown, Nanoseconds now, 
   entry->motion.tag = shown->motion.tag;
   entry->stamp = now;
   entry->start = now;
-  entry->held = true;  // the stop plays once, then holds where it stopped
+  entry->held = true;       // the stop plays once, then holds where it stopped
   entry->previous = shown;  // a stop from an instant ahead: what plays until then goes on
   return { entry, rest };
 }

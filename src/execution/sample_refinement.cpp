@@ -40,7 +40,10 @@ bool anyBound(const MotionLimits& l)
 
 SampleRefiner::SampleRefiner(SampleRefinement settings, std::function<TrajectorySample(double)> sample_at,
                              std::size_t budget)
-  : settings_(std::move(settings)), sample_at_(std::move(sample_at)), budget_(budget), bounded_(anyBound(settings_.limits))
+  : settings_(std::move(settings))
+  , sample_at_(std::move(sample_at))
+  , budget_(budget)
+  , bounded_(anyBound(settings_.limits))
 {
 }
 
@@ -104,9 +107,8 @@ void SampleRefiner::between(const TrajectorySample& a, const TrajectorySample& b
         if (inserted_ == budget_)
           throw LimitExceededError("sample_tolerance: " + formatNumber(settings_.tolerance) +
                                    " m needs more samples than the ~max_samples limit allows (" +
-                                   formatNumber(static_cast<double>(inserted_)) +
-                                   " inserted so far, before t = " + formatNumber(middle.time) +
-                                   " s); give a larger tolerance or fewer samples");
+                                   formatNumber(static_cast<double>(inserted_)) + " inserted so far, before t = " +
+                                   formatNumber(middle.time) + " s); give a larger tolerance or fewer samples");
         ++inserted_;
         refine(lo, middle, smallest_excess, stalled);
         emit(middle);

@@ -38,8 +38,8 @@ double reweight(FitProblem* pb, const std::vector<double>& s)
 
 /// The RMS residuals of `linear2` (m²) and `angular2` (rad²), the objective and the steps into `out`.
 /// @throws ConvergenceError if the objective is not finite
-void finish(const std::vector<double>& linear2, const std::vector<double>& angular2, double objective,
-            int iterations, BSplineFitResult* out)
+void finish(const std::vector<double>& linear2, const std::vector<double>& angular2, double objective, int iterations,
+            BSplineFitResult* out)
 {
   double sl = 0.0, sa = 0.0;
   for (std::size_t i = 0; i < linear2.size(); ++i)
@@ -110,7 +110,8 @@ BSplineFitResult fitDoubleGeodesic(const std::vector<Pose<double>>& poses, const
   double last_pass = std::numeric_limits<double>::infinity();
   for (int pass = 0; pass < kMaxReweightings; ++pass)
   {
-    solveGroup(&pb, &rotation, [&]() { return linear2; }, &rotation_objective);
+    solveGroup(
+        &pb, &rotation, [&]() { return linear2; }, &rotation_objective);
     if (pb.options.loss == FitLoss::kSquared)
       break;
     // Each pass is a majorisation step of Huber's objective: one that lowers it by no more than
@@ -155,7 +156,8 @@ BSplineFitResult fitScrew(const std::vector<Pose<double>>& poses, const std::vec
     refuseHalfTurn(options);
   if (pb.options.loss == FitLoss::kHuber)
     reweight(&pb, fit.squaredDistances(fit.control()));
-  solveGroup(&pb, &fit, [&]() { return none; }, &objective);
+  solveGroup(
+      &pb, &fit, [&]() { return none; }, &objective);
   BSplineFitResult out;
   out.degree = options.degree;
   out.knots = pb.knots;
@@ -177,8 +179,8 @@ BSplineFitResult fitScrew(const std::vector<Pose<double>>& poses, const std::vec
 }  // namespace fitting_detail
 
 template <>
-BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& poses,
-                                               const std::vector<double>& times, const FitOptions& options)
+BSplineFitResult fitBSpline<DoubleGeodesicSe3>(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
+                                               const FitOptions& options)
 {
   try
   {

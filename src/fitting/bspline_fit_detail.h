@@ -259,12 +259,12 @@ struct FitProblem
   const std::vector<Pose<double>>* poses;
   const std::vector<double>* times;
   FitOptions options;
-  std::size_t n = 0;                     ///< control points
+  std::size_t n = 0;  ///< control points
   std::vector<double> knots;
-  std::vector<std::size_t> spans;        ///< of each waypoint
+  std::vector<std::size_t> spans;  ///< of each waypoint
   std::vector<QuadraturePoint> quadrature;
-  std::vector<double> weights;           ///< IRLS weights (1 for squared loss)
-  double inverse_count = 1.0;            ///< 1/N
+  std::vector<double> weights;  ///< IRLS weights (1 for squared loss)
+  double inverse_count = 1.0;   ///< 1/N
 
   std::size_t size() const { return poses->size(); }
 };
@@ -327,10 +327,7 @@ public:
   /// ∞ where the control points make a half-turn geodesic step (a rejected trial).
   double objective(const std::vector<Element>& control, const std::vector<double>& other);
 
-  double loss(double s) const
-  {
-    return pb_.options.loss == FitLoss::kHuber ? huberLoss(s, pb_.options.loss_scale) : s;
-  }
+  double loss(double s) const { return pb_.options.loss == FitLoss::kHuber ? huberLoss(s, pb_.options.loss_scale) : s; }
 
   /// One Levenberg–Marquardt step of the weighted problem (weights pb_.weights, from the current
   /// state) whose acceptance is judged on the true objective with the translation's part `other`.

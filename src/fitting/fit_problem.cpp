@@ -147,8 +147,7 @@ std::vector<QuadraturePoint> jerkQuadrature(const std::vector<double>& u, std::s
 }
 
 /// The checks of the waypoints, the times and the options that fitBSpline documents (bspline_fit.h).
-void validateOptions(const std::vector<Pose<double>>& poses, const std::vector<double>& times,
-                     const FitOptions& o)
+void validateOptions(const std::vector<Pose<double>>& poses, const std::vector<double>& times, const FitOptions& o)
 {
   if (times.size() != poses.size())
     throw InvalidInputError("times: curve 'fit' needs one time per waypoint (" + std::to_string(times.size()) +
@@ -211,7 +210,8 @@ std::size_t fitIntervals(double t0, double t1, double control_period, int degree
     throw InvalidInputError("control_period: " + formatSeconds(control_period) + " s over the waypoints' " +
                             formatSeconds(t1 - t0) + " s makes " + formatSeconds(intervals + degree) +
                             " control poses of degree " + std::to_string(degree) + " for " +
-                            std::to_string(max_control) + " waypoints (at most one per waypoint): a longer "
+                            std::to_string(max_control) +
+                            " waypoints (at most one per waypoint): a longer "
                             "control_period or more waypoints");
   return static_cast<std::size_t>(intervals);
 }

@@ -24,8 +24,7 @@ constexpr double kJerkDifferenceStep = 1e-6;
 
 /// The third-order jet of the B-spline in L's geometry at t in span k (de Boor in Jet<3>).
 template <class L>
-auto deBoorJet(const std::vector<typename L::Element>& d, const std::vector<double>& u, int m, std::size_t k,
-               double t)
+auto deBoorJet(const std::vector<typename L::Element>& d, const std::vector<double>& u, int m, std::size_t k, double t)
 {
   using G = typename L::Geometry;
   using JetPoint = decltype(L::castJet(d[0]));
@@ -66,9 +65,9 @@ double GroupFit<L>::jerkTerm(const std::vector<Element>& control) const
     return 0.0;
   double sum = 0.0;
   for (const QuadraturePoint& q : pb_.quadrature)
-    sum += q.weight * L::jerk(deBoorJet<L>(control, pb_.knots, pb_.options.degree, q.span, q.t),
-                              pb_.options.rotation_scale)
-                          .squaredNorm();
+    sum += q.weight *
+           L::jerk(deBoorJet<L>(control, pb_.knots, pb_.options.degree, q.span, q.t), pb_.options.rotation_scale)
+               .squaredNorm();
   return pb_.options.smoothing * sum;
 }
 
@@ -198,11 +197,11 @@ void GroupFit<L>::jerkJacobian(const QuadraturePoint& q, typename DeBoorTriangle
       Vec<D> h = Vec<D>::Zero();
       h[x] = kJerkDifferenceStep;
       work[j] = L::exp(saved, h);
-      const Vec<D> plus = L::jerk(deBoorJet<L>(work, pb_.knots, pb_.options.degree, q.span, q.t),
-                                  pb_.options.rotation_scale);
+      const Vec<D> plus =
+          L::jerk(deBoorJet<L>(work, pb_.knots, pb_.options.degree, q.span, q.t), pb_.options.rotation_scale);
       work[j] = L::exp(saved, Vec<D>(-h));
-      const Vec<D> minus = L::jerk(deBoorJet<L>(work, pb_.knots, pb_.options.degree, q.span, q.t),
-                                   pb_.options.rotation_scale);
+      const Vec<D> minus =
+          L::jerk(deBoorJet<L>(work, pb_.knots, pb_.options.degree, q.span, q.t), pb_.options.rotation_scale);
       work[j] = saved;
       (*jac)[a].col(x) = (plus - minus) / (2.0 * kJerkDifferenceStep);
     }

@@ -31,8 +31,8 @@ struct PlannedMotion
 template <class Space>
 const char* boundFields()
 {
-  return std::is_same_v<Space, SphereSpace> ? "max_angular_velocity or max_angular_acceleration"
-                                            : "max_linear_velocity, max_angular_velocity or their accelerations";
+  return std::is_same_v<Space, SphereSpace> ? "max_angular_velocity or max_angular_acceleration" :
+                                              "max_linear_velocity, max_angular_velocity or their accelerations";
 }
 
 /// The request's curve through `times` (untimed: its own clock), with the figures a timing needs of
@@ -44,8 +44,8 @@ PlannedMotion<Space, G> buildCurve(const BasicValidatedRequest<Space>& r, const 
 /// The request's timing (stretch, time_optimal or constant_speed) applied to a curve that starts at
 /// waypoints[0] (planner.cpp).
 template <class Space, class G>
-void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Curve<G>>* curve_io,
-                 CurveFigures* fig_io, BasicResult<Space>* out_io);
+void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Curve<G>>* curve_io, CurveFigures* fig_io,
+                 BasicResult<Space>* out_io);
 
 /// The timed motion of a request (planner.cpp): from its start state if it has one.
 template <class Space, class G>

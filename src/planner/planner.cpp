@@ -73,8 +73,7 @@ TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySampl
   return s;
 }
 
-SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* /*previous*/,
-                      Side side = Side::kRight)
+SphereSample sampleAt(const Curve<Sphere>& curve, double t, const SphereSample* /*previous*/, Side side = Side::kRight)
 {
   const SphereKinematics k = kinematicsAt(curve, t, side);
   return SphereSample{ t, k.point, k.velocity, k.acceleration };
@@ -95,7 +94,8 @@ std::optional<SampleRefiner> refinerFor(const BasicValidatedRequest<Space>& r,
     settings.rotation_scale = r.rotation_scale;
     settings.geometry = r.geometry;
     settings.limits = motionLimitsOf(r);
-    return SampleRefiner(settings, [curve](double t) { return sampleAt(*curve, t, nullptr); }, budget);
+    return SampleRefiner(
+        settings, [curve](double t) { return sampleAt(*curve, t, nullptr); }, budget);
   }
   else
     return std::nullopt;
@@ -225,8 +225,8 @@ void requireStableStartSolve(const BasicValidatedRequest<Space>& r, const CurveF
     length = fig.length + (fig.rotation_length > 0.0 ? r.rotation_scale * fig.rotation_length : 0.0);
   if (length > kMaxStartLengthRatio * polygon + 1e-12)
     throw InvalidInputError("end_condition: 'start' makes a curve " + formatNumber(length) +
-                            " long through waypoints whose polygon is " + formatNumber(polygon) +
-                            " long (more than " + formatNumber(kMaxStartLengthRatio) +
+                            " long through waypoints whose polygon is " + formatNumber(polygon) + " long (more than " +
+                            formatNumber(kMaxStartLengthRatio) +
                             " times: solving forward from the start data amplifies them); use end_condition "
                             "'natural' or 'clamped', or waypoints and times that the start velocity leads into");
 }
@@ -268,20 +268,19 @@ PlannedMotion<Space, G> planMotion(const BasicValidatedRequest<Space>& r, const 
   return m;
 }
 
-
 template void applyTiming<PoseSpace, DoubleGeodesicSe3>(const ValidatedRequest&,
-                                                         std::shared_ptr<const Curve<DoubleGeodesicSe3>>*, CurveFigures*,
-                                                         TrajectoryResult*);
+                                                        std::shared_ptr<const Curve<DoubleGeodesicSe3>>*, CurveFigures*,
+                                                        TrajectoryResult*);
 template void applyTiming<PoseSpace, ScrewSe3>(const ValidatedRequest&, std::shared_ptr<const Curve<ScrewSe3>>*,
-                                                CurveFigures*, TrajectoryResult*);
-template PlannedMotion<PoseSpace, DoubleGeodesicSe3> buildCurve<PoseSpace, DoubleGeodesicSe3>(const ValidatedRequest&,
-                                                                                          const std::vector<double>&);
+                                               CurveFigures*, TrajectoryResult*);
+template PlannedMotion<PoseSpace, DoubleGeodesicSe3> buildCurve<PoseSpace, DoubleGeodesicSe3>(
+    const ValidatedRequest&, const std::vector<double>&);
 template PlannedMotion<PoseSpace, ScrewSe3> buildCurve<PoseSpace, ScrewSe3>(const ValidatedRequest&,
-                                                                        const std::vector<double>&);
-template PlannedMotion<PoseSpace, DoubleGeodesicSe3> planMotion<PoseSpace, DoubleGeodesicSe3>(const ValidatedRequest&,
-                                                                                          const std::vector<double>&);
+                                                                            const std::vector<double>&);
+template PlannedMotion<PoseSpace, DoubleGeodesicSe3> planMotion<PoseSpace, DoubleGeodesicSe3>(
+    const ValidatedRequest&, const std::vector<double>&);
 template PlannedMotion<PoseSpace, ScrewSe3> planMotion<PoseSpace, ScrewSe3>(const ValidatedRequest&,
-                                                                        const std::vector<double>&);
+                                                                            const std::vector<double>&);
 }  // namespace planner_detail
 
 namespace
@@ -315,7 +314,8 @@ void requireFiniteFigures(const BasicResult<Space>& out, const CurveFigures& fig
 }
 
 template <class Space, class G>
-BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits, const SampleSink<Space>* sink)
+BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimits& limits,
+                       const SampleSink<Space>* sink)
 {
   const std::vector<double> times = waypointTimes(r);
   // Bounded work: refused from the fields alone, before the curve is built or measured.

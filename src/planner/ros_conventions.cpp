@@ -19,9 +19,9 @@ void validateTimeSpan(double start_time, double end_time, const std::string& cau
 {
   for (double t : { start_time, end_time })
     if (!(std::abs(t) <= kRosDurationMaxSeconds))
-      throw InvalidInputError(cause + ": the trajectory would span [" + formatNumber(start_time) + ", " +
-                              formatNumber(end_time) + "] s, beyond ROS's duration range (|t| <= " +
-                              formatNumber(kRosDurationMaxSeconds) + " s)");
+      throw InvalidInputError(
+          cause + ": the trajectory would span [" + formatNumber(start_time) + ", " + formatNumber(end_time) +
+          "] s, beyond ROS's duration range (|t| <= " + formatNumber(kRosDurationMaxSeconds) + " s)");
 }
 
 void validateStampedSpan(double stamp, double start_time, double end_time, const std::string& stamp_field)

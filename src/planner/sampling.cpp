@@ -21,7 +21,8 @@ void requireResolvable(const std::vector<double>& ts, const std::string& field)
   for (std::size_t i = 1; i < ts.size(); ++i)
     if (!(ts[i] - ts[i - 1] >= kResolvableStep))
       throw InvalidInputError(field + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) + " are " +
-                              formatNumber(ts[i] - ts[i - 1]) + " s apart, below the 1 ns resolution of time_from_start" +
+                              formatNumber(ts[i] - ts[i - 1]) +
+                              " s apart, below the 1 ns resolution of time_from_start" +
                               " (fewer samples or a longer duration)");
 }
 }  // namespace

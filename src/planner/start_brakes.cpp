@@ -189,7 +189,7 @@ std::pair<std::array<double, 2>, std::array<double, 2>> brakeDesignBounds(const 
 }
 
 std::optional<std::pair<JerkBrake, BrakeFigures>> jerkBrakeWithin(const ValidatedRequest& r,
-                                                                   const std::array<StopDesign, 2>& design)
+                                                                  const std::array<StopDesign, 2>& design)
 {
   const StartState& s = *r.start_state;
   const auto [a_max, j_max] = brakeDesignBounds(r);

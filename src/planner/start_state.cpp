@@ -129,8 +129,8 @@ JoinedPath<G> chooseJoin(const ValidatedRequest& r, const std::shared_ptr<const 
   const StartState& s = *r.start_state;
   const double rho = r.rotation_scale;
   const Kinematics entry = kinematicsAt(*through, t1);
-  const double chord = std::sqrt((entry.pose.p - s.pose.p).squaredNorm() +
-                                 std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
+  const double chord =
+      std::sqrt((entry.pose.p - s.pose.p).squaredNorm() + std::pow(rho * entry.pose.q.angularDistance(s.pose.q), 2));
   const double start_speed = weightedNorm(s.velocity, rho);
   const double entry_speed = weightedNorm(entry.velocity, rho);
   double matching = 1.0;
@@ -172,8 +172,8 @@ JoinedPath<G> chooseJoin(const ValidatedRequest& r, const std::shared_ptr<const 
 /// that cannot brake within the acceleration bounds where the path bends is refused.
 template <class G>
 std::shared_ptr<const timing::TimeOptimalCurve<G>> timeOptimalFromStart(const ValidatedRequest& r,
-                                                                          std::shared_ptr<const Curve<G>> path,
-                                                                          bool native)
+                                                                        std::shared_ptr<const Curve<G>> path,
+                                                                        bool native)
 {
   timing::TimeOptimalOptions options;
   options.start_speed = 1.0;
@@ -183,13 +183,18 @@ std::shared_ptr<const timing::TimeOptimalCurve<G>> timeOptimalFromStart(const Va
   if (excess > 1.0 + kBoundTolerance)
   {
     if (native)
-      throw InvalidInputError("end_condition: 'start' continues the start state's motion on a spline that bends too "
-                              "sharply to brake from it within the acceleration bounds (braking would take " +
-                              formatNumber(excess) + " times a bound); use end_condition 'natural' or 'clamped', "
-                              "whose joining segment is chosen for the bounds");
-    throw InvalidInputError("start_state: the motion starts too fast for the curve it joins: braking along it would "
-                            "take " + formatNumber(excess) + " times an acceleration bound; start more slowly or "
-                            "farther from the first waypoint, or raise the acceleration bounds");
+      throw InvalidInputError(
+          "end_condition: 'start' continues the start state's motion on a spline that bends too "
+          "sharply to brake from it within the acceleration bounds (braking would take " +
+          formatNumber(excess) +
+          " times a bound); use end_condition 'natural' or 'clamped', "
+          "whose joining segment is chosen for the bounds");
+    throw InvalidInputError(
+        "start_state: the motion starts too fast for the curve it joins: braking along it would "
+        "take " +
+        formatNumber(excess) +
+        " times an acceleration bound; start more slowly or "
+        "farther from the first waypoint, or raise the acceleration bounds");
   }
   return timed;
 }
@@ -261,8 +266,8 @@ void stretchFromStart(const ValidatedRequest& r, bool at_rest, PlannedMotion<Pos
   const double k = stretchFactor(r, fig, &cause);
   validateTimeSpan(0.0, curve->endTime() * k, cause);
   if (k > 1.0 && !at_rest)
-    throw InvalidInputError("timing: 'stretch' would slow the motion down " + formatNumber(k) + " times for " +
-                            cause + ", which would change the start state's velocity and acceleration; use timing "
+    throw InvalidInputError("timing: 'stretch' would slow the motion down " + formatNumber(k) + " times for " + cause +
+                            ", which would change the start state's velocity and acceleration; use timing "
                             "'time_optimal', which keeps the start state and brings the motion within the bounds");
   if (k > 1.0)
   {
@@ -406,7 +411,8 @@ bool noLonger(const ValidatedRequest& r, const PlannedMotion<PoseSpace, G>& a, c
 {
   const double da = a.curve->endTime() - a.curve->startTime();
   const double db = b.curve->endTime() - b.curve->startTime();
-  return da <= db * (1.0 + tolerance) && pathLength(r, a.figures) <= pathLength(r, b.figures) * (1.0 + tolerance) + 1e-12;
+  return da <= db * (1.0 + tolerance) &&
+         pathLength(r, a.figures) <= pathLength(r, b.figures) * (1.0 + tolerance) + 1e-12;
 }
 
 /// The braked candidate of a moving start (std::nullopt where no brake exists), and whether it is to
@@ -472,8 +478,8 @@ PlannedMotion<PoseSpace, G> planWithStartState(const ValidatedRequest& r, const 
 }
 
 template PlannedMotion<PoseSpace, DoubleGeodesicSe3> planWithStartState<DoubleGeodesicSe3>(const ValidatedRequest&,
-                                                                                        const std::vector<double>&);
+                                                                                           const std::vector<double>&);
 template PlannedMotion<PoseSpace, ScrewSe3> planWithStartState<ScrewSe3>(const ValidatedRequest&,
-                                                                        const std::vector<double>&);
+                                                                         const std::vector<double>&);
 }  // namespace planner_detail
 }  // namespace se3_interpolation

@@ -100,12 +100,12 @@ void refuseVelocityCorners(const BasicValidatedRequest<Space>& r, const Curve<G>
     const std::array<bool, 2> jumps = timing::velocityJumpsByChannel(curve, b[i], floor);
     for (const int c : { timing::kLinear, timing::kAngular })
       if (jumps[c] && bounds[c] > 0.0)
-        throw InvalidInputError(std::string(c == timing::kLinear ? "max_linear_acceleration"
-                                                                 : "max_angular_acceleration") +
-                                ": the curve's velocity jumps at t = " + formatNumber(b[i]) +
-                                " s (a corner: piecewise_geodesic without blend_radius, a B-spline of degree 1, a "
-                                "dwell), so no uniform stretch bounds its acceleration; use blend_radius "
-                                "(piecewise_geodesic), or timing 'time_optimal', whose motion stops there");
+        throw InvalidInputError(
+            std::string(c == timing::kLinear ? "max_linear_acceleration" : "max_angular_acceleration") +
+            ": the curve's velocity jumps at t = " + formatNumber(b[i]) +
+            " s (a corner: piecewise_geodesic without blend_radius, a B-spline of degree 1, a "
+            "dwell), so no uniform stretch bounds its acceleration; use blend_radius "
+            "(piecewise_geodesic), or timing 'time_optimal', whose motion stops there");
   }
 }
 
@@ -206,8 +206,7 @@ CurveFigures curveFigures(const Curve<G>& curve, double rotation_scale)
 /// The figures of a geodesic chain's closed-form timing (GeodesicChainProfile): peaks and energy
 /// in closed form; the peak jerks only with a jerk bound (as the general timings report them).
 template <class Space>
-void setGeodesicFigures(const BasicValidatedRequest<Space>& r, const timing::GeodesicChainProfile& p,
-                        CurveFigures* fig)
+void setGeodesicFigures(const BasicValidatedRequest<Space>& r, const timing::GeodesicChainProfile& p, CurveFigures* fig)
 {
   setVerifiedPeaks(p, fig);
   if (!hasJerkBound(r))

@@ -14,7 +14,7 @@ namespace se3_interpolation
 {
 namespace
 {
-using se3_interpolation::requireFinite;  // the scalar overload, beside the vector ones below
+using se3_interpolation::requireFinite;   // the scalar overload, beside the vector ones below
 using se3_interpolation::requireBounded;  // the Vector3d overload, beside the others below
 
 /// A vector of R^{m+1} (sphere points and tangents): components named [j].
@@ -61,8 +61,9 @@ void validateFitFields(const BasicRequest<Space>& r, BasicValidatedRequest<Space
   v->loss = parseName(r.loss, "loss", FitLoss::kSquared);
   v->loss_scale = r.loss_scale;
   if (v->loss == FitLoss::kHuber && v->loss_scale == 0.0)
-    throw InvalidInputError("loss_scale: loss 'huber' needs loss_scale > 0 (m of chord distance: residuals beyond "
-                            "it count linearly, as outliers)");
+    throw InvalidInputError(
+        "loss_scale: loss 'huber' needs loss_scale > 0 (m of chord distance: residuals beyond "
+        "it count linearly, as outliers)");
   if (v->degree > kMaxFitDegree)
     throw InvalidInputError("degree: " + std::to_string(v->degree) + " for curve 'fit'; at most " +
                             std::to_string(kMaxFitDegree));
@@ -189,14 +190,17 @@ template <class Space>
 void requireConstantSpeedFields(const BasicValidatedRequest<Space>& v)
 {
   if constexpr (std::is_same_v<Space, SphereSpace>)
-    throw InvalidInputError("timing: 'constant_speed' is for poses (its chord speed is that of the position and "
-                            "the rotation); use 'stretch' or 'time_optimal' on the sphere");
+    throw InvalidInputError(
+        "timing: 'constant_speed' is for poses (its chord speed is that of the position and "
+        "the rotation); use 'stretch' or 'time_optimal' on the sphere");
   if (!(v.speed > 0.0))
-    throw InvalidInputError("speed: " + formatNumber(v.speed) + " (timing 'constant_speed' needs the chord speed to "
+    throw InvalidInputError("speed: " + formatNumber(v.speed) +
+                            " (timing 'constant_speed' needs the chord speed to "
                             "hold, m/s, above 0)");
   if (!(v.max_linear_acceleration > 0.0))
-    throw InvalidInputError("max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
-                            "ramps (m/s^2, above 0)");
+    throw InvalidInputError(
+        "max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
+        "ramps (m/s^2, above 0)");
 }
 
 /// Distance (m, rad) below which waypoints[0] counts as the start pose itself: far above the
@@ -211,22 +215,25 @@ void applyStartState(const StartState& raw, int raw_degree, ValidatedRequest* v)
   s.velocity = validVelocity(raw.velocity, s.pose, "start_state.velocity");
   s.acceleration = validVelocity(raw.acceleration, s.pose, "start_state.acceleration");
   if (!v->knots.empty())
-    throw InvalidInputError("knots: cannot be combined with a start state (from_current): the start pose adds a "
-                            "control point; leave knots empty");
+    throw InvalidInputError(
+        "knots: cannot be combined with a start state (from_current): the start pose adds a "
+        "control point; leave knots empty");
   const Pose<double>& first = v->waypoints.front();
   if (std::abs(first.q.coeffs().dot(s.pose.q.coeffs())) <= kAntipodalTolerance)
-    throw NonUniqueGeodesicError("waypoints[0]: its rotation from the start state (from_current) is exactly pi, "
-                                 "so the geodesic between them is not unique");
-  const bool same_pose = (first.p - s.pose.p).norm() <= kStartCoincidence &&
-                         first.q.angularDistance(s.pose.q) <= kStartCoincidence;
+    throw NonUniqueGeodesicError(
+        "waypoints[0]: its rotation from the start state (from_current) is exactly pi, "
+        "so the geodesic between them is not unique");
+  const bool same_pose =
+      (first.p - s.pose.p).norm() <= kStartCoincidence && first.q.angularDistance(s.pose.q) <= kStartCoincidence;
   if (!v->times.empty())
   {
     if (v->times.front() < 0.0)
       throw InvalidInputError("times[0]: " + formatNumber(v->times.front()) +
                               " is before the start state (with from_current, times count from the switch time)");
     if (v->times.front() == 0.0 && !same_pose)
-      throw InvalidInputError("times[0]: 0 is the switch time, but waypoints[0] is not the start pose (with "
-                              "from_current, times count from the switch time: give waypoints[0] a later time)");
+      throw InvalidInputError(
+          "times[0]: 0 is the switch time, but waypoints[0] is not the start pose (with "
+          "from_current, times count from the switch time: give waypoints[0] a later time)");
     if (v->times.front() > 0.0 && v->times.front() < kRosDurationResolution)
       throw InvalidInputError("times[0]: " + formatNumber(v->times.front()) +
                               " s after the start state, below the 1 ns resolution of time_from_start");
@@ -238,8 +245,9 @@ void applyStartState(const StartState& raw, int raw_degree, ValidatedRequest* v)
     if (!v->velocities.empty())
       v->velocities.front() = s.velocity;
     if (v->waypoints.size() < 2)
-      throw InvalidInputError("waypoints: the only waypoint is the start pose (from_current): there is no motion "
-                              "to plan");
+      throw InvalidInputError(
+          "waypoints: the only waypoint is the start pose (from_current): there is no motion "
+          "to plan");
   }
   else
   {
@@ -323,13 +331,12 @@ std::string withLimitPrefix(const std::string& message, const std::string& prefi
   for (const char* limit : { "(max_samples)", "(max_waypoints)", "(max_work_seconds)" })
   {
     const std::string name(limit);
-    for (std::size_t at = out.find(name); at != std::string::npos; at = out.find(name, at + name.size() + prefix.size()))
+    for (std::size_t at = out.find(name); at != std::string::npos;
+         at = out.find(name, at + name.size() + prefix.size()))
       out.insert(at + 1, prefix);
   }
   return out;
 }
-
-
 
 template <class Space>
 BasicValidatedRequest<Space> validateRequest(const BasicRequest<Space>& r, const PlannerLimits& limits)

@@ -137,7 +137,8 @@ WorkEstimate estimateWork(const WorkShape& r, double samples)
   {
     w.timing_intervals = kTimeOptimalIntervalsPerPiece * w.pieces + kTimeOptimalMinIntervals;
     w.timing_evaluations =
-        (kConstantSpeedEvaluationsPerInterval * w.timing_intervals + kConstantSpeedSearchEvaluations) * (r.jerk ? 2.0 : 1.0);
+        (kConstantSpeedEvaluationsPerInterval * w.timing_intervals + kConstantSpeedSearchEvaluations) *
+        (r.jerk ? 2.0 : 1.0);
   }
   else
   {
@@ -176,15 +177,16 @@ void requireWorkWithin(const WorkEstimate& w, const WorkShape& r, const PlannerL
   const std::string n = std::to_string(r.waypoints);
   std::string what;
   if (w.refinement_tests * kRefinementTestSeconds > 0.5 * w.seconds)
-    what = "sample_tolerance: about " + formatNumber(w.refinement_tests) + " interval tests of " + formatNumber(w.samples) +
-           " samples";
+    what = "sample_tolerance: about " + formatNumber(w.refinement_tests) + " interval tests of " +
+           formatNumber(w.samples) + " samples";
   else if (w.samples > w.figure_evaluations && w.samples * w.evaluation_cost > w.timing_units)
     what = samplingField(r) + ": " + formatNumber(w.samples) + " samples";
   else if (w.timing_units > w.figure_evaluations * w.evaluation_cost)
-    what = std::string("timing: '") + toString(r.timing) + "' over " + formatNumber(w.timing_intervals) + " grid intervals of " + n +
-           " waypoints of curve '" + toString(r.curve) + "'";
+    what = std::string("timing: '") + toString(r.timing) + "' over " + formatNumber(w.timing_intervals) +
+           " grid intervals of " + n + " waypoints of curve '" + toString(r.curve) + "'";
   else
-    what = visitFamily(r.curve, [&r](auto family) { return decltype(family)::costlyField(r, decltype(family)::kName); });
+    what =
+        visitFamily(r.curve, [&r](auto family) { return decltype(family)::costlyField(r, decltype(family)::kName); });
   throw LimitExceededError(what + " would take about " + formatNumber(w.seconds) + " s (" +
                            formatNumber(w.figure_evaluations + w.samples + w.timing_evaluations) +
                            " curve evaluations of " + formatNumber(w.evaluation_cost) +

@@ -136,17 +136,16 @@ void bindCurves(py::module_& m)
   py::class_<PyCurve>(m, "Curve", "An untimed curve of a family (make_curve, or the family's function).")
       .def_property_readonly("start_time", &PyCurve::startTime)
       .def_property_readonly("end_time", &PyCurve::endTime)
-      .def_property_readonly("fields", [](const PyCurve& c) { return copyMapping(c.fields); },
-                             "the curve fields it was built from (a copy)")
+      .def_property_readonly(
+          "fields", [](const PyCurve& c) { return copyMapping(c.fields); },
+          "the curve fields it was built from (a copy)")
       .def_property_readonly("family", [](const PyCurve& c) { return c.fields["curve"]; })
       .def_property_readonly("waypoint_times", [](const PyCurve& c) { return vectorArray(c.waypoint_times); })
       .def_property_readonly("waypoints", [](const PyCurve& c) { return posesArray(c.waypoints); })
       .def_property_readonly("control_poses", &controlPoses, "(K, 7) the control polygon, or the waypoints")
       .def_property_readonly("breakpoints", &breakpoints, "times between which the curve is analytic")
-      .def_property_readonly("residual_linear",
-                             [](const PyCurve& c) { return c.fit ? c.fit->residual_linear : 0.0; })
-      .def_property_readonly("residual_angular",
-                             [](const PyCurve& c) { return c.fit ? c.fit->residual_angular : 0.0; })
+      .def_property_readonly("residual_linear", [](const PyCurve& c) { return c.fit ? c.fit->residual_linear : 0.0; })
+      .def_property_readonly("residual_angular", [](const PyCurve& c) { return c.fit ? c.fit->residual_angular : 0.0; })
       .def_property_readonly("knots",
                              [](const PyCurve& c) { return vectorArray(c.fit ? c.fit->knots : std::vector<double>()); })
       .def("evaluate", &evaluate, py::arg("t"),

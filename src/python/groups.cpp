@@ -115,8 +115,8 @@ py::array_t<double> geodesicOf(const py::handle& a, const py::handle& b, const p
     requireFinite(at[i], single ? "lam" : indexedField("lam", i));
     try
     {
-      writePose(geometry == GeometryType::kScrew ? geodesic<ScrewSe3, double>(pa, pb, at[i])
-                                                 : geodesic<DoubleGeodesicSe3, double>(pa, pb, at[i]),
+      writePose(geometry == GeometryType::kScrew ? geodesic<ScrewSe3, double>(pa, pb, at[i]) :
+                                                   geodesic<DoubleGeodesicSe3, double>(pa, pb, at[i]),
                 &out[7 * i]);
     }
     catch (const NonUniqueGeodesicError& e)

@@ -107,16 +107,18 @@ void childFrameId(py::handle value, const std::string& field, TrajectoryRequest*
 void fromCurrent(py::handle value, const std::string& field, TrajectoryRequest* /*r*/)
 {
   if (toBool(value, field))
-    throw InvalidInputError(field + ": the Python module plays no trajectory, so there is no current motion to start "
-                                    "from; give the state explicitly as start_state={'pose': {'position': [x, y, z], "
-                                    "'orientation': [x, y, z, w]}, 'velocity': {'linear': [..], 'angular': [..]}, "
-                                    "'acceleration': {'linear': [..], 'angular': [..]}}");
+    throw InvalidInputError(field +
+                            ": the Python module plays no trajectory, so there is no current motion to start "
+                            "from; give the state explicitly as start_state={'pose': {'position': [x, y, z], "
+                            "'orientation': [x, y, z, w]}, 'velocity': {'linear': [..], 'angular': [..]}, "
+                            "'acceleration': {'linear': [..], 'angular': [..]}}");
 }
 
 void waypointFrames(py::handle /*value*/, const std::string& field, TrajectoryRequest* /*r*/)
 {
-  throw InvalidInputError(field + ": the Python module has no TF to look frames up in; give their poses in waypoints "
-                                  "(the node's ~generate service takes waypoint_frames)");
+  throw InvalidInputError(field +
+                          ": the Python module has no TF to look frames up in; give their poses in waypoints "
+                          "(the node's ~generate service takes waypoint_frames)");
 }
 
 using R = TrajectoryRequest;
@@ -187,8 +189,9 @@ TrajectoryRequest requestFromMapping(py::handle fields, FieldSet set)
     if (f == nullptr)
       throw InvalidInputError(name + ": unknown field");
     if (set == FieldSet::kCurve && !f->shapes_curve)
-      throw InvalidInputError(name + ": not a field of a curve (it shapes the timing or the samples; give it to "
-                                     "generate())");
+      throw InvalidInputError(name +
+                              ": not a field of a curve (it shapes the timing or the samples; give it to "
+                              "generate())");
   }
   TrajectoryRequest r;
   for (const Field& f : kFields)

@@ -170,9 +170,8 @@ void bindTrajectory(py::module_& m)
       .def_readonly("pose", &SampleArrays::pose, "(M, 7): x, y, z, qx, qy, qz, qw")
       .def_readonly("velocity", &SampleArrays::velocity, "(M, 6): vx, vy, vz, wx, wy, wz (waypoints' frame)")
       .def_readonly("acceleration", &SampleArrays::acceleration, "(M, 6): ax, ay, az, alx, aly, alz")
-      .def("__iter__", [](const SampleArrays& s) {
-        return py::iter(py::make_tuple(s.pose, s.velocity, s.acceleration));
-      });
+      .def("__iter__",
+           [](const SampleArrays& s) { return py::iter(py::make_tuple(s.pose, s.velocity, s.acceleration)); });
 
   auto figure = [](double TrajectoryResult::*member) {
     return [member](const Trajectory& self) { return self.result.*member; };

@@ -93,12 +93,12 @@ Quaternion<double> toQuaternion(py::handle value, const std::string& field)
 
 /// The rows of an (N, columns) array `value`, refused with its shape otherwise.
 py::array_t<double, py::array::c_style | py::array::forcecast> rowsArray(py::handle value, const std::string& field,
-                                                                        const std::vector<std::string>& names)
+                                                                         const std::vector<std::string>& names)
 {
   auto a = numericArray(value, field);
   if (a.ndim() != 2 || a.shape(1) != static_cast<py::ssize_t>(names.size()))
-    throw InvalidInputError(field + ": expected an (N, " + std::to_string(names.size()) + ") array " +
-                            listText(names) + ", got shape " + shapeText(a));
+    throw InvalidInputError(field + ": expected an (N, " + std::to_string(names.size()) + ") array " + listText(names) +
+                            ", got shape " + shapeText(a));
   return a;
 }
 
@@ -273,8 +273,9 @@ Pose<double> toPose(py::handle value, const std::string& field)
     return p;
   }
   if (!isListLike(value))
-    throw py::type_error(field + ": expected [x, y, z, qx, qy, qz, qw], (position, orientation) or {position: .., "
-                                 "orientation: ..}, got " +
+    throw py::type_error(field +
+                         ": expected [x, y, z, qx, qy, qz, qw], (position, orientation) or {position: .., "
+                         "orientation: ..}, got " +
                          typeName(value));
   const std::vector<double> v = fixedNumbers(value, field, kPoseColumns);
   p.p = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -302,8 +303,9 @@ Twist toTwist(py::handle value, const std::string& field)
     return t;
   }
   if (!isListLike(value))
-    throw py::type_error(field + ": expected [vx, vy, vz, wx, wy, wz], (linear, angular) or {linear: .., angular: ..}, "
-                                 "got " +
+    throw py::type_error(field +
+                         ": expected [vx, vy, vz, wx, wy, wz], (linear, angular) or {linear: .., angular: ..}, "
+                         "got " +
                          typeName(value));
   const std::vector<double> v = fixedNumbers(value, field, kTwistColumns);
   t.linear = Eigen::Vector3d(v[0], v[1], v[2]);

@@ -271,7 +271,8 @@ visualization_msgs::Marker marker(const std_msgs::Header& header, const std::str
 }
 }  // namespace
 
-visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, const std::vector<Pose<double>>& waypoints,
+visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result,
+                                              const std::vector<Pose<double>>& waypoints,
                                               const std_msgs::Header& header, int axes, double axis_length)
 {
   visualization_msgs::MarkerArray array;
@@ -285,8 +286,8 @@ visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, co
     points.points.push_back(tf2::toMsg(Eigen::Vector3d(w.p)));
   array.markers.push_back(points);
 
-  auto polygon = marker(header, "control_polygon", visualization_msgs::Marker::LINE_STRIP, 0.005,
-                        color(0.6F, 0.6F, 0.6F, 0.8F));
+  auto polygon =
+      marker(header, "control_polygon", visualization_msgs::Marker::LINE_STRIP, 0.005, color(0.6F, 0.6F, 0.6F, 0.8F));
   for (const auto& c : result.control_points)
     polygon.points.push_back(tf2::toMsg(Eigen::Vector3d(c.p)));
   array.markers.push_back(polygon);

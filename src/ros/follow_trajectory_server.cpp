@@ -82,9 +82,9 @@ GoalTrajectory checkedTrajectory(const FollowTrajectoryGoal& goal, const NodePar
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     if (points[i].transforms.empty())
-      throw InvalidGoalError(GoalError::kInvalidJoints,
-                             indexedField("trajectory.points", i) + ".transforms: empty (one per point, for joint " +
-                                 quotedText(params.child_frame_id) + ")");
+      throw InvalidGoalError(GoalError::kInvalidJoints, indexedField("trajectory.points", i) +
+                                                            ".transforms: empty (one per point, for joint " +
+                                                            quotedText(params.child_frame_id) + ")");
     goal_points.push_back(fromMsg(points[i]));
   }
   requireTolerance(goal.path_tolerance_linear, "path_tolerance_linear");
@@ -130,8 +130,11 @@ GoalTrajectory checkedTrajectory(const FollowTrajectoryGoal& goal, const NodePar
 FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh, Playback& playback,
                                                const tf2_ros::Buffer& tf, std::function<NodeParameters()> parameters,
                                                std::mutex& publish_mutex, const NodeParameters& initial)
-  : playback_(playback), tf_(tf), parameters_(std::move(parameters)), publish_mutex_(publish_mutex),
-    private_nh_(private_nh)
+  : playback_(playback)
+  , tf_(tf)
+  , parameters_(std::move(parameters))
+  , publish_mutex_(publish_mutex)
+  , private_nh_(private_nh)
 {
   restoreFrame(initial);
   ros::NodeHandle action_nh(private_nh);
@@ -144,8 +147,8 @@ FollowTrajectoryServer::FollowTrajectoryServer(const ros::NodeHandle& private_nh
       [this](GoalHandle h) { onCancel(std::move(h)); }, false);
   feedback_timer_ = action_nh.createTimer(ros::Duration(1.0 / initial.feedback_rate),
                                           &FollowTrajectoryServer::feedbackCallback, this);
-  command_timer_ = command_nh.createTimer(ros::Duration(1.0 / initial.command_rate),
-                                          &FollowTrajectoryServer::commandCallback, this);
+  command_timer_ =
+      command_nh.createTimer(ros::Duration(1.0 / initial.command_rate), &FollowTrajectoryServer::commandCallback, this);
   server_->start();
   action_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &action_queue_);
   action_spinner_->start();
@@ -183,12 +186,13 @@ void FollowTrajectoryServer::restoreFrame(const NodeParameters& params)
     return;
   }
   const Nanoseconds now = nanosecondsOf(ros::Time::now());
-  playback_.play(heldMotion(remembered->frame_id, params.child_frame_id, remembered->pose, kGoalTagPrefix + std::string("0")),
+  playback_.play(heldMotion(remembered->frame_id, params.child_frame_id, remembered->pose,
+                            kGoalTagPrefix + std::string("0")),
                  now, now);
   owns_frame_ = true;
   remembered_rest_ = true;
-  ROS_INFO_STREAM("~follow_trajectory: the frame is held where the previous instance left it (~" << kFrameMemoryParameter
-                                                                                                << ")");
+  ROS_INFO_STREAM("~follow_trajectory: the frame is held where the previous instance left it (~"
+                  << kFrameMemoryParameter << ")");
 }
 
 void FollowTrajectoryServer::rememberShownFrame(Nanoseconds now)
@@ -300,8 +304,8 @@ void FollowTrajectoryServer::start(GoalHandle handle)
     motion.tag = tag;
     playback_.play(std::move(motion), stamp, nanosecondsOf(ros::Time::now()));
     owns_frame_ = true;
-    active_.emplace(Active{ handle, tag, frame, stamp, last,
-                            GoalSupervisor(tolerances, stamp + toNanoseconds(end_time), last) });
+    active_.emplace(
+        Active{ handle, tag, frame, stamp, last, GoalSupervisor(tolerances, stamp + toNanoseconds(end_time), last) });
   }
   catch (const InvalidGoalError& e)
   {
@@ -355,7 +359,7 @@ void FollowTrajectoryServer::onCancel(GoalHandle handle)
 }
 
 std::optional<FollowTrajectoryServer::Measurement> FollowTrajectoryServer::measured(const std::string& frame,
-                                                                                   const NodeParameters& params) const
+                                                                                    const NodeParameters& params) const
 {
   if (params.actual_frame.empty())
     return std::nullopt;

@@ -30,8 +30,10 @@ Nanoseconds toNanoseconds(const ros::Time& t)
 }  // namespace
 
 InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
-  : nh_(std::move(nh)), private_nh_(std::move(private_nh)), start_params_(loadNodeParameters(private_nh_)),
-    tf_listener_(tf_buffer_)
+  : nh_(std::move(nh))
+  , private_nh_(std::move(private_nh))
+  , start_params_(loadNodeParameters(private_nh_))
+  , tf_listener_(tf_buffer_)
 {
   mallopt(M_MMAP_THRESHOLD, kMmapThreshold);
   mallopt(M_ARENA_MAX, kArenaMax);
@@ -42,18 +44,19 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   status_pub_ = private_nh_.advertise<GenerationStatus>("status", 1, true);
   moving_frame_ = std::make_unique<MovingFrame>(nh_, private_nh_, playback_, p.publish_tf, p.tf_rate, p.child_frame_id);
-  parameters_ = std::make_unique<RunTimeParameters>(private_nh_, p, [this](const NodeParameters& before,
-                                                                           const NodeParameters& after) {
-    playback_.setLoop(after.loop);
-    if (after.tf_rate != before.tf_rate)
-      moving_frame_->setRate(after.tf_rate);
-    if (follow_server_ && (after.command_rate != before.command_rate || after.feedback_rate != before.feedback_rate))
-      follow_server_->setRates(after.command_rate, after.feedback_rate);
-    ROS_INFO_STREAM("dynamic_reconfigure: curve " << after.curve << ", geometry " << after.geometry
-                                                  << ", parameterization " << after.parameterization << ", timing "
-                                                  << after.timing << ", loop " << (after.loop ? "on" : "off")
-                                                  << ", tf_rate " << after.tf_rate << " Hz");
-  });
+  parameters_ = std::make_unique<RunTimeParameters>(
+      private_nh_, p, [this](const NodeParameters& before, const NodeParameters& after) {
+        playback_.setLoop(after.loop);
+        if (after.tf_rate != before.tf_rate)
+          moving_frame_->setRate(after.tf_rate);
+        if (follow_server_ &&
+            (after.command_rate != before.command_rate || after.feedback_rate != before.feedback_rate))
+          follow_server_->setRates(after.command_rate, after.feedback_rate);
+        ROS_INFO_STREAM("dynamic_reconfigure: curve " << after.curve << ", geometry " << after.geometry
+                                                      << ", parameterization " << after.parameterization << ", timing "
+                                                      << after.timing << ", loop " << (after.loop ? "on" : "off")
+                                                      << ", tf_rate " << after.tf_rate << " Hz");
+      });
   follow_server_ = std::make_unique<FollowTrajectoryServer>(
       private_nh_, playback_, tf_buffer_, [this] { return parameters_->get(); }, publish_mutex_, p);
   waypoint_topics_ = std::make_unique<WaypointTopics>(private_nh_, p, tf_buffer_, [this] { autoGenerate(); });
@@ -65,25 +68,25 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   service_spinner_->start();
 
   if (p.master_check_period > 0.0)
-    watchdog_ = std::make_unique<MasterWatchdog>(
-        private_nh_, p.master_check_period,
-        std::vector<std::string>{ generate_service_.getService(), clear_service_.getService(),
-                                  private_nh_.resolveName("set_parameters") },
-        [this] { writeNodeParameters(private_nh_, parameters_->get()); });
+    watchdog_ = std::make_unique<MasterWatchdog>(private_nh_, p.master_check_period,
+                                                 std::vector<std::string>{ generate_service_.getService(),
+                                                                           clear_service_.getService(),
+                                                                           private_nh_.resolveName("set_parameters") },
+                                                 [this] { writeNodeParameters(private_nh_, parameters_->get()); });
   ros::NodeHandle maintenance_nh(private_nh_);
   maintenance_nh.setCallbackQueue(&maintenance_queue_);
   maintenance_timer_ =
       maintenance_nh.createWallTimer(ros::WallDuration(1.0), &InterpolationNode::maintenanceCallback, this);
   maintenance_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &maintenance_queue_);
   maintenance_spinner_->start();
-  ROS_INFO_STREAM("se3_interpolation_node ready: services " << generate_service_.getService() << ", "
-                  << clear_service_.getService() << "; waypoints on " << waypoint_topics_->waypointTopic() << ", "
-                  << waypoint_topics_->waypointsTopic() << "; frames " << p.frame_id << " -> " << p.child_frame_id
-                  << (p.publish_tf ? "" : " (TF off)") << " at " << p.tf_rate << " Hz" << (p.loop ? " looping" : "")
-                  << ", " << p.max_tf_samples << " static; defaults curve " << p.curve << ", geometry " << p.geometry
-                  << ", parameterization " << p.parameterization << "; auto_generate "
-                  << (p.auto_generate ? "on" : "off") << "; max_samples " << p.max_samples << ", max_waypoints "
-                  << p.max_waypoints);
+  ROS_INFO_STREAM("se3_interpolation_node ready: services "
+                  << generate_service_.getService() << ", " << clear_service_.getService() << "; waypoints on "
+                  << waypoint_topics_->waypointTopic() << ", " << waypoint_topics_->waypointsTopic() << "; frames "
+                  << p.frame_id << " -> " << p.child_frame_id << (p.publish_tf ? "" : " (TF off)") << " at "
+                  << p.tf_rate << " Hz" << (p.loop ? " looping" : "") << ", " << p.max_tf_samples
+                  << " static; defaults curve " << p.curve << ", geometry " << p.geometry << ", parameterization "
+                  << p.parameterization << "; auto_generate " << (p.auto_generate ? "on" : "off") << "; max_samples "
+                  << p.max_samples << ", max_waypoints " << p.max_waypoints);
 }
 
 InterpolationNode::~InterpolationNode()
@@ -106,7 +109,7 @@ bool InterpolationNode::generate(GenerateTrajectory::Request& req, GenerateTraje
 }
 
 InterpolationNode::Waypoints InterpolationNode::gatherWaypoints(const GenerateTrajectory::Request& req,
-                                                               const NodeParameters& params) const
+                                                                const NodeParameters& params) const
 {
   Waypoints w;
   if (req.waypoints.poses.empty() && req.waypoint_frames.empty())
@@ -117,8 +120,7 @@ InterpolationNode::Waypoints InterpolationNode::gatherWaypoints(const GenerateTr
     w.frame = buffered.frame_id;
     if (w.poses.size() < 2)
       throw InvalidInputError("waypoints: 0 given and the ~waypoint buffer " +
-                              (w.poses.empty() ? std::string("is empty") : "holds only 1") +
-                              "; at least 2 are needed");
+                              (w.poses.empty() ? std::string("is empty") : "holds only 1") + "; at least 2 are needed");
   }
   else
   {
@@ -130,11 +132,11 @@ InterpolationNode::Waypoints InterpolationNode::gatherWaypoints(const GenerateTr
   {
     const std::size_t max_waypoints = params.limits().max_waypoints;
     if (w.poses.size() + req.waypoint_frames.size() > max_waypoints)
-      throw LimitExceededError("waypoints: " + std::to_string(w.poses.size()) + " poses and " +
-                               std::to_string(req.waypoint_frames.size()) +
-                               " waypoint_frames given; the limit (~max_waypoints) is " +
-                               std::to_string(max_waypoints));
-    const std::vector<geometry_msgs::Pose> taught = lookUpWaypointFrames(req.waypoint_frames, w.frame, params.tf_timeout);
+      throw LimitExceededError(
+          "waypoints: " + std::to_string(w.poses.size()) + " poses and " + std::to_string(req.waypoint_frames.size()) +
+          " waypoint_frames given; the limit (~max_waypoints) is " + std::to_string(max_waypoints));
+    const std::vector<geometry_msgs::Pose> taught =
+        lookUpWaypointFrames(req.waypoint_frames, w.frame, params.tf_timeout);
     w.poses.insert(w.poses.end(), taught.begin(), taught.end());
   }
   return w;
@@ -215,8 +217,9 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       if (!publish(result, outputs.path ? res.path : toMsg(result, header, path),
                    outputs.trajectory ? res.trajectory : toMsg(result, header, child, trajectory), header, child,
                    params))
-        res.message += "; published, but not played on the moving frame: it executes ~follow_trajectory goals "
-                       "(the setpoint ~command), which alone move it";
+        res.message +=
+            "; published, but not played on the moving frame: it executes ~follow_trajectory goals "
+            "(the setpoint ~command), which alone move it";
     }
   }
   catch (const std::bad_alloc&)
@@ -252,8 +255,7 @@ std::vector<std::string> InterpolationNode::applyRequestDefaults(const NodeParam
   };
   fill(&r.curve, params.curve, r.curve.empty(), "curve");
   // The node's default radius applies to the curve that uses it only (never an error elsewhere).
-  fill(&r.blend_radius, params.blend_radius, r.blend_radius == 0.0 && r.curve == "piecewise_geodesic",
-       "blend_radius");
+  fill(&r.blend_radius, params.blend_radius, r.blend_radius == 0.0 && r.curve == "piecewise_geodesic", "blend_radius");
   fill(&r.geometry, params.geometry, r.geometry.empty(), "geometry");
   fill(&r.parameterization, params.parameterization, r.parameterization.empty(), "parameterization");
   fill(&r.timing, params.timing, r.timing.empty(), "timing");
@@ -394,8 +396,8 @@ bool InterpolationNode::clearWaypoints(std_srvs::Trigger::Request& /*req*/, std_
     markers_pub_.publish(deletion);
   }
   res.success = true;
-  res.message =
-      "cleared " + std::to_string(cleared.waypoints.size()) + " waypoints; the frame stops along its path, path and markers cleared";
+  res.message = "cleared " + std::to_string(cleared.waypoints.size()) +
+                " waypoints; the frame stops along its path, path and markers cleared";
   return true;
 }
 

@@ -13,10 +13,7 @@ namespace se3_interpolation
 class InterpolationNodelet : public nodelet::Nodelet
 {
 private:
-  void onInit() override
-  {
-    node_ = std::make_unique<InterpolationNode>(getNodeHandle(), getPrivateNodeHandle());
-  }
+  void onInit() override { node_ = std::make_unique<InterpolationNode>(getNodeHandle(), getPrivateNodeHandle()); }
 
   std::unique_ptr<InterpolationNode> node_;
 };

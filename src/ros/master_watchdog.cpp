@@ -133,8 +133,8 @@ std::string MasterWatchdog::registerAgain()
   for (const std::string& service : services_)
     registerOne("registerService", service, service_api);
   std::ostringstream summary;
-  summary << publications.size() << " publications, " << subscriptions.size() << " subscriptions, "
-          << services_.size() << " services and the parameters under " << private_nh_.getNamespace();
+  summary << publications.size() << " publications, " << subscriptions.size() << " subscriptions, " << services_.size()
+          << " services and the parameters under " << private_nh_.getNamespace();
   if (failed > 0)
     summary << " (" << failed << " registrations failed)";
   return summary.str();

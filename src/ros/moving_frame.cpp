@@ -108,8 +108,9 @@ void MovingFrame::watchCallback(const ros::MessageEvent<const tf2_msgs::TFMessag
     if (withoutLeadingSlash(t.child_frame_id) != child)
       continue;
     // Throttled: a colliding publisher at 50 Hz must not become 50 log lines a second.
-    ROS_WARN_STREAM_THROTTLE(5.0, "TF collision: " << quotedText(publisher) << " also publishes this node's moving frame "
-                                                   << quotedText(child) << " (parent " << quotedText(t.header.frame_id)
+    ROS_WARN_STREAM_THROTTLE(5.0, "TF collision: " << quotedText(publisher)
+                                                   << " also publishes this node's moving frame " << quotedText(child)
+                                                   << " (parent " << quotedText(t.header.frame_id)
                                                    << ") on /tf; give each instance its own ~child_frame_id "
                                                       "(launch argument child_frame_id)");
     return;

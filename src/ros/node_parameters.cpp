@@ -278,7 +278,8 @@ std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>
     warned_names.push_back(name);
     // Server names can be long: the message quotes a bounded prefix.
     const std::string shown = name.size() <= kMaxFrameIdLength ? name : name.substr(0, kMaxFrameIdLength) + "...";
-    warnings.push_back("~" + shown + ": unknown parameter, ignored (did you mean ~" + closestNodeParameter(name) + "?)");
+    warnings.push_back("~" + shown + ": unknown parameter, ignored (did you mean ~" + closestNodeParameter(name) +
+                       "?)");
   }
   return warnings;
 }
@@ -323,8 +324,8 @@ dynamic_reconfigure::Config reconfigureRange(bool upper)
       toMessage(spec.name, bound, &message);
     else if (spec.type == ParameterType::kInt)
       toMessage(spec.name,
-                std::isfinite(bound) ? static_cast<int>(bound)
-                                     : (upper ? std::numeric_limits<int>::max() : std::numeric_limits<int>::min()),
+                std::isfinite(bound) ? static_cast<int>(bound) :
+                                       (upper ? std::numeric_limits<int>::max() : std::numeric_limits<int>::min()),
                 &message);
   }
   return message;

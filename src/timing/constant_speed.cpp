@@ -80,17 +80,20 @@ void ConstantSpeedSolver::requireArguments() const
     throw InvalidInputError("speed: " + formatNumber(options_.speed) +
                             " (timing 'constant_speed' needs the chord speed to hold: a finite number above 0, m/s)");
   if (!(bounds_.acceleration[0] > 0.0 || bounds_.acceleration[1] > 0.0))
-    throw InvalidInputError("max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
-                            "ramps (m/s^2, above 0)");
+    throw InvalidInputError(
+        "max_linear_acceleration: timing 'constant_speed' needs it to bound its start and stop "
+        "ramps (m/s^2, above 0)");
 }
 
 void ConstantSpeedSolver::requireRoomForRamps() const
 {
   const double needed = p_.rampUpLength() + p_.rampDownLength();
   if (needed > p_.length)
-    throw InvalidInputError("speed: the path is " + formatNumber(p_.length) + " long (chord length), shorter than "
-                            "its start and stop ramps to " + formatNumber(p_.speed) + " m/s (" +
-                            formatNumber(needed) + "); lower the speed or raise the acceleration and jerk bounds");
+    throw InvalidInputError("speed: the path is " + formatNumber(p_.length) +
+                            " long (chord length), shorter than "
+                            "its start and stop ramps to " +
+                            formatNumber(p_.speed) + " m/s (" + formatNumber(needed) +
+                            "); lower the speed or raise the acceleration and jerk bounds");
 }
 
 /// Refuses a speed whose cruise breaks a bound (file comment), naming the bound.
@@ -111,7 +114,8 @@ void ConstantSpeedSolver::fitRamp(bool up)
     if (moving)
       requireRisingRamp();
     const Excess e = up ? check(0.0, arcA(), false, false) : check(arcB(), p_.length, false, false);
-    if (moving && std::max({ e.ratio[0], e.ratio[1], e.ratio[2] }) > 1.0 + kBreakTolerance && pass + 1 == kMaxRampPasses)
+    if (moving && std::max({ e.ratio[0], e.ratio[1], e.ratio[2] }) > 1.0 + kBreakTolerance &&
+        pass + 1 == kMaxRampPasses)
       refuseStart(e);
     if (e.ratio[0] > 1.0 + kBreakTolerance)
       moving ? refuseStart(e) : refuse(0, e);
@@ -123,8 +127,8 @@ void ConstantSpeedSolver::fitRamp(bool up)
   if (moving)
     throw InvalidInputError("start_state: the ramp from its chord speed " + formatNumber(p_.start_speed) + " to " +
                             formatNumber(p_.speed) + " m/s keeps exceeding the acceleration or jerk bounds");
-  throw InvalidInputError(std::string("speed: its ") + (up ? "start" : "stop") + " ramp to " +
-                          formatNumber(p_.speed) + " m/s keeps exceeding the acceleration or jerk bounds (the "
+  throw InvalidInputError(std::string("speed: its ") + (up ? "start" : "stop") + " ramp to " + formatNumber(p_.speed) +
+                          " m/s keeps exceeding the acceleration or jerk bounds (the "
                           "path bends too sharply there); lower the speed");
 }
 
@@ -139,7 +143,8 @@ void ConstantSpeedSolver::requireRisingRamp() const
     if (!(v0 + dv * rampSlope(tau) + a0t * startSlope(tau) > 0.0))
       throw InvalidInputError("start_state: its chord acceleration " + formatNumber(p_.start_acceleration) +
                               " m/s^2 would turn the motion back along the path before it reaches " +
-                              formatNumber(p_.speed) + " m/s; replan when it brakes less, or use timing "
+                              formatNumber(p_.speed) +
+                              " m/s; replan when it brakes less, or use timing "
                               "'time_optimal'");
   }
 }
@@ -164,10 +169,9 @@ void ConstantSpeedSolver::refuse(int k, const Excess& e) const
 {
   const char* const* names = k == 0 ? kVelocityName : k == 1 ? kAccelerationName : kJerkName;
   const char* what = k == 0 ? "speed" : k == 1 ? "acceleration (the bend's centripetal share)" : "jerk";
-  throw InvalidInputError(std::string(names[e.channel[k]]) + ": holding the chord speed " +
-                          formatNumber(p_.speed) + " m/s takes " + formatNumber(e.ratio[k]) + " times this bound's " +
-                          what + " at path time " + formatNumber(e.where[k]) +
-                          " s; lower the speed or raise the bound");
+  throw InvalidInputError(std::string(names[e.channel[k]]) + ": holding the chord speed " + formatNumber(p_.speed) +
+                          " m/s takes " + formatNumber(e.ratio[k]) + " times this bound's " + what + " at path time " +
+                          formatNumber(e.where[k]) + " s; lower the speed or raise the bound");
 }
 }  // namespace constant_speed_detail
 
@@ -182,10 +186,11 @@ using constant_speed_detail::quinticValue;
 std::size_t ConstantSpeedProfile::intervalAt(double arc, Side side) const
 {
   const std::size_t n = quintic.size();
-  const auto it = side == Side::kRight ? std::upper_bound(sigma.begin(), sigma.end(), arc)
-                                       : std::lower_bound(sigma.begin(), sigma.end(), arc);
+  const auto it = side == Side::kRight ? std::upper_bound(sigma.begin(), sigma.end(), arc) :
+                                         std::lower_bound(sigma.begin(), sigma.end(), arc);
   const std::ptrdiff_t k = (it - sigma.begin()) - 1;
-  return static_cast<std::size_t>(std::min<std::ptrdiff_t>(std::max<std::ptrdiff_t>(k, 0), static_cast<std::ptrdiff_t>(n) - 1));
+  return static_cast<std::size_t>(
+      std::min<std::ptrdiff_t>(std::max<std::ptrdiff_t>(k, 0), static_cast<std::ptrdiff_t>(n) - 1));
 }
 
 double ConstantSpeedProfile::timeAtArcLength(double arc) const

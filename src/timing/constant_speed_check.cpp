@@ -102,8 +102,8 @@ bool ConstantSpeedSolver::varies(double lo, double hi, const Rates& r0, const Ra
 {
   // The path turns by more than kMaxCheckTurn across the piece (Simpson's rule on its curvature
   // over its chord length): a bend narrower than the piece may hide between its points.
-  const double turn = (r0.curvature + 4.0 * rm.curvature + r1.curvature) / 6.0 *
-                      std::abs(p_.arcLength(hi) - p_.arcLength(lo));
+  const double turn =
+      (r0.curvature + 4.0 * rm.curvature + r1.curvature) / 6.0 * std::abs(p_.arcLength(hi) - p_.arcLength(lo));
   if (turn > kMaxCheckTurn)
     return true;
   for (int k = 0; k < 3; ++k)
@@ -134,7 +134,8 @@ std::vector<CheckSpan> ConstantSpeedSolver::checkSpans(const std::vector<double>
   {
     if (!(pieces[i + 1] > pieces[i]))
       continue;
-    stack.push_back({ pieces[i], pieces[i + 1], ratesAt(pieces[i], Side::kRight), ratesAt(pieces[i + 1], Side::kLeft), 0 });
+    stack.push_back(
+        { pieces[i], pieces[i + 1], ratesAt(pieces[i], Side::kRight), ratesAt(pieces[i + 1], Side::kLeft), 0 });
     while (!stack.empty())
     {
       checkDeadlineEvery(visited++, kPiecesPerDeadlineCheck, "the constant-speed timing's check");
@@ -220,7 +221,8 @@ void ConstantSpeedSolver::setFigures(const std::array<Excess, 3>& parts)
   }
   if (!(p_.chord_speed_deviation <= kChordSpeedGuarantee))
     throw InterpolationError("speed: the chord speed of the window is off " + formatNumber(p_.speed) + " m/s by " +
-                             formatNumber(p_.chord_speed_deviation) + " (relative) where its table could not be "
+                             formatNumber(p_.chord_speed_deviation) +
+                             " (relative) where its table could not be "
                              "refined further (the path's parameter speed varies too fast); give more even times");
 }
 }  // namespace constant_speed_detail

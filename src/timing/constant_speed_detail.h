@@ -130,7 +130,7 @@ struct Excess
 {
   std::array<double, 3> ratio{};  ///< velocity, acceleration, jerk (the worse channel's)
   std::array<int, 3> channel{};
-  std::array<double, 3> where{};  ///< path time
+  std::array<double, 3> where{};                ///< path time
   std::array<std::array<double, 2>, 3> peak{};  ///< [rate][channel]
   double deviation = 0.0;
   double energy = 0.0;

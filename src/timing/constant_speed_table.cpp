@@ -32,7 +32,8 @@ void ConstantSpeedSolver::buildTable()
     if (!(len > 0.0))
       continue;
     const double share = total > 0.0 ? static_cast<double>(options_.min_intervals) * len / total : 0.0;
-    const std::size_t n = 2 * std::max<std::size_t>(options_.intervals_per_piece, static_cast<std::size_t>(std::ceil(share)));
+    const std::size_t n =
+        2 * std::max<std::size_t>(options_.intervals_per_piece, static_cast<std::size_t>(std::ceil(share)));
     for (std::size_t k = 0; k < n; ++k)
     {
       grid.push_back(k == 0 ? b[i] : b[i] + len * static_cast<double>(k) / static_cast<double>(n));
@@ -126,7 +127,8 @@ void ConstantSpeedSolver::requireSmoothMotion(const std::vector<double>& b) cons
       const PathJet l = path_.jet(s, Side::kLeft);
       const int c = l[0].bb > 0.0 && bounds_.acceleration[0] > 0.0 ? 0 : 1;
       throw InvalidInputError(std::string(kAccelerationName[c]) + ": the path has a corner at path time " +
-                              formatNumber(s) + " s (its velocity jumps), which a constant speed would pass with an "
+                              formatNumber(s) +
+                              " s (its velocity jumps), which a constant speed would pass with an "
                               "unbounded acceleration; use a blend_radius or a smooth curve");
     }
     if (jerk_ && path_.accelerationJumps(s, std::min(s - b[i - 1], b[i + 1] - s)))

@@ -132,13 +132,12 @@ void addFigures(const GeodesicRun& run, const RestToRestProfile& p, GeodesicChai
 }
 }  // namespace
 
-std::optional<RestToRestProfile> restToRestProfile(double distance, double velocity, double acceleration,
-                                                   double jerk)
+std::optional<RestToRestProfile> restToRestProfile(double distance, double velocity, double acceleration, double jerk)
 {
   if (!(distance > 0.0 && std::isfinite(distance)) || !(velocity > 0.0) || !(acceleration > 0.0) || !(jerk > 0.0))
     return std::nullopt;
-  std::optional<RestToRestProfile> p = std::isfinite(jerk) ? doubleS(distance, velocity, acceleration, jerk)
-                                                            : trapezoid(distance, velocity, acceleration);
+  std::optional<RestToRestProfile> p = std::isfinite(jerk) ? doubleS(distance, velocity, acceleration, jerk) :
+                                                             trapezoid(distance, velocity, acceleration);
   if (p && !(std::isfinite(p->duration()) && p->duration() > 0.0))
     return std::nullopt;
   return p;
@@ -163,8 +162,8 @@ double RestToRestProfile::timeAt(double s) const
 
 std::size_t GeodesicChainProfile::runAt(double t, Side side) const
 {
-  const auto it = side == Side::kRight ? std::upper_bound(start.begin(), start.end(), t)
-                                       : std::lower_bound(start.begin(), start.end(), t);
+  const auto it = side == Side::kRight ? std::upper_bound(start.begin(), start.end(), t) :
+                                         std::lower_bound(start.begin(), start.end(), t);
   const std::ptrdiff_t i = (it - start.begin()) - 1;
   return i < 0 ? 0 : static_cast<std::size_t>(i);
 }
@@ -172,8 +171,8 @@ std::size_t GeodesicChainProfile::runAt(double t, Side side) const
 double GeodesicChainProfile::timeAt(double s) const
 {
   // The first run that ends at or after s.
-  const auto it = std::lower_bound(runs.begin(), runs.end(), s,
-                                   [](const GeodesicRun& run, double x) { return run.s_end < x; });
+  const auto it =
+      std::lower_bound(runs.begin(), runs.end(), s, [](const GeodesicRun& run, double x) { return run.s_end < x; });
   const std::size_t k = std::min(static_cast<std::size_t>(it - runs.begin()), runs.size() - 1);
   return start[k] + profiles[k].timeAt(s - runs[k].s_begin);
 }

@@ -50,9 +50,8 @@ JerkSolver::JerkSolver(const JerkPathModel& path, const RateBounds& bounds, cons
 {
   const double sd0 = options.start_speed, sdd0 = options.start_acceleration;
   if (!(std::isfinite(sd0) && sd0 >= 0.0 && std::isfinite(sdd0)))
-    throw InvalidInputError("start_state: its speed along the path is " + formatNumber(sd0) +
-                            " and its acceleration " + formatNumber(sdd0) +
-                            " (the speed must be finite and at least 0, the acceleration finite)");
+    throw InvalidInputError("start_state: its speed along the path is " + formatNumber(sd0) + " and its acceleration " +
+                            formatNumber(sdd0) + " (the speed must be finite and at least 0, the acceleration finite)");
   fixed_start_ = sd0 > 0.0 || sdd0 != 0.0;
   findMovingChannels();
 }
@@ -239,7 +238,6 @@ JerkLimitedProfile jerkLimitedProfile(const JerkPathModel& path, const RateBound
   }
   return solver.solve();
 }
-
 
 }  // namespace timing
 }  // namespace se3_interpolation

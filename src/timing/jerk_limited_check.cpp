@@ -101,8 +101,8 @@ void JerkSolver::pieces(const JerkLimitedProfile::Segment& g, const std::vector<
   }
   std::vector<double> cross, cross_s;
   const double sa = g.s_start, sb = b.s[g.last];
-  for (auto it = std::upper_bound(path_breaks.begin(), path_breaks.end(), sa);
-       it != path_breaks.end() && *it < sb; ++it)
+  for (auto it = std::upper_bound(path_breaks.begin(), path_breaks.end(), sa); it != path_breaks.end() && *it < sb;
+       ++it)
   {
     cross.push_back(profile_.segmentTime(g, *it));
     cross_s.push_back(*it);
@@ -221,7 +221,8 @@ void JerkSolver::checkPiece(std::size_t k, const CheckPart& piece, CheckTally* t
     const Rates6 fm = rates(jm, a.middle);
     const double quarter = 0.25 * (a.hi - a.lo), centre = 0.5 * (a.lo + a.hi);
     if (a.depth < kMaxSplitDepth &&
-        pathVaries(a.jr, jm, a.jl, shifted(a.middle, 2.0 * quarter).value() - shifted(a.middle, -2.0 * quarter).value()))
+        pathVaries(a.jr, jm, a.jl,
+                   shifted(a.middle, 2.0 * quarter).value() - shifted(a.middle, -2.0 * quarter).value()))
     {
       parts.push_back(CheckPart{ centre, a.hi, shifted(a.middle, quarter), jm, a.jl, fm, a.f1, a.depth + 1 });
       parts.push_back(CheckPart{ a.lo, centre, shifted(a.middle, -quarter), a.jr, jm, a.f0, fm, a.depth + 1 });
@@ -230,8 +231,8 @@ void JerkSolver::checkPiece(std::size_t k, const CheckPart& piece, CheckTally* t
     for (int q = 0; q < 6; ++q)
       peak[q] = std::max({ peak[q], a.f0[q], fm[q], a.f1[q] });
     for (int c = 0; c < 2; ++c)
-      tally->energy[c] += (a.hi - a.lo) / 6.0 *
-                          (a.f0[2 + c] * a.f0[2 + c] + 4.0 * fm[2 + c] * fm[2 + c] + a.f1[2 + c] * a.f1[2 + c]);
+      tally->energy[c] +=
+          (a.hi - a.lo) / 6.0 * (a.f0[2 + c] * a.f0[2 + c] + 4.0 * fm[2 + c] * fm[2 + c] + a.f1[2 + c] * a.f1[2 + c]);
     // Only the pieces the search below may take: the peaks only grow, so a piece whose parabola
     // does not reach the threshold of the peaks so far never reaches the final one (the same
     // pieces are searched, in the same order, without holding every piece's values).

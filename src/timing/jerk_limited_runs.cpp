@@ -97,9 +97,10 @@ void JerkSolver::run(const RateBounds& b)
   StoppingPath stopping(path_, s_start);
   const double first_stop = stopping.stops().empty() ? path_.end() : stopping.stops().front();
   if (fixed_start_ && !(s_start < first_stop))
-    throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
-                            "before path time " + formatNumber(first_stop) +
-                            " s; start slower, place the first waypoint farther away, or raise the bounds");
+    throw InvalidInputError(
+        "start_state: the motion starts too fast to come to rest with these jerk bounds "
+        "before path time " +
+        formatNumber(first_stop) + " s; start slower, place the first waypoint farther away, or raise the bounds");
   TimeOptimalOptions o = options_.grid;
   o.start_speed = lead_speed_;
   o.hold_start = false;
@@ -154,9 +155,10 @@ double JerkSolver::startRun(const RateBounds& b)
   for (double x : path_.breakpoints())
     if (fixed_start_ && x > path_.start() && x <= s_start &&
         (path_.isCorner(x) || path_.accelerationJumps(x, x - path_.start())))
-      throw InvalidInputError("start_state: the motion starts too fast to come to rest with these jerk bounds "
-                              "before path time " + formatNumber(x) +
-                              " s; start slower, place the first waypoint farther away, or raise the bounds");
+      throw InvalidInputError(
+          "start_state: the motion starts too fast to come to rest with these jerk bounds "
+          "before path time " +
+          formatNumber(x) + " s; start slower, place the first waypoint farther away, or raise the bounds");
   return s_start;
 }
 
@@ -315,8 +317,8 @@ void JerkSolver::setWindows(const TimingProfile& base)
     if (k > 0 || !fixed_start_)
       for (std::size_t i = seg_first_[k]; i <= seg_last_[k]; ++i)
       {
-        const double u = std::max(i > seg_first_[k] ? std::abs(base.u[i - 1]) : 0.0,
-                                  i < seg_last_[k] ? std::abs(base.u[i]) : 0.0);
+        const double u =
+            std::max(i > seg_first_[k] ? std::abs(base.u[i - 1]) : 0.0, i < seg_last_[k] ? std::abs(base.u[i]) : 0.0);
         share = std::max(share, pathJerkShare(jets_[i], std::sqrt(base.x[i]), u));
       }
     seg_budget_[k] = 1.0 - std::min(share, kPathJerkShare);
@@ -390,8 +392,7 @@ bool JerkSolver::addPlateaus(const TimingProfile& b)
           low.pop_front();
         ++window;
       }
-      const double budget =
-          std::min(jerk_s_[i], jerk_s_[i + 1]) * seg_budget_[k] * tau * (1.0 + kSwitchTolerance);
+      const double budget = std::min(jerk_s_[i], jerk_s_[i + 1]) * seg_budget_[k] * tau * (1.0 + kSwitchTolerance);
       const std::size_t h = high.front(), l = low.front();
       if (b.u[i] < 0.0 && b.u[h] > 0.0 && b.u[h] - b.u[i] > budget && h + 1 > done_peak)
       {

@@ -111,8 +111,8 @@ private:
 
   /// The crossing of x = c² on the branch from grid point p towards `step` (±1), within [lo, hi]:
   /// its path parameter and the length of the grid interval it lies in.
-  static std::pair<double, double> crossing(const TimingProfile& b, std::size_t p, int step, double x,
-                                            std::size_t lo, std::size_t hi);
+  static std::pair<double, double> crossing(const TimingProfile& b, std::size_t p, int step, double x, std::size_t lo,
+                                            std::size_t hi);
 
   /// Caps the grid points on [lo, hi] at x.
   void cap(double lo, double hi, double x);
@@ -227,23 +227,23 @@ private:
   JerkLimitedOptions options_;
   bool fixed_start_ = false;
   std::array<bool, 2> moves_{};
-  RateBounds under_;          ///< the underlying timing's bounds of the current run
-  double tau_ = 0.0;          ///< the window before the short segments' factor
-  double lead_speed_ = 0.0;   ///< ṡ_T0
-  std::vector<double> grid_;  ///< the underlying grid
-  std::vector<double> factor_;  ///< its acceleration factor at each grid point
-  std::vector<double> cap_;     ///< its cap on x at each grid point
-  std::vector<double> u_cap_;   ///< its cap on |s̈_T| at each grid point (capStationaryPoints)
-  bool cap_stationary_ = false;  ///< whether run() caps |s̈_T| where the path nearly stands still
-  std::vector<double> jerk_s_;  ///< J_s at each grid point
-  std::vector<PathJet3> jets_;  ///< the path's third-order jets at the grid points
-  std::vector<double> path_caps_;  ///< pathSpeedCap at the grid points
+  RateBounds under_;                ///< the underlying timing's bounds of the current run
+  double tau_ = 0.0;                ///< the window before the short segments' factor
+  double lead_speed_ = 0.0;         ///< ṡ_T0
+  std::vector<double> grid_;        ///< the underlying grid
+  std::vector<double> factor_;      ///< its acceleration factor at each grid point
+  std::vector<double> cap_;         ///< its cap on x at each grid point
+  std::vector<double> u_cap_;       ///< its cap on |s̈_T| at each grid point (capStationaryPoints)
+  bool cap_stationary_ = false;     ///< whether run() caps |s̈_T| where the path nearly stands still
+  std::vector<double> jerk_s_;      ///< J_s at each grid point
+  std::vector<PathJet3> jets_;      ///< the path's third-order jets at the grid points
+  std::vector<double> path_caps_;   ///< pathSpeedCap at the grid points
   std::vector<double> seg_tau_;     ///< the window of each segment
   std::vector<double> seg_budget_;  ///< 1 − β: the window's share of the jerk in each segment
   std::vector<std::size_t> seg_first_, seg_last_;
-  std::vector<double> seg_f_;   ///< the short-segment factor f of each segment
+  std::vector<double> seg_f_;  ///< the short-segment factor f of each segment
   Rates6 peak_{};
-  std::array<double, 2> energy_{};  ///< ∫|a|² dt per channel before the stretch (verify)
+  std::array<double, 2> energy_{};       ///< ∫|a|² dt per channel before the stretch (verify)
   std::array<double, 2> split_floor_{};  ///< splitFloor
   JerkLimitedProfile profile_;
 };

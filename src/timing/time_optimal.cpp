@@ -34,12 +34,9 @@ const char* const kAccelerationName[2] = { "max_linear_acceleration", "max_angul
 const char* const kMotionVerb[2] = { "translates", "rotates" };
 }  // namespace
 
-TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bounds,
-                                     const TimeOptimalOptions& options, bool reusable)
-  : path_(path)
-  , bounds_(bounds)
-  , start_x_(options.start_speed * options.start_speed)
-  , hold_start_(options.hold_start)
+TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bounds, const TimeOptimalOptions& options,
+                                     bool reusable)
+  : path_(path), bounds_(bounds), start_x_(options.start_speed * options.start_speed), hold_start_(options.hold_start)
 {
   if (!(std::isfinite(start_x_) && start_x_ >= 0.0))
     throw InvalidInputError("start_state: its speed along the path is " + formatNumber(options.start_speed) +
@@ -192,8 +189,8 @@ TimeOptimalSolver::UniformGrid TimeOptimalSolver::uniformGrid(const std::vector<
   // The number of uniform intervals on piece j.
   const auto intervals = [&](std::size_t j) {
     const double length = b[j + 1] - b[j];
-    const std::size_t share = static_cast<std::size_t>(
-        std::ceil(static_cast<double>(options.min_intervals) * length / total));
+    const std::size_t share =
+        static_cast<std::size_t>(std::ceil(static_cast<double>(options.min_intervals) * length / total));
     return std::max<std::size_t>({ options.intervals_per_piece, share, 2 });
   };
   std::size_t uniform = 1;

@@ -303,7 +303,8 @@ std::array<double, 3> TimeOptimalSolver::energyWeights(const TimingProfile& p, s
   // The integral of the quadratic through (0, g0), (τ_m, g_m), (h, g1): Lagrange weights.
   if (!(h > 0.0 && tm > 0.0 && tm < h))
     return { 0.0, 0.0, 0.0 };
-  return { h * (3.0 * tm - h) / (6.0 * tm), h * h * h / (6.0 * tm * (h - tm)), h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) };
+  return { h * (3.0 * tm - h) / (6.0 * tm), h * h * h / (6.0 * tm * (h - tm)),
+           h * (2.0 * h - 3.0 * tm) / (6.0 * (h - tm)) };
 }
 
 double TimeOptimalSolver::energyOfInterval(const std::array<double, 3>& w, double a, double m, double b)

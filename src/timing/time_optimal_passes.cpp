@@ -297,8 +297,8 @@ void TimeOptimalSolver::forward()
     u[i] = (x[i + 1] - x[i]) / (2.0 * d);
     const double rate = std::sqrt(x[i]) + std::sqrt(x[i + 1]);
     if (!(rate > 0.0))
-      throw InterpolationError("timing: the time-optimal profile stalls at path time " +
-                               formatNumber(profile_.s[i]) + " s (the bounds are too tight for the path)");
+      throw InterpolationError("timing: the time-optimal profile stalls at path time " + formatNumber(profile_.s[i]) +
+                               " s (the bounds are too tight for the path)");
     t[i + 1] = t[i] + 2.0 * d / rate;
   }
   profile_.recovery_end = t[checkedFrom()];

@@ -349,7 +349,6 @@ private:
   /// search raises, and `energy` the acceleration energy before the stretch.
   void figures(const Rates& searched, double k, const std::optional<Energy>& energy);
 
-
   /// The weights of interval i's acceleration energy in `p` at its ends and middle: the integral
   /// over the interval's time of the quadratic through the values at times 0, τ_m (the middle in
   /// s) and h.
@@ -366,8 +365,8 @@ private:
 
   const PathModel& path_;
   RateBounds bounds_;
-  double start_x_;   ///< the requested ṡ² at s_0 (0: from rest)
-  bool hold_start_;  ///< s̈ = 0 on the first interval
+  double start_x_;               ///< the requested ṡ² at s_0 (0: from rest)
+  bool hold_start_;              ///< s̈ = 0 on the first interval
   bool check_quarters_ = false;  ///< the checks read the quarters too (intervalNeeds)
   std::array<bool, 2> moves_{};
   std::array<double, 2> floor_{};
@@ -398,10 +397,10 @@ private:
   mutable std::vector<PathJet> quarter_;
   mutable std::vector<bool> has_quarter_;
   std::vector<bool> corner_;
-  std::vector<Rates> factor_;    ///< local tightening of the four bounds at each grid point
+  std::vector<Rates> factor_;      ///< local tightening of the four bounds at each grid point
   std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
   std::vector<double> u_cap_;      ///< the caller's cap on |u| at each grid point (empty: none)
-  std::vector<double> k_;        ///< upper ends of the controllable sets
+  std::vector<double> k_;          ///< upper ends of the controllable sets
   /// The passes after the first recompute only what a tightening changed: the points whose local
   /// factors changed since the last backward pass (tighten, the recovery), the first point whose
   /// controllable set or factors changed in it, and the forward pass's first recomputed step (the

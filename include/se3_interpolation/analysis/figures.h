@@ -73,7 +73,7 @@ inline double peakOfParabola(double t0, double v0, double t1, double v1, double 
   if (!(d0 < 0.0) || !(d2 > 0.0))
     return v1;
   const double s0 = (v0 - v1) / d0, s2 = (v2 - v1) / d2;  // slopes of the chords to t1
-  const double a = (s2 - s0) / (d2 - d0);                  // v(t1 + u) = v1 + b u + a u²
+  const double a = (s2 - s0) / (d2 - d0);                 // v(t1 + u) = v1 + b u + a u²
   if (!(a < 0.0))
     return v1;
   const double b = s0 - a * d0;
@@ -142,9 +142,7 @@ struct RatePoint
 class LocalMaxima
 {
 public:
-  explicit LocalMaxima(std::array<PeakCandidates, 4>& candidates) : candidates_(candidates)
-  {
-  }
+  explicit LocalMaxima(std::array<PeakCandidates, 4>& candidates) : candidates_(candidates) {}
 
   /// A new piece: the previous one's last point is judged against its left neighbour alone.
   void startPiece()
@@ -184,7 +182,8 @@ private:
       const double v = last_.rates[j];
       if (!(v > right.rates[j]) || (count_ > 1 && v < left_.rates[j]))
         continue;
-      const double estimate = count_ > 1 ? peakOfParabola(left_.t, left_.rates[j], last_.t, v, right.t, right.rates[j]) : v;
+      const double estimate =
+          count_ > 1 ? peakOfParabola(left_.t, left_.rates[j], last_.t, v, right.t, right.rates[j]) : v;
       candidates_[j].offer(estimate, last_.t, last_.lo, last_.hi);
     }
   }
@@ -242,7 +241,8 @@ public:
     {
       const double share = fastest_[j] * width;
       (*largest)[j] = std::max((*largest)[j], share);
-      split = split || (fastest_[j] > kFigureSpeedRatio * slowest_[j] && share > kFigureLengthResolution * (*largest)[j]);
+      split =
+          split || (fastest_[j] > kFigureSpeedRatio * slowest_[j] && share > kFigureLengthResolution * (*largest)[j]);
     }
     return split;
   }
@@ -288,7 +288,8 @@ void forEachGaussSpan(Evaluate evaluate, const std::vector<double>& b, std::size
     start_piece(i);
     const double h = (b[i + 1] - b[i]) / static_cast<double>(sub);
     for (std::size_t s = sub; s-- > 0;)
-      stack.push_back({ b[i] + static_cast<double>(s) * h, s + 1 == sub ? b[i + 1] : b[i] + static_cast<double>(s + 1) * h, 0 });
+      stack.push_back(
+          { b[i] + static_cast<double>(s) * h, s + 1 == sub ? b[i + 1] : b[i] + static_cast<double>(s + 1) * h, 0 });
     while (!stack.empty())
     {
       const Span span = stack.back();
@@ -343,25 +344,27 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
   // Each subinterval: its ends and Gauss nodes, halved where the speeds seen there differ by more
   // than kFigureSpeedRatio in a channel (a piece whose time runs 10⁵ times faster at one end than
   // at the other, e.g. a corner blend between uneven times, whose peaks lie in a sliver of it).
-  detail::forEachGaussSpan(
-      [&curve](double t, Side side) { return kinematicsAt(curve, t, side); }, b, sub, "the trajectory's figures",
-      [&local_maxima](std::size_t) { local_maxima.startPiece(); },  // a breakpoint: the rates may jump there
-      [&](std::size_t i, double a, double z, const auto& ka, const auto& kb, const auto& nodes) {
-        const double width = z - a;
-        const double bracket_width = kPeakBracketFraction * width;
-        add(rates(ka), a, std::max(b[i], a - bracket_width), std::min(z, a + bracket_width));
-        for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
-        {
-          const double t = a + 0.5 * width * (1.0 + kGaussNodes[g]);
-          const double w = 0.5 * width * kGaussWeights[g];
-          const Rates r = rates(nodes[g]);
-          fig.length += w * r[kLinearSpeed];
-          fig.rotation_length += w * r[kAngularSpeed];
-          fig.energy += w * energyDensity(nodes[g], rotation_scale);
-          add(r, t, std::max(a, t - bracket_width), std::min(z, t + bracket_width));
-        }
-        add(rates(kb), z, std::max(a, z - bracket_width), std::min(b[i + 1], z + bracket_width));
-      });
+  detail::forEachGaussSpan([&curve](double t, Side side) { return kinematicsAt(curve, t, side); }, b, sub,
+                           "the trajectory's figures",
+                           [&local_maxima](std::size_t) {
+                             local_maxima.startPiece();
+                           },  // a breakpoint: the rates may jump there
+                           [&](std::size_t i, double a, double z, const auto& ka, const auto& kb, const auto& nodes) {
+                             const double width = z - a;
+                             const double bracket_width = kPeakBracketFraction * width;
+                             add(rates(ka), a, std::max(b[i], a - bracket_width), std::min(z, a + bracket_width));
+                             for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
+                             {
+                               const double t = a + 0.5 * width * (1.0 + kGaussNodes[g]);
+                               const double w = 0.5 * width * kGaussWeights[g];
+                               const Rates r = rates(nodes[g]);
+                               fig.length += w * r[kLinearSpeed];
+                               fig.rotation_length += w * r[kAngularSpeed];
+                               fig.energy += w * energyDensity(nodes[g], rotation_scale);
+                               add(r, t, std::max(a, t - bracket_width), std::min(z, t + bracket_width));
+                             }
+                             add(rates(kb), z, std::max(a, z - bracket_width), std::min(b[i + 1], z + bracket_width));
+                           });
   local_maxima.flush();
   for (std::size_t j = 0; j < peak.size(); ++j)
   {
@@ -382,7 +385,6 @@ CurveFigures measureCurve(const Curve<G>& curve, double rotation_scale)
   fig.max_angular_acceleration = peak[kAngularAcceleration];
   return fig;
 }
-
 
 /// measureLengths' Gauss–Legendre subintervals per piece: one, and about kFigureSubintervals over
 /// the whole curve when it has few pieces.
@@ -407,8 +409,8 @@ std::pair<double, double> measureLengths(const Curve<G>& curve)
   const std::size_t pieces = b.size() - 1;
   double length = 0.0;
   double rotation_length = 0.0;
-  detail::forEachGaussSpan([&curve](double t, Side side) { return detail::SpeedsOnly{ speedsAt(curve, t, side) }; },
-                           b, lengthSubintervalsPerPiece(pieces), "the path's length", [](std::size_t) {},
+  detail::forEachGaussSpan([&curve](double t, Side side) { return detail::SpeedsOnly{ speedsAt(curve, t, side) }; }, b,
+                           lengthSubintervalsPerPiece(pieces), "the path's length", [](std::size_t) {},
                            [&](std::size_t, double a, double z, const auto&, const auto&, const auto& nodes) {
                              for (std::size_t g = 0; g < kGaussNodes.size(); ++g)
                              {

@@ -43,9 +43,9 @@ struct JointLimits
 {
   static constexpr double kNone = std::numeric_limits<double>::infinity();
 
-  double min_position = -kNone;  ///< rad or m
-  double max_position = kNone;   ///< rad or m
-  double max_velocity = kNone;   ///< rad/s or m/s, > 0
+  double min_position = -kNone;     ///< rad or m
+  double max_position = kNone;      ///< rad or m
+  double max_velocity = kNone;      ///< rad/s or m/s, > 0
   double max_acceleration = kNone;  ///< rad/s² or m/s², > 0
   double max_jerk = kNone;          ///< rad/s³ or m/s³, > 0
 

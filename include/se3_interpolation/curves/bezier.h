@@ -53,9 +53,10 @@ struct HasExpLine : std::false_type
 {
 };
 template <class G, class S>
-struct HasExpLine<G, S, std::void_t<decltype(G::expLine(std::declval<const typename G::template Point<double>&>(),
-                                                        std::declval<const typename G::template Tangent<double>&>(),
-                                                        std::declval<const S&>()))>> : std::true_type
+struct HasExpLine<G, S,
+                  std::void_t<decltype(G::expLine(std::declval<const typename G::template Point<double>&>(),
+                                                  std::declval<const typename G::template Tangent<double>&>(),
+                                                  std::declval<const S&>()))>> : std::true_type
 {
 };
 

@@ -164,8 +164,8 @@ namespace detail
 {
 /// G::log(p[i], p[j]); an antipodal pair throws NonUniqueGeodesicError naming both points.
 template <class G>
-typename G::template Tangent<double> namedLog(const std::vector<typename G::template Point<double>>& p,
-                                              std::size_t i, std::size_t j, const std::string& label)
+typename G::template Tangent<double> namedLog(const std::vector<typename G::template Point<double>>& p, std::size_t i,
+                                              std::size_t j, const std::string& label)
 {
   try
   {

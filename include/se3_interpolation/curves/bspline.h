@@ -60,8 +60,8 @@ inline void validateKnots(const std::vector<double>& knots, std::size_t num_poin
     if (!std::isfinite(knots[i]))
       throw InvalidInputError(indexedField(field, i) + ": is not finite");
     if (i > 0 && knots[i] < knots[i - 1])
-      throw InvalidInputError(indexedField(field, i) + ": knots must be non-decreasing (" +
-                              std::to_string(knots[i]) + " < " + std::to_string(knots[i - 1]) + ")");
+      throw InvalidInputError(indexedField(field, i) + ": knots must be non-decreasing (" + std::to_string(knots[i]) +
+                              " < " + std::to_string(knots[i - 1]) + ")");
   }
   if (!(knots[m] < knots[num_points]))
     throw InvalidInputError(field + ": the curve's domain [knots[" + std::to_string(m) + "], knots[" +
@@ -74,9 +74,9 @@ inline void validateKnots(const std::vector<double>& knots, std::size_t num_poin
     const std::size_t mult = j - i;
     const bool interior = knots[i] > knots[m] && knots[i] < knots[num_points];
     if ((interior && mult > m) || mult > m + 1)
-      throw InvalidInputError(indexedField(field, i) + ": knot " + std::to_string(knots[i]) +
-                              " has multiplicity " + std::to_string(mult) + "; at most " +
-                              std::to_string(interior ? m : m + 1) + (interior ? " inside the domain" : ""));
+      throw InvalidInputError(indexedField(field, i) + ": knot " + std::to_string(knots[i]) + " has multiplicity " +
+                              std::to_string(mult) + "; at most " + std::to_string(interior ? m : m + 1) +
+                              (interior ? " inside the domain" : ""));
     i = j;
   }
 }
@@ -92,7 +92,9 @@ inline std::size_t knotSpan(const std::vector<double>& u, std::size_t num_points
   const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(num_points) - 1;
   // Clamped to the domain, the span can be empty when a domain end is a repeated knot
   // (e.g. u_{N−1} = u_N): take the nearest non-empty span inside the domain.
-  auto empty = [&u](std::ptrdiff_t s) { return !(u[static_cast<std::size_t>(s)] < u[static_cast<std::size_t>(s) + 1]); };
+  auto empty = [&u](std::ptrdiff_t s) {
+    return !(u[static_cast<std::size_t>(s)] < u[static_cast<std::size_t>(s) + 1]);
+  };
   if (k >= last)
   {
     k = last;

@@ -100,8 +100,7 @@ public:
       transition(i, &s.d, &s.q);
       if (!s.d.allFinite() || !s.q.allFinite())
         throw ConvergenceError(prefix() + "segment " + std::to_string(i) + " is not finite (are " +
-                               indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1) +
-                               " finite?)");
+                               indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1) + " finite?)");
       if (!invert(s.d, &s.e))
         throw ConvergenceError(prefix() + "the transition map of segment " + std::to_string(i) +
                                " is singular (its step is at a conjugate point of the geometry)");
@@ -260,7 +259,8 @@ private:
   /// D_i and Q_i of segment i (file comment, Cost).
   void transition(std::size_t i, Mat* d, Quad* q) const
   {
-    ChartTransition<G>::template derivatives<Mat, Quad>(x_[i], x_[i + 1], logs_[i], kIdentityFrame ? nullptr : &frames_[i],
+    ChartTransition<G>::template derivatives<Mat, Quad>(x_[i], x_[i + 1], logs_[i],
+                                                        kIdentityFrame ? nullptr : &frames_[i],
                                                         kIdentityFrame ? nullptr : &frames_[i + 1], d, q);
   }
 

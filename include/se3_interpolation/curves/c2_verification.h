@@ -43,8 +43,8 @@ constexpr double kStateContinuityTolerance = 1e-7;
 /// The curve's chart velocity and acceleration in T_{x_i} (log_{x_i} of its second-order jet)
 /// at t_i from `side`, stacked.
 template <class G>
-Eigen::VectorXd chartState(const ChartCubicSpline<G>& curve, const typename G::template Point<double>& x,
-                           double t, Side side)
+Eigen::VectorXd chartState(const ChartCubicSpline<G>& curve, const typename G::template Point<double>& x, double t,
+                           Side side)
 {
   using J2 = Jet<2>;
   const typename G::template Tangent<J2> y = G::log(G::template cast<J2>(x), curve.jet(J2::variable(t), side));
@@ -95,12 +95,11 @@ void verifyContinuity(const C2SplineSystem<G>& system, const ChartCubicSpline<G>
         !(state_jump <= kStateContinuityTolerance * state_size))
       throw ConvergenceError(
           system.prefix() + "the solved spline is not C^2 at " + indexedField("waypoints", i) +
-          " to the accuracy of double precision (velocity jump " + scientific(velocity_jump) +
-          ", acceleration jump " + scientific(acceleration_jump) + ", " +
-          scientific(state_jump / state_size) + " of the state and " +
+          " to the accuracy of double precision (velocity jump " + scientific(velocity_jump) + ", acceleration jump " +
+          scientific(acceleration_jump) + ", " + scientific(state_jump / state_size) + " of the state and " +
           scientific(std::max(velocity_jump / velocity_size, acceleration_jump / acceleration_size)) +
-          " of the terms): the steps from " +
-          indexedField("waypoints", i - 1) + " to " + indexedField("waypoints", i + 1) +
+          " of the terms): the steps from " + indexedField("waypoints", i - 1) + " to " +
+          indexedField("waypoints", i + 1) +
           " are too close to a conjugate point of the geometry (nearly antipodal points) for their "
           "time steps; add waypoints between them or use curve 'hermite'");
   }

@@ -112,8 +112,8 @@ struct TransitionDerivatives
 template <class G>
 TransitionDerivatives transitionDerivatives(const typename G::template Point<double>& x0,
                                             const typename G::template Point<double>& x1,
-                                            const typename G::template Tangent<double>& log,
-                                            const Eigen::MatrixXd& b0, const Eigen::MatrixXd& b1)
+                                            const typename G::template Tangent<double>& log, const Eigen::MatrixXd& b0,
+                                            const Eigen::MatrixXd& b1)
 {
   using J2 = Jet<2>;
   using TangentJ = typename G::template Tangent<J2>;
@@ -147,8 +147,7 @@ TransitionDerivatives transitionDerivatives(const typename G::template Point<dou
     for (Eigen::Index k = j + 1; k < dof; ++k)
     {
       motion(b0.col(j) + b0.col(k), &velocity, &acceleration);
-      const Eigen::VectorXd mixed =
-          (acceleration - d.quadratic.col(j * dof + j) - d.quadratic.col(k * dof + k)) / 2.0;
+      const Eigen::VectorXd mixed = (acceleration - d.quadratic.col(j * dof + j) - d.quadratic.col(k * dof + k)) / 2.0;
       d.quadratic.col(j * dof + k) = mixed;
       d.quadratic.col(k * dof + j) = mixed;
     }

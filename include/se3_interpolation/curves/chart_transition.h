@@ -195,7 +195,8 @@ inline bool invertRotationBlock(const Eigen::Matrix3d& r, Eigen::Matrix3d* inver
   double det = 0.0;
   bool invertible = false;
   const double size = r.cwiseAbs().maxCoeff();
-  r.computeInverseAndDetWithCheck(*inverse, det, invertible, std::numeric_limits<double>::epsilon() * size * size * size);
+  r.computeInverseAndDetWithCheck(*inverse, det, invertible,
+                                  std::numeric_limits<double>::epsilon() * size * size * size);
   return invertible && size > 0.0;
 }
 

@@ -84,8 +84,7 @@ inline double chordFromIdentity(const Pose<double>& x, double rotation_scale)
 /// double_geodesic (so s = r/d) and a helix for screw, whose chord grows monotonically
 /// while the angle s θ < π. Safeguarded Newton on D(s)² − r² from the straight-line value r/d.
 template <class G>
-double legParameterAtDistance(const typename G::template Tangent<double>& v, double d, double r,
-                              double rotation_scale)
+double legParameterAtDistance(const typename G::template Tangent<double>& v, double d, double r, double rotation_scale)
 {
   using J = Jet<1>;
   const double rho_theta = rotation_scale * v.template head<3>().norm();
@@ -124,8 +123,8 @@ constexpr std::size_t kCornersPerDeadlineCheck = 1024;
 /// One blended corner: the waypoint, its radius r_i and the blend's time interval.
 struct CornerBlendZone
 {
-  std::size_t corner = 0;  ///< index i of the interior waypoint
-  double radius = 0.0;     ///< r_i, m (chord distance)
+  std::size_t corner = 0;   ///< index i of the interior waypoint
+  double radius = 0.0;      ///< r_i, m (chord distance)
   double start_time = 0.0;  ///< t_i − τ_in
   double end_time = 0.0;    ///< t_i + τ_out
 };
@@ -293,7 +292,7 @@ private:
   static PointT<S> blendFromCorner(const Blend& b, const S& lambda)
   {
     const S rest = S(1.0) - lambda;
-    const S in_weight = rest * rest * rest * (S(1.0) + lambda);          // w_in = (1 − λ)³(1 + λ)
+    const S in_weight = rest * rest * rest * (S(1.0) + lambda);         // w_in = (1 − λ)³(1 + λ)
     const S out_weight = lambda * lambda * lambda * (S(2.0) - lambda);  // w_out = λ³(2 − λ)
     typename G::template Tangent<S> log;
     for (int k = 0; k < 6; ++k)

@@ -98,7 +98,8 @@ inline Quaternion<Jet<1>> firstOrderOf(const Quaternion<Jet<2>>& q)
 }
 inline Pose<Jet<1>> firstOrderOf(const Pose<Jet<2>>& x)
 {
-  return Pose<Jet<1>>(firstOrderOf(x.q), Vector3<Jet<1>>(firstOrderOf(x.p[0]), firstOrderOf(x.p[1]), firstOrderOf(x.p[2])));
+  return Pose<Jet<1>>(firstOrderOf(x.q),
+                      Vector3<Jet<1>>(firstOrderOf(x.p[0]), firstOrderOf(x.p[1]), firstOrderOf(x.p[2])));
 }
 }  // namespace detail
 
@@ -276,10 +277,7 @@ public:
   /// @param base the curve to stretch, from its start time
   /// @param scale the stretch k
   TimeScaledCurve(std::shared_ptr<const Curve<G>> base, double scale)
-    : RetimedCurve<G>(std::move(base))
-    , t0_(this->base().startTime())
-    , scale_(scale)
-    , snap_(this->base().breakpoints())
+    : RetimedCurve<G>(std::move(base)), t0_(this->base().startTime()), scale_(scale), snap_(this->base().breakpoints())
   {
   }
 

@@ -143,8 +143,7 @@ public:
       }
       catch (const NonUniqueGeodesicError& e)
       {
-        throw NonUniqueGeodesicError(indexedField(tangent_label, i) + " and " +
-                                     indexedField(tangent_label, i + 1) +
+        throw NonUniqueGeodesicError(indexedField(tangent_label, i) + " and " + indexedField(tangent_label, i + 1) +
                                      ": two control points of segment " + std::to_string(i) +
                                      " are antipodal, so the cubic is not defined (" + e.what() + ")");
       }

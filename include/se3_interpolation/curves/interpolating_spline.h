@@ -80,10 +80,10 @@ constexpr double kMaxStartChartExcursion = 1e60;
 /// `end_velocity` (G's representation, at the first / last point) are used only when clamped.
 template <class G>
 std::shared_ptr<const ChartCubicSpline<G>> solveC2Spline(const std::vector<typename G::template Point<double>>& points,
-                                                        const std::vector<double>& times, EndCondition condition,
-                                                        const typename G::template Tangent<double>& start_velocity,
-                                                        const typename G::template Tangent<double>& end_velocity,
-                                                        const SplineSolverOptions& options = {})
+                                                         const std::vector<double>& times, EndCondition condition,
+                                                         const typename G::template Tangent<double>& start_velocity,
+                                                         const typename G::template Tangent<double>& end_velocity,
+                                                         const SplineSolverOptions& options = {})
 {
   using Tangent = typename G::template Tangent<double>;
   if (condition == EndCondition::kStart)

@@ -249,8 +249,8 @@ inline ChannelStop makeChannelStop(const Eigen::Vector3d& v, const Eigen::Vector
   if (a_max > 0.0)
   {
     const double bound = scale * a_max;
-    const double safe = std::sqrt(std::max(sideways ? bound * bound - across * across : bound * bound,
-                                           1e-6 * bound * bound));
+    const double safe =
+        std::sqrt(std::max(sideways ? bound * bound - across * across : bound * bound, 1e-6 * bound * bound));
     accel = safe + share * (bound - safe);
   }
   c.along = JerkStop(speed, a_along, accel, jerk);
@@ -298,7 +298,8 @@ struct JerkBrake
     Vector3<S> phi;
     if (valueOf(tau) == 0.0 && side == Side::kLeft)
     {
-      dp = start_velocity.linear.template cast<S>() * tau + (0.5 * start_acceleration.linear).template cast<S>() * (tau * tau);
+      dp = start_velocity.linear.template cast<S>() * tau +
+           (0.5 * start_acceleration.linear).template cast<S>() * (tau * tau);
       phi = start_velocity.angular.template cast<S>() * tau +
             (0.5 * start_acceleration.angular).template cast<S>() * (tau * tau);
     }
@@ -326,11 +327,11 @@ inline JerkBrake makeJerkBrake(const Pose<double>& pose, const Twist& velocity, 
   b.start_acceleration = acceleration;
   const bool bounded[2] = { a_max[0] > 0.0 || j_max[0] > 0.0, a_max[1] > 0.0 || j_max[1] > 0.0 };
   if (bounded[0])
-    b.linear = makeChannelStop(velocity.linear, acceleration.linear, a_max[0], j_max[0], scale[0], share[0], 0.0,
-                               design[0]);
+    b.linear =
+        makeChannelStop(velocity.linear, acceleration.linear, a_max[0], j_max[0], scale[0], share[0], 0.0, design[0]);
   if (bounded[1])
-    b.angular = makeChannelStop(velocity.angular, acceleration.angular, a_max[1], j_max[1], scale[1], share[1], 0.0,
-                                design[1]);
+    b.angular =
+        makeChannelStop(velocity.angular, acceleration.angular, a_max[1], j_max[1], scale[1], share[1], 0.0, design[1]);
   const double stop = b.stopTime();
   if (!bounded[0])
     b.linear = makeChannelStop(velocity.linear, acceleration.linear, 0.0, 0.0, 1.0, 1.0, stop, StopDesign::kSplit);

@@ -255,10 +255,10 @@ private:
   /// σ²) by block elimination, from the predicted (*zc, *lc), at most kIterationsPerStep iterations
   /// (*used counts them). Whether it converged to kPathTolerance; false where an iteration fails
   /// or wanders farther than ds.
-  bool correct(const Eigen::VectorXd& z, double lambda, const Eigen::VectorXd& tz, double tl, double ds,
-               double sigma2, Eigen::VectorXd* zc, double* lc, int* used, int* budget, Residual* r) const
+  bool correct(const Eigen::VectorXd& z, double lambda, const Eigen::VectorXd& tz, double tl, double ds, double sigma2,
+               Eigen::VectorXd* zc, double* lc, int* used, int* budget, Residual* r) const
   {
-    for (; *used < kIterationsPerStep && *budget > 0; ++*used)
+    for (; (*used < kIterationsPerStep) && (*budget > 0); ++*used)
     {
       if (!system_.residual(*zc, *lc, r))
         return false;

@@ -91,13 +91,15 @@ public:
     }
     catch (const NonUniqueGeodesicError&)
     {
-      throw NonUniqueGeodesicError("waypoints[0]: the curve's start is half a turn from the start state's "
-                                   "orientation, so the joining segment is not unique");
+      throw NonUniqueGeodesicError(
+          "waypoints[0]: the curve's start is half a turn from the start state's "
+          "orientation, so the joining segment is not unique");
     }
     coefficients_ = chartHermite<G>(c, e, h_, 2);
     if (!finiteCoefficients<G>(coefficients_))
       throw InvalidInputError("times: the segment from the start state to the first waypoint lasts " +
-                              formatNumber(h_) + " s, too short for its start velocity and the curve it joins "
+                              formatNumber(h_) +
+                              " s, too short for its start velocity and the curve it joins "
                               "(the joining polynomial overflows); give the first waypoint a later time");
   }
 

@@ -72,8 +72,8 @@ struct GoalStart
 /// meet the start rule; kInvalidGoal when its start does not (the message says what differs, by
 /// how much, and suggests from_current).
 GoalStart checkGoalStart(const GoalTrajectory& goal, Nanoseconds stamp, Nanoseconds now,
-                         const std::function<std::optional<PlaybackState>(Nanoseconds)>& shown_at,
-                         double rest_linear, double rest_angular);
+                         const std::function<std::optional<PlaybackState>(Nanoseconds)>& shown_at, double rest_linear,
+                         double rest_angular);
 
 /// A measurement is compared with the setpoint of its own instant (its stamp), so that the
 /// latency between the measuring and the check (a driver's publication, TF, the feedback timer)

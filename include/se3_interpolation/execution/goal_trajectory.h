@@ -121,9 +121,9 @@ MotionLimits motionLimitsOf(const Bounds& b)
 /// The peak of one rate of the motion.
 struct RatePeak
 {
-  double value = 0.0;        ///< the rate's largest value (its unit: m/s … rad/s³)
-  double time = 0.0;         ///< where it is reached (s of time_from_start)
-  std::size_t segment = 0;   ///< the segment i (points[i] → points[i + 1]) that reaches it
+  double value = 0.0;       ///< the rate's largest value (its unit: m/s … rad/s³)
+  double time = 0.0;        ///< where it is reached (s of time_from_start)
+  std::size_t segment = 0;  ///< the segment i (points[i] → points[i + 1]) that reaches it
 };
 
 /// The peaks of the six rates, in the order of MotionLimits: |ṗ|, |ω|, |p̈|, |ω̇|, |p⃛|, |ω̈|.

@@ -69,8 +69,8 @@ struct Motion
 {
   /// The state at trajectory time t (s after the stamp), for t in [start_time, start_time + duration].
   std::function<TrajectorySample(double)> state_at;
-  double start_time = 0.0;  ///< s after the stamp
-  double duration = 0.0;    ///< s
+  double start_time = 0.0;     ///< s after the stamp
+  double duration = 0.0;       ///< s
   std::string frame_id;        ///< the frame the poses are in (world)
   std::string child_frame_id;  ///< the moving frame (body)
   /// An opaque label of the caller's (e.g. "goal 3", "service"), kept by hold() and stop() and

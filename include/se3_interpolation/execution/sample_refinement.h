@@ -59,10 +59,10 @@ constexpr int kExcessPatience = 6;
 /// What the refinement holds a goal made of the samples to.
 struct SampleRefinement
 {
-  double tolerance = 0.0;       ///< (D): m of chord distance (> 0)
-  double rotation_scale = 1.0;  ///< ρ, m per rad, of the chord distance
+  double tolerance = 0.0;                                 ///< (D): m of chord distance (> 0)
+  double rotation_scale = 1.0;                            ///< ρ, m per rad, of the chord distance
   GeometryType geometry = GeometryType::kDoubleGeodesic;  ///< the goal's interpolation (the node's ~geometry)
-  MotionLimits limits;          ///< (B): the request's bounds (0 = unbounded)
+  MotionLimits limits;                                    ///< (B): the request's bounds (0 = unbounded)
 };
 
 /// The refinement of one motion's samples (file comment).

@@ -55,12 +55,12 @@ constexpr int kMaxFitDegree = 5;
 /// What shapes a fit (file comment); validated by fitBSpline.
 struct FitOptions
 {
-  int degree = 3;                              ///< m, 1 … kMaxFitDegree
+  int degree = 3;                                 ///< m, 1 … kMaxFitDegree
   double control_period = kDefaultControlPeriod;  ///< s between knots (> 0)
-  double smoothing = 0.0;                      ///< λ ≥ 0
+  double smoothing = 0.0;                         ///< λ ≥ 0
   FitLoss loss = FitLoss::kSquared;
-  double loss_scale = 0.0;                     ///< δ, m of chord distance (> 0 for kHuber)
-  double rotation_scale = 1.0;                 ///< ρ, m/rad (> 0)
+  double loss_scale = 0.0;      ///< δ, m of chord distance (> 0 for kHuber)
+  double rotation_scale = 1.0;  ///< ρ, m/rad (> 0)
 };
 
 /// A fitted B-spline (the `bspline` family's curve: BSplineCurve<G>(control, degree, knots)).
@@ -69,10 +69,10 @@ struct BSplineFitResult
   std::vector<Pose<double>> control;  ///< d_0 … d_{M+m−1}
   std::vector<double> knots;          ///< clamped, uniform on [t_0, t_N]
   int degree = 3;
-  double residual_linear = 0.0;       ///< RMS of |p(tᵢ) − pᵢ| over the waypoints, m
-  double residual_angular = 0.0;      ///< RMS of θ(R(tᵢ)ᵀ Rᵢ) over the waypoints, rad
-  double objective = 0.0;             ///< E(d) of the file comment at the fitted control poses
-  int iterations = 0;                 ///< Levenberg–Marquardt steps taken (all passes)
+  double residual_linear = 0.0;   ///< RMS of |p(tᵢ) − pᵢ| over the waypoints, m
+  double residual_angular = 0.0;  ///< RMS of θ(R(tᵢ)ᵀ Rᵢ) over the waypoints, rad
+  double objective = 0.0;         ///< E(d) of the file comment at the fitted control poses
+  int iterations = 0;             ///< Levenberg–Marquardt steps taken (all passes)
 };
 
 /// M of the file comment: the number of knot intervals.

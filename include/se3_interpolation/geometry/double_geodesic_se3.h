@@ -49,7 +49,8 @@ struct DoubleGeodesicSe3 : PoseGeometryTypes
     const Vector3<double> dp = v.template tail<3>();
     const Quaternion<double> q = a.q * so3Exp(Vector3<double>(omega * alpha.value()));
     return Point<Jet<K>>(detail::rotationLineJet(q, omega, alpha),
-                         detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(), alpha));
+                         detail::vectorJet(Vector3<double>(a.p + alpha.value() * dp), dp, Vector3<double>::Zero(),
+                                           alpha));
   }
   /// kinematicsFromJet(expLine(a, v, α)) in closed form, without the quaternion jets: the rotation
   /// R_a Exp(α ω) turns about the fixed world axis R_a ω (Exp(α ω) ω = ω), so the spatial angular
@@ -166,8 +167,8 @@ private:
     const Vector3<double> wa = phi.cross(ddphi);
     MotionRates out;
     out.velocity.angular = dphi + coefficients.a * wv + coefficients.b * wwv;
-    out.acceleration.angular = ddphi + (coefficients.da * dx) * wv + coefficients.a * wa + (coefficients.db * dx) * wwv +
-                               coefficients.b * (dphi.cross(wv) + phi.cross(wa));
+    out.acceleration.angular = ddphi + (coefficients.da * dx) * wv + coefficients.a * wa +
+                               (coefficients.db * dx) * wwv + coefficients.b * (dphi.cross(wv) + phi.cross(wa));
     out.velocity.linear = dv.tail<3>();
     out.acceleration.linear = ddv.tail<3>();
     return out;

@@ -129,9 +129,9 @@ template <int K>
 Jet<K> screwTranslationSeriesB(const Jet<K>& mu, const Jet<K>& x, const Jet<K>& phi_over_sin)
 {
   using J = Jet<K>;
-  static constexpr double kInverseOddFactorial[] = { 1.0 / 6.0,        1.0 / 120.0,       1.0 / 5040.0,
-                                                     1.0 / 362880.0,   1.0 / 39916800.0,  1.0 / 6227020800.0,
-                                                     1.0 / 1307674368000.0 };
+  static constexpr double kInverseOddFactorial[] = {
+    1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0, 1.0 / 362880.0, 1.0 / 39916800.0, 1.0 / 6227020800.0, 1.0 / 1307674368000.0
+  };
   constexpr std::size_t kTerms = sizeof(kInverseOddFactorial) / sizeof(kInverseOddFactorial[0]);
   const J m = mu * mu;
   // g_k = 1 + m + … + m^{k−1}; the sum Σ_k (−1)^k g_k x^{k−1}/(2k+1)! by Horner from the last term.

@@ -201,7 +201,8 @@ public:
     const VectorX<S> v = v_.template cast<S>();
     const S yu = u.dot(y);
     const S yv = v.dot(y);
-    return y + VectorX<S>(v * S(s * yu) - u * S(s * yv)) - VectorX<S>(u * S(one_minus_cos * yu) + v * S(one_minus_cos * yv));
+    return y + VectorX<S>(v * S(s * yu) - u * S(s * yv)) -
+           VectorX<S>(u * S(one_minus_cos * yu) + v * S(one_minus_cos * yv));
   }
 
 private:

@@ -47,8 +47,7 @@ public:
   Jet() { c_.fill(0.0); }
   /// Uninitialised coefficients, for results that assign every one.
   struct NoInit
-  {
-  };
+  {};
   explicit Jet(NoInit /*tag*/) {}
   Jet(double value)  // NOLINT(google-explicit-constructor): constants mix with jets
   {

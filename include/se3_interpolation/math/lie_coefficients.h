@@ -34,8 +34,8 @@ void halfAngle(const S& theta2, S* sin_half_over_theta, S* cos_half)
   using std::sqrt;
   if (valueOf(theta2) < kSeriesThetaSquared)
   {
-    static constexpr double ks[] = { 1.0 / 2, -1.0 / 48, 1.0 / 3840, -1.0 / 645120, 1.0 / 185794560,
-                                     -1.0 / 81749606400.0 };
+    static constexpr double ks[] = { 1.0 / 2,       -1.0 / 48,       1.0 / 3840,
+                                     -1.0 / 645120, 1.0 / 185794560, -1.0 / 81749606400.0 };
     static constexpr double kc[] = { 1.0, -1.0 / 8, 1.0 / 384, -1.0 / 46080, 1.0 / 10321920, -1.0 / 3715891200.0 };
     *sin_half_over_theta = horner(theta2, ks);
     *cos_half = horner(theta2, kc);
@@ -56,9 +56,8 @@ S screwB(const S& theta2)
   using std::sqrt;
   if (valueOf(theta2) < kSeriesThetaSquared)
   {
-    static constexpr double k[] = { 1.0 / 6,          -1.0 / 120,          1.0 / 5040,
-                                    -1.0 / 362880,    1.0 / 39916800,      -1.0 / 6227020800.0,
-                                    1.0 / 1307674368000.0 };
+    static constexpr double k[] = { 1.0 / 6,        -1.0 / 120,          1.0 / 5040,           -1.0 / 362880,
+                                    1.0 / 39916800, -1.0 / 6227020800.0, 1.0 / 1307674368000.0 };
     return horner(theta2, k);
   }
   const S theta = sqrt(theta2);
@@ -187,8 +186,8 @@ S screwC(const S& theta2)
   using std::sqrt;
   if (valueOf(theta2) < kSeriesThetaSquared)
   {
-    static constexpr double k[] = { 1.0 / 12,         1.0 / 720,          1.0 / 30240,
-                                    1.0 / 1209600,    1.0 / 47900160,     691.0 / 1307674368000.0,
+    static constexpr double k[] = { 1.0 / 12,           1.0 / 720,      1.0 / 30240,
+                                    1.0 / 1209600,      1.0 / 47900160, 691.0 / 1307674368000.0,
                                     1.0 / 74724249600.0 };
     return horner(theta2, k);
   }
@@ -208,8 +207,9 @@ S logFactor(const S& n2, const S& w)
   if (valueOf(n2) < 0.01)
   {
     // atan(x)/x = Σ (−1)^j x^{2j}/(2j+1), x = n/w, x² ≤ 0.0102.
-    static constexpr double k[] = { 1.0,        -1.0 / 3,  1.0 / 5,  -1.0 / 7, 1.0 / 9,
-                                    -1.0 / 11, 1.0 / 13, -1.0 / 15, 1.0 / 17 };
+    static constexpr double k[] = {
+      1.0, -1.0 / 3, 1.0 / 5, -1.0 / 7, 1.0 / 9, -1.0 / 11, 1.0 / 13, -1.0 / 15, 1.0 / 17
+    };
     return S(2.0) * horner(S(n2 / (w * w)), k) / w;
   }
   const S n = sqrt(n2);

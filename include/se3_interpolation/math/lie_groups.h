@@ -133,8 +133,9 @@ namespace detail
 template <class S>
 S sinSqrtRatio(const S& z)
 {
-  static constexpr double k[] = { 1.0,           -1.0 / 6.0,        1.0 / 120.0,         -1.0 / 5040.0,
-                                  1.0 / 362880.0, -1.0 / 39916800.0, 1.0 / 6227020800.0 };
+  static constexpr double k[] = {
+    1.0, -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0, -1.0 / 39916800.0, 1.0 / 6227020800.0
+  };
   return horner(z, k);
 }
 
@@ -154,10 +155,10 @@ S sinRatioSeries(const S& nu, const S& x, const S& phi_over_sin)
 template <int K>
 struct SlerpJetWeights
 {
-  Jet<K> ka, kb;  ///< the weights of q_a and sign q_b
-  Jet<K> w;       ///< cos φ
-  Jet<K> n2;      ///< sin² φ
-  Jet<K> c;       ///< cos λφ (closed form only)
+  Jet<K> ka, kb;        ///< the weights of q_a and sign q_b
+  Jet<K> w;             ///< cos φ
+  Jet<K> n2;            ///< sin² φ
+  Jet<K> c;             ///< cos λφ (closed form only)
   Jet<K> x;             ///< φ² (series only)
   Jet<K> phi_over_sin;  ///< φ/sin φ = 1/sinSqrtRatio(x) (series only)
   bool series = false;
@@ -228,7 +229,7 @@ SE3_JET_INLINE Quaternion<Jet<K>> slerpFromWeights(const Quaternion<Jet<K>>& qa,
 /// θ = π.
 template <int K>
 SE3_JET_INLINE bool so3SlerpJet(const Quaternion<Jet<K>>& qa, const Quaternion<Jet<K>>& qb, const Jet<K>& lambda,
-                 Quaternion<Jet<K>>* out)
+                                Quaternion<Jet<K>>* out)
 {
   SlerpJetWeights<K> weights;
   if (!slerpJetWeights(qa, qb, lambda, &weights))
@@ -270,8 +271,7 @@ struct Pose
   template <class T>
   Pose<T> cast() const
   {
-    return Pose<T>(Quaternion<T>(T(q.w()), T(q.x()), T(q.y()), T(q.z())),
-                   Vector3<T>(T(p.x()), T(p.y()), T(p.z())));
+    return Pose<T>(Quaternion<T>(T(q.w()), T(q.x()), T(q.y()), T(q.z())), Vector3<T>(T(p.x()), T(p.y()), T(p.z())));
   }
 };
 

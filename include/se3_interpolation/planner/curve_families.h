@@ -110,8 +110,7 @@ bool continuesStartState(const Request& request)
 template <class G, class Space>
 FamilyCurve<G> makeFamilyCurve(const BasicValidatedRequest<Space>& request, const std::vector<double>& times)
 {
-  return visitFamily(request.curve,
-                     [&](auto family) { return decltype(family)::template make<G>(request, times); });
+  return visitFamily(request.curve, [&](auto family) { return decltype(family)::template make<G>(request, times); });
 }
 
 namespace detail

@@ -77,8 +77,8 @@ inline ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outp
     const std::string field = indexedField("outputs", i);
     if (outputs[i].empty())
       throw InvalidInputError(field + ": empty name (expected one of: " + knownNames<ResponseOutput>() + ")");
-    bool& slot = parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path
-                                                                                             : chosen.trajectory;
+    bool& slot =
+        parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path : chosen.trajectory;
     if (slot)
       throw InvalidInputError(field + ": " + quotedText(outputs[i]) + " is named twice");
     slot = true;

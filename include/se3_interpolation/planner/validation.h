@@ -17,7 +17,6 @@ namespace se3_interpolation
 /// means the vector belongs to another point.
 constexpr double kMaxNormalFraction = 0.01;
 
-
 /// Checks every field of a request in space Space (PoseSpace or SphereSpace). Nothing is computed
 /// for a rejected request.
 /// @param request the raw request

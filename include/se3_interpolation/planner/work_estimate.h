@@ -52,17 +52,17 @@ namespace se3_interpolation
 struct WorkEstimate
 {
   double pieces = 0.0;
-  double evaluation_cost = 0.0;       ///< geodesic steps per evaluation
-  double figure_evaluations = 0.0;    ///< evaluations of measureCurve (every pass), or of measureLengths under a timing
-  double timing_intervals = 0.0;      ///< time_optimal's grid intervals (0: stretch)
-  double timing_evaluations = 0.0;    ///< evaluations of time_optimal
-  double timing_units = 0.0;          ///< time_optimal's own work, and its evaluations
+  double evaluation_cost = 0.0;     ///< geodesic steps per evaluation
+  double figure_evaluations = 0.0;  ///< evaluations of measureCurve (every pass), or of measureLengths under a timing
+  double timing_intervals = 0.0;    ///< time_optimal's grid intervals (0: stretch)
+  double timing_evaluations = 0.0;  ///< evaluations of time_optimal
+  double timing_units = 0.0;        ///< time_optimal's own work, and its evaluations
   double samples = 0.0;
-  double construction_units = 0.0;    ///< building the curve (the family's constructionUnits)
+  double construction_units = 0.0;  ///< building the curve (the family's constructionUnits)
   /// sample_tolerance's interval tests (execution/sample_refinement.h): kRefinementTestsPerSample per
   /// sample, each costing kRefinementTestSeconds whatever the family (0 without sample_tolerance)
   double refinement_tests = 0.0;
-  double total = 0.0;                 ///< work units
+  double total = 0.0;  ///< work units
   /// total × the family's calibrated seconds per unit, plus the refinement's tests
   double seconds = 0.0;
 };
@@ -78,12 +78,12 @@ struct WorkShape
   std::uint32_t sample_count = RequestDefaults::kSampleCount;
   bool corner_blends = false;  ///< blend_radius > 0
   Timing timing = RequestDefaults::kTiming;
-  bool start_state = false;  ///< replanning from a given state (the figures are measured again)
-  bool screw = false;        ///< the screw geometry (its steps cost more than the double geodesic's)
-  bool jerk = false;         ///< a jerk bound (max_linear_jerk or max_angular_jerk > 0)
-  double fit_intervals = 0.0;  ///< curve fit: the knot intervals M (fitting/bspline_fit.h)
-  bool fit_smoothing = false;  ///< curve fit: smoothing > 0
-  bool fit_huber = false;      ///< curve fit: loss huber
+  bool start_state = false;     ///< replanning from a given state (the figures are measured again)
+  bool screw = false;           ///< the screw geometry (its steps cost more than the double geodesic's)
+  bool jerk = false;            ///< a jerk bound (max_linear_jerk or max_angular_jerk > 0)
+  double fit_intervals = 0.0;   ///< curve fit: the knot intervals M (fitting/bspline_fit.h)
+  bool fit_smoothing = false;   ///< curve fit: smoothing > 0
+  bool fit_huber = false;       ///< curve fit: loss huber
   bool refine_samples = false;  ///< sample_tolerance > 0 (samples inserted, execution/sample_refinement.h)
 };
 

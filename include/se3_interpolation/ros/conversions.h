@@ -68,7 +68,8 @@ GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, Generatio
 /// (a translucent sphere of radius r_i at each blended corner, ns `blend_zones`) and
 /// `axes` evenly spaced body axes (x red, y green, z blue) of length `axis_length` m.
 /// The first marker deletes what an earlier trajectory drew.
-visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result, const std::vector<Pose<double>>& waypoints,
+visualization_msgs::MarkerArray toMarkerArray(const TrajectoryResult& result,
+                                              const std::vector<Pose<double>>& waypoints,
                                               const std_msgs::Header& header, int axes, double axis_length);
 
 }  // namespace se3_interpolation

@@ -88,10 +88,10 @@ private:
   struct Active
   {
     GoalHandle handle;
-    std::string tag;          ///< its Motion::tag
-    std::string frame_id;     ///< the trajectory's frame
-    Nanoseconds stamp = 0;    ///< its time zero
-    Pose<double> last;        ///< its last point
+    std::string tag;        ///< its Motion::tag
+    std::string frame_id;   ///< the trajectory's frame
+    Nanoseconds stamp = 0;  ///< its time zero
+    Pose<double> last;      ///< its last point
     GoalSupervisor supervisor;
   };
 

@@ -26,16 +26,16 @@ class MovingFrame
 public:
   /// Broadcasts `playback` at `rate` Hz (when `publish_tf`); `child_frame_id` is the frame the
   /// /tf watch looks for until a trajectory names another.
-  MovingFrame(ros::NodeHandle nh, ros::NodeHandle private_nh, const Playback& playback, bool publish_tf,
-              double rate, std::string child_frame_id);
+  MovingFrame(ros::NodeHandle nh, ros::NodeHandle private_nh, const Playback& playback, bool publish_tf, double rate,
+              std::string child_frame_id);
   ~MovingFrame();
 
   /// The broadcast rate (Hz, > 0).
   void setRate(double rate);
 
   /// Replaces /tf_static's frames by `samples` evenly spaced poses of `result` (none: no message).
-  void publishSamples(const TrajectoryResult& result, const std_msgs::Header& header,
-                      const std::string& child_frame_id, int samples);
+  void publishSamples(const TrajectoryResult& result, const std_msgs::Header& header, const std::string& child_frame_id,
+                      int samples);
 
 private:
   void timerCallback(const ros::TimerEvent& event);

@@ -50,8 +50,7 @@ std::string closestNodeParameter(const std::string& name);
 /// The names under the private namespace `ns` (as ros::NodeHandle::getNamespace() gives it) in
 /// `server_names` (every name on the parameter server) that are no parameter of the table, each
 /// with a message naming it and the closest known name.
-std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>& server_names,
-                                                  const std::string& ns);
+std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>& server_names, const std::string& ns);
 
 /// Reads every parameter from `nh` (the private handle). An invalid value (out of range, an
 /// unknown name such as curve "bspine", or of the wrong type) is refused with a ROS warning

@@ -13,13 +13,13 @@ enum class ParameterType
   kDouble,
   kFrame,          ///< a TF frame id (tf2's rules, validateFrameId)
   kOptionalFrame,  ///< a TF frame id, or empty for none
-  kChoice  ///< a string that must be one of ParameterSpec::choices (an enum in dynamic_reconfigure)
+  kChoice          ///< a string that must be one of ParameterSpec::choices (an enum in dynamic_reconfigure)
 };
 
 /// One row of the parameter table.
 struct ParameterSpec
 {
-  const char* name;          ///< without "~"
+  const char* name;  ///< without "~"
   ParameterType type;
   const char* default_text;  ///< the default as the docs write it
   double min;                ///< numbers: the lower bound (-inf: none)

@@ -62,7 +62,7 @@ private:
   SequenceGaps waypoints_seq_;  ///< ~waypoints' intake thread only
   std::atomic<std::uint64_t> waypoint_gaps_{ 0 };
   std::atomic<std::uint64_t> waypoints_gaps_{ 0 };
-  std::uint64_t reported_waypoint_ = 0;   ///< the totals of the latest warning
+  std::uint64_t reported_waypoint_ = 0;  ///< the totals of the latest warning
   std::uint64_t reported_waypoints_ = 0;
   std::unique_ptr<MessageBacklog<geometry_msgs::PoseStamped::ConstPtr>> waypoint_backlog_;
   std::unique_ptr<MessageBacklog<geometry_msgs::PoseArray::ConstPtr>> waypoints_backlog_;

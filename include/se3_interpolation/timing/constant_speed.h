@@ -127,15 +127,15 @@ inline double startSlope(double tau)
 /// The timing s(t) = S(σ(t)) (file comment).
 struct ConstantSpeedProfile
 {
-  double speed = 0.0;      ///< V
-  double t0 = 0.0;         ///< the motion's start (the path's start s_0, as the other timings)
-  double ramp_up = 0.0;    ///< T_u (s)
-  double ramp_down = 0.0;  ///< T_d (s)
-  double length = 0.0;     ///< L, the path's chord length
+  double speed = 0.0;               ///< V
+  double t0 = 0.0;                  ///< the motion's start (the path's start s_0, as the other timings)
+  double ramp_up = 0.0;             ///< T_u (s)
+  double ramp_down = 0.0;           ///< T_d (s)
+  double length = 0.0;              ///< L, the path's chord length
   double start_speed = 0.0;         ///< v_0, the chord speed the ramp up starts from (0: at rest)
   double start_acceleration = 0.0;  ///< a_0, its chord acceleration there
-  std::vector<double> s;      ///< grid of the path parameter (ends and breakpoints included)
-  std::vector<double> sigma;  ///< σ at each grid point (0 … L)
+  std::vector<double> s;            ///< grid of the path parameter (ends and breakpoints included)
+  std::vector<double> sigma;        ///< σ at each grid point (0 … L)
   /// Per grid interval k, the quintic S(σ_k + u) = Σ c_j u^j.
   std::vector<std::array<double, 6>> quintic;
   /// The pieces of the check, in σ: every second point of the table's grid and the path's
@@ -274,8 +274,8 @@ private:
 /// @throws as constantSpeedProfile
 template <class G>
 std::shared_ptr<const ConstantSpeedCurve<G>> makeConstantSpeedCurve(std::shared_ptr<const Curve<G>> path,
-                                                                     const RateBounds& bounds,
-                                                                     const ConstantSpeedOptions& options)
+                                                                    const RateBounds& bounds,
+                                                                    const ConstantSpeedOptions& options)
 {
   ConstantSpeedProfile profile = constantSpeedProfile(CurveJerkPath<G>(path), bounds, options);
   return std::make_shared<ConstantSpeedCurve<G>>(std::move(path), std::move(profile));

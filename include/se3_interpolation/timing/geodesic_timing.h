@@ -69,10 +69,7 @@ struct RestToRestProfile
 
   double duration() const { return 2.0 * t_a + t_v; }
   /// ∫ s̈² dt over the motion: 2 a² (t_a − 4 t_j / 3) (each jerk phase a² t_j / 3).
-  double accelerationEnergy() const
-  {
-    return 2.0 * peak_acceleration * peak_acceleration * (t_a - 4.0 * t_j / 3.0);
-  }
+  double accelerationEnergy() const { return 2.0 * peak_acceleration * peak_acceleration * (t_a - 4.0 * t_j / 3.0); }
   /// The largest |s⃛|: J with jerk phases, +∞ where the acceleration steps (the trapezoid), 0 at rest.
   double peakJerk() const
   {
@@ -129,8 +126,7 @@ private:
 /// The fastest rest-to-rest motion over distance > 0 under the scalar bounds (+∞ = unbounded).
 /// Needs a finite A, or with a finite J a finite V (then the acceleration √(V J) is reached).
 /// @return nullopt where the bounds do not determine a finite motion
-std::optional<RestToRestProfile> restToRestProfile(double distance, double velocity, double acceleration,
-                                                   double jerk);
+std::optional<RestToRestProfile> restToRestProfile(double distance, double velocity, double acceleration, double jerk);
 
 /// A run of geodesic pieces between two stops: path parameters [s_begin, s_end], each channel's
 /// rate |C′_c| (the largest over its pieces) and whether it moves there.
@@ -250,7 +246,7 @@ private:
 /// a geodesic chain or the bounds do not determine it (the caller then uses the general timing).
 template <class G>
 std::shared_ptr<const GeodesicTimedCurve<G>> makeGeodesicTimedCurve(std::shared_ptr<const Curve<G>> path,
-                                                                     const RateBounds& bounds)
+                                                                    const RateBounds& bounds)
 {
   const std::optional<GeodesicChain> chain = geodesicChain(*path);
   if (!chain)

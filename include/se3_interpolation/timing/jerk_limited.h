@@ -150,9 +150,9 @@ public:
 
 private:
   std::shared_ptr<const Curve<G>> curve_;
-  CurvePath<G> path_;               ///< the same curve as time_optimal's path
+  CurvePath<G> path_;                  ///< the same curve as time_optimal's path
   const ChartCubicSpline<G>* spline_;  ///< curve_ as closedFormKinematicsSpline sees it (or null)
-  const ThirdOrderJets<G>* jets3_;  ///< the curve's third-order jets (null: it has none)
+  const ThirdOrderJets<G>* jets3_;     ///< the curve's third-order jets (null: it has none)
 };
 
 /// The jerk-limited timing's options: the underlying grid and the start state.
@@ -189,10 +189,10 @@ struct JerkLimitedProfile
     double duration(const TimingProfile& b) const { return b.t[last] - b.t[first] + tau; }
   };
 
-  TimingProfile base;              ///< the underlying acceleration-only timing (its own clock)
-  std::vector<Segment> segments;   ///< empty: no jerk bound acts, the motion is `base` itself
-  double t0 = 0.0;                 ///< the motion's start time
-  double stretch = 1.0;            ///< the final uniform correction k ≥ 1
+  TimingProfile base;             ///< the underlying acceleration-only timing (its own clock)
+  std::vector<Segment> segments;  ///< empty: no jerk bound acts, the motion is `base` itself
+  double t0 = 0.0;                ///< the motion's start time
+  double stretch = 1.0;           ///< the final uniform correction k ≥ 1
   /// Figures of the timed motion per channel (kLinear, kAngular), from the final check: peaks of
   /// |v|, |a|, |j| over every piece's ends and middle and the searched interior maxima.
   std::array<double, 2> max_speed{};
@@ -255,7 +255,9 @@ private:
     // A time within rounding of a grid time (tb − τ of a time τ after one) takes the requested
     // side of that grid time: s⃛ jumps there.
     const double tv = valueOf(tb);
-    const auto near = [tv](double a) { return std::abs(tv - a) <= kBreakpointSnapRelative * std::max(1.0, std::abs(a)); };
+    const auto near = [tv](double a) {
+      return std::abs(tv - a) <= kBreakpointSnapRelative * std::max(1.0, std::abs(a));
+    };
     const double ta = base.t[g.first];
     if (near(ta) ? side == Side::kLeft : tv < ta)
     {
@@ -367,9 +369,9 @@ private:
 /// @return the timed motion, a curve on [s_0, s_0 + duration]
 /// @throws as jerkLimitedProfile; InvalidInputError for a path without third-order jets
 template <class G>
-std::shared_ptr<const JerkLimitedCurve<G>> makeJerkLimitedCurve(std::shared_ptr<const Curve<G>> path,
-                                                                 const RateBounds& bounds,
-                                                                 const JerkLimitedOptions& options = JerkLimitedOptions())
+std::shared_ptr<const JerkLimitedCurve<G>> makeJerkLimitedCurve(
+    std::shared_ptr<const Curve<G>> path, const RateBounds& bounds,
+    const JerkLimitedOptions& options = JerkLimitedOptions())
 {
   JerkLimitedProfile profile = jerkLimitedProfile(CurveJerkPath<G>(path), bounds, options);
   return std::make_shared<JerkLimitedCurve<G>>(std::move(path), std::move(profile));

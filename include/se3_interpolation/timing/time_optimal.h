@@ -131,7 +131,7 @@ struct RateBounds
 /// A local limit at one path parameter (TimeOptimalOptions::local_limits).
 struct LocalLimit
 {
-  double acceleration_factor = 1.0;                              ///< in (0, 1], on both channels
+  double acceleration_factor = 1.0;                            ///< in (0, 1], on both channels
   double speed_cap = std::numeric_limits<double>::infinity();  ///< largest ṡ (∞: none)
   /// Largest |s̈| on the intervals next to this point (∞: none). Where the path stands still
   /// (C′ = 0, a clamped end at rest) the acceleration bounds do not limit s̈; the jerk-limited
@@ -374,9 +374,9 @@ private:
 
 /// The time-optimal motion along `path` (a curve whose time axis is the path parameter).
 template <class G>
-std::shared_ptr<const TimeOptimalCurve<G>>
-makeTimeOptimalCurve(std::shared_ptr<const Curve<G>> path, const RateBounds& bounds,
-                     const TimeOptimalOptions& options = TimeOptimalOptions())
+std::shared_ptr<const TimeOptimalCurve<G>> makeTimeOptimalCurve(
+    std::shared_ptr<const Curve<G>> path, const RateBounds& bounds,
+    const TimeOptimalOptions& options = TimeOptimalOptions())
 {
   TimingProfile profile = timeOptimalProfile(CurvePath<G>(path), bounds, options);
   return std::make_shared<TimeOptimalCurve<G>>(std::move(path), std::move(profile));

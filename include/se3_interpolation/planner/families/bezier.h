@@ -35,7 +35,10 @@ struct BezierFamily : CurveFamilyDefaults
     return std::max(1.0, d * (d + 1.0) / 2.0);
   }
 
-  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 8.24e-08, 3.54e-08, 1.11e-07, 4.98e-08 }; }
+  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/)
+  {
+    return { 8.24e-08, 3.54e-08, 1.11e-07, 4.98e-08 };
+  }
 
   /// @param shape the request's shape
   /// @param name the family's name (the message names the degree instead)

@@ -44,7 +44,10 @@ struct BsplineFamily : CurveFamilyDefaults
     return std::max(1.0, m * (m + 1.0) / 2.0);
   }
 
-  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 5.86e-08, 4.92e-08, 8.89e-08, 6.83e-08 }; }
+  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/)
+  {
+    return { 5.86e-08, 4.92e-08, 8.89e-08, 6.83e-08 };
+  }
 
   /// @param shape the request's shape
   /// @param name the family's name

@@ -49,8 +49,9 @@ struct FitFamily : CurveFamilyDefaults
       }
       catch (const NonUniqueGeodesicError&)
       {
-        throw InvalidInputError("control_period: two neighbouring control poses of the fit are half a turn apart "
-                                "(no unique geodesic between them); a shorter control_period");
+        throw InvalidInputError(
+            "control_period: two neighbouring control poses of the fit are half a turn apart "
+            "(no unique geodesic between them); a shorter control_period");
       }
       out.fit = FitSummary{ fit.residual_linear, fit.residual_angular, std::move(fit.knots) };
       return out;

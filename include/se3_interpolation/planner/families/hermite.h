@@ -35,7 +35,10 @@ struct HermiteFamily : CurveFamilyDefaults
   /// Six geodesic steps per evaluation (a cubic de Casteljau per piece).
   static double evaluationCost(const WorkShape& /*shape*/) { return 6.0; }
 
-  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 6.73e-08, 5.89e-08, 1.02e-07, 7.77e-08 }; }
+  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/)
+  {
+    return { 6.73e-08, 5.89e-08, 1.02e-07, 7.77e-08 };
+  }
 };
 
 }  // namespace se3_interpolation

@@ -25,17 +25,21 @@ struct InterpolatingFamily : CurveFamilyDefaults
   static FamilyCurve<G> make(const BasicValidatedRequest<Space>& r, const std::vector<double>& times)
   {
     const auto& x = r.waypoints;
-    return { makeInterpolatingSpline<G>(x, times, r.end_condition, detail::velocityTangent<G>(x.front(), r.start_velocity),
-                                        detail::velocityTangent<G>(x.back(), r.end_velocity),
-                                        detail::accelerationTangent<G>(x.front(), r.start_velocity,
-                                                                       r.start_acceleration)),
-             {} };
+    return {
+      makeInterpolatingSpline<G>(x, times, r.end_condition, detail::velocityTangent<G>(x.front(), r.start_velocity),
+                                 detail::velocityTangent<G>(x.back(), r.end_velocity),
+                                 detail::accelerationTangent<G>(x.front(), r.start_velocity, r.start_acceleration)),
+      {}
+    };
   }
 
   /// Six geodesic steps per evaluation (a cubic de Casteljau per piece).
   static double evaluationCost(const WorkShape& /*shape*/) { return 6.0; }
 
-  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/) { return { 2.06e-08, 2.35e-08, 3.99e-08, 3.68e-08 }; }
+  static SecondsPerUnit secondsPerUnit(const WorkShape& /*shape*/)
+  {
+    return { 2.06e-08, 2.35e-08, 3.99e-08, 3.68e-08 };
+  }
 
   /// @param request a validated request
   /// @return whether its end_condition is `start` (the spline is solved forward from the start data)
