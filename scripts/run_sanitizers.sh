@@ -15,36 +15,47 @@
 # The last line is `sanitizers: N passed, N failed` (the unit test cases plus those); exits
 # non-zero on any failure.
 # SE3_SANITIZE_PHASE: `all` (default) the build, the unit tests and the fuzz targets; `unit` the build
-# and the unit tests; `fuzz` the build and the fuzz targets. scripts/run_tests.sh runs `unit` at
+# and the unit tests; `fuzz` the build and the fuzz targets; `plain` the unit tests built without
+# sanitizers (g++ -O2, ccache), the fast tier of scripts/run_tests.sh --fast. scripts/run_tests.sh runs `unit` at
 # nice 19 beside its other stages from the start, and `fuzz` (whose explorations need their cores:
 # targets.txt's minimum inputs) at the end, which finds the build up to date. Each phase prints its
 # own last line.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 se3_install_deps
 
-build="$SE3_WS/sanitize"
-results="$build/test_results"
+phase=${SE3_SANITIZE_PHASE:-all}
+case "$phase" in
+  all | unit | fuzz | plain) ;;
+  *)
+    echo "SE3_SANITIZE_PHASE=$phase: expected all, unit, fuzz or plain" >&2
+    exit 2
+    ;;
+esac
 fuzz_runs=${SE3_FUZZ_RUNS:-100000}
 fuzz_max_seconds=${SE3_FUZZ_MAX_SECONDS:-60}
 fuzz_seconds=${SE3_FUZZ_SECONDS:-30}
+if [ "$phase" = plain ]; then
+  # The fast tier's build (scripts/run_tests.sh --fast): the same unit tests without sanitizers,
+  # g++ -O2 and ccache where it is installed, in a folder of its own.
+  build="$SE3_WS/unit_plain"
+  configure=(-DSE3_SANITIZE=OFF -DCMAKE_CXX_COMPILER=g++)
+  ! command -v ccache >/dev/null || configure+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  echo "unit test build (g++ -O2, no sanitizers) in $build"
+else
+  build="$SE3_WS/sanitize"
+  configure=(-DCMAKE_CXX_COMPILER=clang++)
+  echo "sanitized build (clang++, ASan + UBSan) in $build"
+fi
+results="$build/test_results"
 mkdir -p "$build"
-echo "sanitized build (clang++, ASan + UBSan) in $build"
-if ! { cmake -S "$SE3_ROOT/test/sanitize" -B "$build" -DCMAKE_CXX_COMPILER=clang++ &&
+if ! { cmake -S "$SE3_ROOT/test/sanitize" -B "$build" "${configure[@]}" &&
   cmake --build "$build" -j2; } >"$build/build.log" 2>&1; then
   tail -n 60 "$build/build.log"
-  echo "sanitized build failed (full log: $build/build.log)" >&2
+  echo "the build failed (full log: $build/build.log)" >&2
   echo "sanitizers: 0 passed, 1 failed"
   exit 1
 fi
 echo "built in ${SECONDS} s"
-phase=${SE3_SANITIZE_PHASE:-all}
-case "$phase" in
-  all | unit | fuzz) ;;
-  *)
-    echo "SE3_SANITIZE_PHASE=$phase: expected all, unit or fuzz" >&2
-    exit 2
-    ;;
-esac
 
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 
@@ -175,7 +186,7 @@ fuzz_job() {
   } >"$results/$target.out"
   echo "$p $f" >"$results/$target.counts"
 }
-if [ "$phase" != unit ]; then
+if [ "$phase" = all ] || [ "$phase" = fuzz ]; then
   rm -f "$results"/fuzz_*
   mapfile -t fuzz_targets < <(grep -vE '^(#|$)' "$SE3_ROOT/test/fuzz/targets.txt")
   for line in "${fuzz_targets[@]}"; do

@@ -3,7 +3,23 @@
 # integration, the rviz screenshot, the README's command blocks, the Python module's pytest suite,
 # catkin_lint and the install space, sanitizers) and prints `N passed, N failed`. Exits non-zero if
 # any test fails. Idempotent.
+# --fast: the fast tier, a change's first feedback: the structure check and the unit tests of
+# test/unit/ but the request-space grid, built without ROS or sanitizers (g++ -O2, ccache where
+# installed), no catkin build, rostests, sanitizers or fuzzing.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+if [ "${1:-}" = --fast ]; then
+  se3_install_deps
+  mkdir -p "$SE3_WS"
+  status=0
+  /usr/bin/python3 "$SE3_ROOT/scripts/check_structure.py" >"$SE3_WS/structure.log" 2>&1 || status=1
+  cat "$SE3_WS/structure.log"
+  SE3_SANITIZE_PHASE=plain bash "$SE3_ROOT/scripts/run_sanitizers.sh" >"$SE3_WS/fast.log" 2>&1 || status=1
+  grep -vE '^PASS ' "$SE3_WS/fast.log" || true
+  # The two stages' counts; a stage that fails without counting a failure counts as one.
+  awk -v status="$status" '/^(structure|sanitizers): [0-9]+ passed, [0-9]+ failed$/ { p += $2; f += $4 }
+    END { if (status != 0 && f == 0) f = 1; print p " passed, " f " failed" }' "$SE3_WS/structure.log" "$SE3_WS/fast.log"
+  exit $status
+fi
 se3_install_deps
 mkdir -p "$SE3_WS"
 # The structure rules first (scripts/check_structure.py: a second, no build); counted below.
