@@ -38,9 +38,8 @@
 // frames of the tangent spaces — continuation in the curvature from the linearised spline (the
 // classical spline equations carried between the tangent spaces), backtracking line search,
 // pseudo-arclength past turning points, banded LU: curves/interpolating_solver.h.
-// Before this construction and solve, 20–98 % of the requests of the stress table (time steps
-// differing 5–100× between neighbours, 1.5–3 rad rotation steps) were refused; now none are
-// (test_interpolating_stress.cpp). A failure throws ConvergenceError and says which: the
+// It serves every request of the stress table (time steps differing 5–100× between neighbours,
+// 1.5–3 rad rotation steps; test_interpolating_stress.cpp). A failure throws ConvergenceError and says which: the
 // iteration budget spent; the branch from the linearised spline ending at a singular Jacobian
 // (no C² spline of this form continues to the data; the curvature fraction reached is named); a
 // transition map D_i not invertible (a waypoint step at a conjugate point, which valid steps,

@@ -21,8 +21,8 @@ constexpr double kLocalMaxTolerance = 1e-7;
 /// It also stops, after its first step, where the parabola through its bracket promises less than
 /// this (relative) above the best value found: the value is what the search is for, and near a
 /// smooth maximum the parabola's error is far below its promise. (The time-optimal timing's final
-/// check on a 1000-waypoint line: 50 000 path jets in its searches before this rule, 4 200
-/// after, the same duration and figures to 12 digits.)
+/// check on a 1000-waypoint line: 4 200 path jets in its searches with this rule, 50 000 without,
+/// the same duration and figures to 12 digits.)
 constexpr double kLocalMaxValueTolerance = 1e-13;
 
 /// Whether the parabola through (0, f0), (½, fm), (1, f1), f0 + c1 λ + c2 λ², has a maximum
