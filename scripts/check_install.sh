@@ -100,11 +100,11 @@ contents() {
            "$prefix"/lib/python3/dist-packages/se3_interpolation/{__init__.py,_core.cpython-*.so}; do
     [ -f "$f" ] || { echo "missing file: $f"; missing=1; }
   done
-  # Every launch and config file of the tree.
-  for f in "$SE3_ROOT"/launch/* "$SE3_ROOT"/config/*; do
+  # Every launch and config file of the tree (config/robots/ included).
+  while IFS= read -r f; do
     name=${f#"$SE3_ROOT"/}
     [ -f "$share/$name" ] || { echo "missing file: $share/$name"; missing=1; }
-  done
+  done < <(find "$SE3_ROOT/launch" "$SE3_ROOT/config" -type f | sort)
   # Every executable Python script (the rule catkin_lint's uninstalled_script check would hold,
   # silenced in CMakeLists.txt for the shell scripts, the checkout's developer tools).
   for f in "$SE3_ROOT"/scripts/*.py; do
