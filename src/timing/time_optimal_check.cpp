@@ -223,11 +223,17 @@ void TimeOptimalSolver::verifyAndStretch()
       worst = std::max(worst, peak[2 + c]);
   }
   const double k = std::max(1.0, worst);
+  stretchUniformly(k);
+  figures(peak, k, energy);
+}
+
+void TimeOptimalSolver::stretchUniformly(double k)
+{
   profile_.stretch = k;
   if (k > 1.0)
   {
     const double t0 = profile_.t.front();
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < profile_.s.size(); ++i)
     {
       profile_.t[i] = t0 + (profile_.t[i] - t0) * k;
       profile_.x[i] /= k * k;
@@ -236,7 +242,6 @@ void TimeOptimalSolver::verifyAndStretch()
       ui /= k * k;
     profile_.recovery_end = t0 + (profile_.recovery_end - t0) * k;
   }
-  figures(peak, k, energy);
 }
 
 std::pair<double, bool> TimeOptimalSolver::checkAfterRecovery(double tighten_margin, Rates* searched)

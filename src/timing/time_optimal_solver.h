@@ -324,6 +324,9 @@ private:
   /// the uniform stretch k ≥ 1 that brings the worst need within its bound; the peaks, scaled by
   /// the stretch, are the figures' maxima.
   void verifyAndStretch();
+  /// The uniform stretch t → t0 + k (t − t0), ṡ² and s̈ divided by k² (k ≥ 1; k = 1 leaves the
+  /// profile as it is), recorded as profile_.stretch.
+  void stretchUniformly(double k);
 
   /// The peaks of the intervals after the recovery, searched where they come within
   /// kRefineMargin of a bound; with `tighten_margin` ≥ 0 the bounds are tightened where a peak
