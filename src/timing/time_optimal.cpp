@@ -44,6 +44,13 @@ TimeOptimalSolver::TimeOptimalSolver(const PathModel& path, const RateBounds& bo
   buildGrid(options);
   if (reusable)
     grid_ = profile_.s;
+  boxes_ = options.boxes;
+  box_count_ = boxes_ ? boxes_->size() : 0;
+  if (box_count_ > kMaxBoxComponents)
+    throw InvalidInputError("timing: 'time_optimal' takes at most " + std::to_string(kMaxBoxComponents) +
+                            " joint limits (" + std::to_string(box_count_) + " given)");
+  if (box_count_ > 0)
+    evaluateBoxJets();
   evaluateGrid(options);
 }
 
@@ -102,10 +109,15 @@ const TimingProfile& TimeOptimalSolver::localPasses(int passes)
   const bool fixed_start = start_x_ > 0.0 || hold_start_;
   for (int pass = 0; pass < passes; ++pass)
   {
-    if (!tightenWhereTheMiddlesExceed())
+    const bool middles = tightenWhereTheMiddlesExceed();
+    if (!tightenBoxesWhereTheMiddlesExceed() && !middles)
     {
       // The middles hold: a fixed start must also hold on the whole check (no stretch after it).
-      if (!fixed_start || !tightenWhereTheCheckExceeds(pass >= kLocalPasses ? kFixedStartMargin : 0.0))
+      const double margin = pass >= kLocalPasses ? kFixedStartMargin : 0.0;
+      if (!fixed_start)
+        break;
+      const bool boxes = checkBoxes(margin).second;
+      if (!tightenWhereTheCheckExceeds(margin) && !boxes)
         break;
     }
     updateCaps();
@@ -288,6 +300,7 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
 {
   const std::size_t n = profile_.s.size();
   factor_.assign(n, Rates{ 1.0, 1.0, 1.0, 1.0 });
+  box_factor_.assign(2 * box_count_ * n, 1.0);
   changed_.assign(n, 0);
   first_change_ = first_step_ = 0;
   if (options.local_limits)
@@ -319,7 +332,7 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
     floor_[c] = kMoveTolerance * largest[c] * kMoveTolerance * largest[c];
     any_bound = any_bound || bounds_.velocity[c] > 0.0 || bounds_.acceleration[c] > 0.0;
   }
-  if (!any_bound)
+  if (!any_bound && !boxesBoundTheMotion())
     throw InvalidInputError(
         "max_linear_velocity, max_angular_velocity, max_linear_acceleration, max_angular_acceleration: all 0 "
         "(unbounded); timing 'time_optimal' needs bounds (at least an acceleration bound on the motion)");
@@ -352,7 +365,7 @@ void TimeOptimalSolver::prepare(PointData* p, double s) const
     else if (unlimited < 0)
       unlimited = c;
   }
-  if (moving && !limited)
+  if (moving && !limited && !boxesBoundTheMotion())
   {
     const int c = unlimited;
     const std::string where = "the path " + std::string(kMotionVerb[c]) + " at path time " + formatNumber(s) + " s";

@@ -222,6 +222,7 @@ void TimeOptimalSolver::verifyAndStretch()
     if (bounds_.acceleration[c] > 0.0)
       worst = std::max(worst, peak[2 + c]);
   }
+  worst = std::max(worst, checkBoxes(-1.0).first);
   const double k = std::max(1.0, worst);
   stretchUniformly(k);
   figures(peak, k, energy);
@@ -278,7 +279,7 @@ bool TimeOptimalSolver::tightenWhereTheCheckExceeds(double margin)
 void TimeOptimalSolver::verifyFixedStart()
 {
   Rates searched{};
-  const double worst = checkAfterRecovery(-1.0, &searched).first;
+  const double worst = std::max(checkAfterRecovery(-1.0, &searched).first, checkBoxes(-1.0).first);
   if (worst > 1.0 + kFixedStartTolerance)
     throw InterpolationError("timing: the time-optimal motion from the start state exceeds a bound by " +
                              formatNumber(worst - 1.0) + " (relative) after " + std::to_string(kFixedStartPasses) +

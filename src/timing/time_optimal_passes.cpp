@@ -76,6 +76,8 @@ void TimeOptimalSolver::updateCaps()
             p->x_max = std::min(p->x_max, a / p->extent[c]);
         }
       }
+      if (box_count_ > 0)
+        p->x_max = std::min(p->x_max, boxCap(boxJet(i, p != &right_[i]), i));
     }
   }
 }
@@ -106,6 +108,8 @@ TimeOptimalSolver::ControlConstants TimeOptimalSolver::controlConstants(std::siz
     const double alpha = std::max(0.0, 4.0 * d * d * e.aa + 4.0 * d * e.ab + e.bb);
     k.ellipse[k.ellipses++] = { alpha, 2.0 * d * e.aa + e.ab, e.aa, e.cross, a1 * a1 };
   }
+  if (box_count_ > 0)
+    addBoxBands(i, &k);
   return k;
 }
 
@@ -313,6 +317,8 @@ double TimeOptimalSolver::recoveryControl(std::size_t i, double x, double next, 
   {
     for (int c = 2; c < 4; ++c)
       factor_[j][c] = std::min(factor_[j][c], 1.0 - kRecoveryMargin);
+    for (std::size_t q = box_count_; q < 2 * box_count_; ++q)
+      box_factor_[2 * box_count_ * j + q] = std::min(box_factor_[2 * box_count_ * j + q], 1.0 - kRecoveryMargin);
     changed_[j] = 1;
   }
   const Interval free = controls(i, x, kInf);
@@ -341,6 +347,8 @@ double TimeOptimalSolver::leastAccelerationControl(std::size_t i, double x, doub
     if (bounds_.acceleration[c] > 0.0 && j.bb > 0.0)
       u = std::min(u, -x * j.ab / j.bb);
   }
+  if (box_count_ > 0)
+    u = std::min(u, boxLeastControl(i, x));
   return std::max(u, -x / (2.0 * d));
 }
 

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -222,7 +223,9 @@ private:
     double next = 0.0;
     double u_cap = kInf;  ///< the caller's cap on |u| on the interval (LocalLimit::path_acceleration_cap)
     int ellipses = 0;
-    std::array<std::array<double, 5>, 4> ellipse{};
+    /// [0, ellipses) are set: two per bounded channel, two per component of the box constraint
+    /// with an acceleration limit (cross = 0).
+    std::array<std::array<double, 5>, 4 + 2 * kMaxBoxComponents> ellipse;
   };
 
   ControlConstants controlConstants(std::size_t i, double next) const;
@@ -343,6 +346,37 @@ private:
   /// |v| and |a| of both channels at a point with (x, u).
   static std::array<double, 4> magnitudes(const PathJet& j, double x, double u);
 
+  // The box constraint (4), (5) (time_optimal_boxes.cpp): its jets at every grid point's sides and
+  // interval's middle (2m values each: w, then a), its local factors, and its checks.
+  /// Evaluates the jets once per grid (the constructor).
+  void evaluateBoxJets();
+  /// Whether every component of the box constraint has an acceleration limit: then the motion is
+  /// bounded whatever the norm bounds.
+  bool boxesBoundTheMotion() const;
+  /// The jet of grid point i's right side, or of its left side (`left`: its own where it has one).
+  const double* boxJet(std::size_t i, bool left) const;
+  /// The cap (4) and the extent of (5) where w_k = 0 on x at point i, with the local factors.
+  double boxCap(const double* jet, std::size_t i) const;
+  /// Appends the bands (5) at both ends of interval i to k's ellipses.
+  void addBoxBands(std::size_t i, ControlConstants* k) const;
+  /// The least-acceleration control's lower end from the bands at point i (leastAccelerationControl).
+  double boxLeastControl(std::size_t i, double x) const;
+  /// The largest level of any component at a point: |w|√x / V, √(|w u + a x| / A); with `per`,
+  /// each component's velocity level into per[k] and acceleration level into per[m + k].
+  double boxLevel(const double* jet, double x, double u, double* per = nullptr) const;
+  /// The level at s_i + λ Δ_i, from the constraint's jet there.
+  double boxLevelAt(std::size_t i, double lambda) const;
+  /// The largest level on interval i: its ends and middle, searched where a parabola through them
+  /// peaks inside at or above `threshold`.
+  double boxPeak(std::size_t i, double threshold) const;
+  /// Tightens the components whose level at an interval's middle exceeds 1 + kLocalTolerance at
+  /// both its ends (the local passes).
+  bool tightenBoxesWhereTheMiddlesExceed();
+  /// The largest level after the recovery, with the search of peaks; with `tighten_margin` ≥ 0 the
+  /// components exceeding 1 + kFixedStartTolerance at an interval's middle or searched peak are
+  /// tightened at its ends. Returns the worst level and whether anything was tightened.
+  std::pair<double, bool> checkBoxes(double tighten_margin);
+
   /// Each channel's acceleration energy ∫|a|² dt (TimingProfile::acceleration_energy).
   using Energy = std::array<double, 2>;
 
@@ -400,10 +434,16 @@ private:
   mutable std::vector<PathJet> quarter_;
   mutable std::vector<bool> has_quarter_;
   std::vector<bool> corner_;
-  std::vector<Rates> factor_;      ///< local tightening of the four bounds at each grid point
-  std::vector<double> speed_cap_;  ///< the caller's cap on x at each grid point (empty: none)
-  std::vector<double> u_cap_;      ///< the caller's cap on |u| at each grid point (empty: none)
-  std::vector<double> k_;          ///< upper ends of the controllable sets
+  std::vector<Rates> factor_;                   ///< local tightening of the four bounds at each grid point
+  std::shared_ptr<const BoxConstraint> boxes_;  ///< null: none
+  std::size_t box_count_ = 0;                   ///< m
+  std::vector<double> box_right_;               ///< 2m per grid point: its right side's (the last point's left)
+  std::vector<double> box_left_;                ///< 2m per distinct left side (indexed as distinct_left_)
+  std::vector<double> box_middle_;              ///< 2m per interval, at its middle
+  std::vector<double> box_factor_;              ///< 2m per grid point: the local factors of V_k, then of A_k
+  std::vector<double> speed_cap_;               ///< the caller's cap on x at each grid point (empty: none)
+  std::vector<double> u_cap_;                   ///< the caller's cap on |u| at each grid point (empty: none)
+  std::vector<double> k_;                       ///< upper ends of the controllable sets
   /// The passes after the first recompute only what a tightening changed: the points whose local
   /// factors changed since the last backward pass (tighten, the recovery), the first point whose
   /// controllable set or factors changed in it, and the forward pass's first recomputed step (the

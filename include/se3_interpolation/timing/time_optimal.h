@@ -154,6 +154,31 @@ public:
   virtual bool isCorner(double s) const = 0;
 };
 
+/// Most components a BoxConstraint may have (the controls' constraints live on the stack).
+constexpr std::size_t kMaxBoxComponents = 16;
+
+/// Limits on components of the motion that are linear in the path's derivatives, beside the norm
+/// bounds (2), (3): component k moves at w_k(s) ṡ and accelerates at w_k s̈ + a_k ṡ² (an arm's joint
+/// k following the path: w = q′_k, a = q″_k, arm/joint_path.h), bounded by
+///   |w_k| √x ≤ V_k        (a cap on x)                                                     (4)
+///   |w_k u + a_k x| ≤ A_k (a band in (x, u): the ellipse (3) of a one-dimensional channel)  (5)
+/// both imposed at the two ends of every interval as (2), (3) are, and checked between the grid
+/// points by the final check (and its searched peaks) before the stretch. A limit 0 is no limit.
+class BoxConstraint
+{
+public:
+  virtual ~BoxConstraint() = default;
+  /// The number of components m (at most kMaxBoxComponents).
+  virtual std::size_t size() const = 0;
+  /// V_k of (4) (0: none).
+  virtual double velocityLimit(std::size_t k) const = 0;
+  /// A_k of (5) (0: none).
+  virtual double accelerationLimit(std::size_t k) const = 0;
+  /// w_k = dq_k/ds into w[0, m) and a_k = d²q_k/ds² into a[0, m) at path parameter s (one-sided
+  /// at a breakpoint of the path).
+  virtual void jet(double s, Side side, double* w, double* a) const = 0;
+};
+
 /// The grid (see the file comment for why these values).
 struct TimeOptimalOptions
 {
@@ -175,6 +200,9 @@ struct TimeOptimalOptions
   /// jerk-limited timing: its plateaus and per-segment accelerations): read once at every grid
   /// point (at a breakpoint, the tighter of its two sides is the caller's to give). Empty: none.
   std::function<LocalLimit(double)> local_limits;
+  /// Limits (4), (5) beside the request's norm bounds (an arm's joint limits); null: none. Where
+  /// every component has an acceleration limit the norm bounds may all be 0.
+  std::shared_ptr<const BoxConstraint> boxes;
 };
 
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].
