@@ -30,7 +30,7 @@ SE3_ROS_PORT=${SE3_ROS_PORT:-$(se3_free_port)}
 export SE3_ROS_PORT=${SE3_ROS_PORT:?no free port in 11398 ... 11497; set SE3_ROS_PORT}
 export ROS_MASTER_URI=http://localhost:$SE3_ROS_PORT
 pages=(README.md docs/ros_interface.md docs/curves.md docs/timing.md docs/command_line.md docs/api.md
-       docs/testing.md docs/performance.md docs/python.md)
+       docs/testing.md docs/performance.md docs/python.md docs/joint_space.md)
 timeout_s=${SE3_README_TIMEOUT:-420}
 service_wait=${SE3_README_SERVICE_WAIT:-120}
 work="$SE3_WS/readme_check"

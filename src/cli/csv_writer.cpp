@@ -188,11 +188,17 @@ void CsvWriter<Sample>::finish()
 template class CsvWriter<TrajectorySample>;
 template class CsvWriter<SphereSample>;
 
-CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink)
+CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink, const std::vector<std::string>& joint_names)
 {
+  std::string header(kPoseHeader, sizeof kPoseHeader - 2);
+  for (const char* prefix : { ",q_", ",dq_", ",ddq_" })
+    for (const std::string& name : joint_names)
+      header += prefix + name;
+  header += '\n';
+  const std::size_t joints = joint_names.size();
   return CsvWriter<TrajectorySample>(
-      kPoseHeader, kPoseColumns * kCellChars,
-      [](const TrajectorySample& s, char* p) {
+      std::move(header), (kPoseColumns + 3 * joints) * kCellChars,
+      [joints](const TrajectorySample& s, char* p) {
         p = cell(p, s.time, ',');
         for (double v :
              { s.pose.p.x(), s.pose.p.y(), s.pose.p.z(), s.pose.q.x(), s.pose.q.y(), s.pose.q.z(), s.pose.q.w() })
@@ -205,7 +211,12 @@ CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink)
         }
         p = cell(p, s.acceleration.angular.x(), ',');
         p = cell(p, s.acceleration.angular.y(), ',');
-        return cell(p, s.acceleration.angular.z(), '\n');
+        p = cell(p, s.acceleration.angular.z(), joints > 0 ? ',' : '\n');
+        // The joints' columns (an arm): positions, velocities, accelerations, each in chain order.
+        for (const Eigen::VectorXd* v : { &s.joint_position, &s.joint_velocity, &s.joint_acceleration })
+          for (std::size_t k = 0; k < joints; ++k)
+            p = cell(p, (*v)[static_cast<Eigen::Index>(k)], v == &s.joint_acceleration && k + 1 == joints ? '\n' : ',');
+        return p;
       },
       std::move(sink));
 }
@@ -229,7 +240,7 @@ CsvWriter<SphereSample> sphereCsvWriter(Eigen::Index dimension, CsvSink sink)
 
 void writePoseCsv(const TrajectoryResult& result, const CsvSink& sink)
 {
-  CsvWriter<TrajectorySample> writer = poseCsvWriter(sink);
+  CsvWriter<TrajectorySample> writer = poseCsvWriter(sink, result.joint_names);
   writer.add(result.samples.data(), result.samples.size());
   writer.finish();
 }

@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "se3_interpolation/planner/request.h"
 
@@ -67,8 +68,10 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-/// `t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz`, one row per pose sample.
-CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink);
+/// `t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz`, one row per pose sample; with an
+/// arm's `joint_names`, then `q_<joint>` for each joint in chain order, `dq_<joint>`, `ddq_<joint>`
+/// (the samples' joint positions, velocities and accelerations).
+CsvWriter<TrajectorySample> poseCsvWriter(CsvSink sink, const std::vector<std::string>& joint_names = {});
 
 /// `--space sphere`: `t,x1,…,x{dimension}`, one row per sample of S^{dimension − 1}.
 CsvWriter<SphereSample> sphereCsvWriter(Eigen::Index dimension, CsvSink sink);

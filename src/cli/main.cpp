@@ -1,6 +1,6 @@
 // se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]
 //                 [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]
-//                 [--save-bspline FILE.yaml]
+//                 [--save-bspline FILE.yaml] [--urdf FILE --base-link NAME --tip-link NAME [--joint-limits FILE]]
 //
 // Generates the trajectory of a YAML request without a ROS master: CSV samples to stdout
 // (or OUT.csv, written atomically: on any error no file is left; csv_writer.h formats them, every
@@ -21,7 +21,8 @@
 // (its control poses, knots, degree and geometry, every number in its shortest round-trip form,
 // and the request file's other fields as given: timing, bounds, sampling, rotation_scale, ...),
 // which replays the fitted motion sample for sample (written atomically, like OUT.csv; refused
-// for other curves).
+// for other curves). --urdf and its options give the arm that follows the motion (arm_options.h):
+// the CSV gains its joints' columns, stderr its joint figures.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -42,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "arm_options.h"
 #include "csv_writer.h"
 #include "recorded_waypoints.h"
 #include "se3_interpolation/planner/names.h"
@@ -68,7 +70,8 @@ constexpr std::size_t kCliMaxWaypoints = 1000000;
 const char* const kUsage =
     "usage: se3_interpolate REQUEST.yaml [-o OUT.csv] [--space pose|sphere] [--max-work-seconds S]\n"
     "                       [--waypoints FILE.csv | --bag FILE.bag --topic NAME [--frame CHILD] [--parent PARENT]]\n"
-    "                       [--save-bspline FILE.yaml]\n";
+    "                       [--save-bspline FILE.yaml]\n"
+    "                       [--urdf FILE --base-link NAME --tip-link NAME [--joint-limits FILE]]\n";
 
 struct Arguments
 {
@@ -79,6 +82,7 @@ struct Arguments
   std::string waypoints;                     ///< --waypoints FILE.csv
   se3_interpolation::cli::BagSelection bag;  ///< --bag, --topic, --frame, --parent
   std::string save_bspline;                  ///< --save-bspline FILE.yaml
+  se3_interpolation::cli::ArmArguments arm;  ///< --urdf, --base-link, --tip-link, --joint-limits
 };
 
 Arguments parseArguments(int argc, char** argv)
@@ -113,6 +117,8 @@ Arguments parseArguments(int argc, char** argv)
           !std::isfinite(a.limits.max_work_seconds))
         throw std::invalid_argument("--max-work-seconds: '" + value.substr(0, 40) + "' is not a positive number");
     }
+    else if (se3_interpolation::cli::parseArmArgument(argc, argv, &i, &a.arm))
+      continue;
     else if (arg == "-h" || arg == "--help")
     {
       std::cout << kUsage;
@@ -141,6 +147,8 @@ Arguments parseArguments(int argc, char** argv)
     throw std::invalid_argument("--topic: missing; --bag reads the poses of one topic (--topic NAME)");
   if (!a.save_bspline.empty() && a.space != "pose")
     throw std::invalid_argument("--save-bspline: writes a fitted pose B-spline; not with --space " + a.space);
+  if (!a.arm.urdf.empty() && a.space != "pose")
+    throw std::invalid_argument("--urdf: an arm follows pose motions; not with --space " + a.space);
   if (recorded && a.space != "pose")
     throw std::invalid_argument(std::string(a.waypoints.empty() ? "--bag" : "--waypoints") +
                                 ": recorded waypoints are poses; not with --space " + a.space);
@@ -431,12 +439,14 @@ int main(int argc, char** argv)
       const se3::TrajectoryRequest request =
           recorded ? se3::cli::requestFromYaml(root, recorded->waypoints, recorded->times, recorded->source) :
                      se3::cli::requestFromYaml(root);
+      const std::shared_ptr<const se3::arm::ArmModel> arm = se3::cli::loadArm(args.arm);
       se3::TrajectoryResult result;
       if (args.save_bspline.empty())
         // The samples go to the output as they are computed (planner.h, SampleSink).
         output([&](const se3::cli::CsvSink& sink) {
-          se3::cli::CsvWriter<se3::TrajectorySample> writer = se3::cli::poseCsvWriter(sink);
-          result = se3::generate(request, args.limits,
+          se3::cli::CsvWriter<se3::TrajectorySample> writer =
+              se3::cli::poseCsvWriter(sink, arm ? arm->jointNames() : std::vector<std::string>());
+          result = se3::generate(request, args.limits, arm,
                                  se3::SampleSink<se3::PoseSpace>(
                                      [&writer](const se3::TrajectorySample* first, std::size_t count) {
                                        writer.add(first, count);
@@ -449,7 +459,7 @@ int main(int argc, char** argv)
         if (request.curve != se3::FitFamily::kName)
           throw std::invalid_argument("--save-bspline: writes the B-spline of curve 'fit'; the request's curve is '" +
                                       request.curve + "'");
-        result = se3::generate(request, args.limits);
+        result = se3::generate(request, args.limits, arm);
         const std::string geometry =
             se3::toString(se3::parseName(request.geometry, "geometry", se3::RequestDefaults::kGeometry));
         const std::string text =
@@ -460,6 +470,8 @@ int main(int argc, char** argv)
       if (recorded)
         printRecordedFrame(*recorded);
       printFigures(result);
+      if (arm)
+        se3::cli::printJointFigures(result, *arm);
     }
     return 0;
   }

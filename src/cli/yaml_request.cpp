@@ -214,7 +214,8 @@ const std::set<std::string> kRequestKeys = { "waypoints",
                                              "blend_radius",
                                              "from_current",
                                              "start_state",
-                                             "outputs" };
+                                             "outputs",
+                                             "joint_seed" };
 
 /// Reads the optional field `name` of the request's map into *out when it is given (the field's
 /// name is the error's).
@@ -283,6 +284,7 @@ void readCommonFields(const YAML::Node& root, Request* r)
   if (root["sample_count"])
     r->sample_count = static_cast<std::uint32_t>(toInteger(root["sample_count"], "sample_count", 0, 4294967295L));
   readField(root, "sample_tolerance", &r->sample_tolerance);
+  readField(root, "joint_seed", &r->joint_seed);
   if (root["publish"])
     toBool(root["publish"], "publish");
   // The service's choice of response arrays: checked as the service does, so that one request

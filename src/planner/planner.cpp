@@ -20,6 +20,7 @@
 #include "se3_interpolation/timing/geodesic_timing.h"
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/time_optimal.h"
+#include "joint_space.h"
 #include "planned_motion.h"
 #include "timing_figures.h"
 
@@ -30,6 +31,10 @@ namespace
 using planner_detail::boundFields;
 using planner_detail::buildCurve;
 using planner_detail::curveFigures;
+using planner_detail::fillJoints;
+using planner_detail::followWithArm;
+using planner_detail::jointBoxesOf;
+using planner_detail::jointSpaceOf;
 using planner_detail::hasJerkBound;
 using planner_detail::measureJerk;
 using planner_detail::pathLengths;
@@ -159,9 +164,10 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
       return;
     }
   // A chain of geodesic segments at proportional rates: the exact time-optimal motion in closed
-  // form (timing/geodesic_timing.h); any other path, or bounds it does not serve, the general timings.
+  // form (timing/geodesic_timing.h); any other path, bounds it does not serve, or an arm's joint
+  // limits, the general timings.
   if constexpr (std::is_same_v<Space, PoseSpace>)
-    if (r.timing == Timing::kTimeOptimal)
+    if (r.timing == Timing::kTimeOptimal && !r.joint_space)
       if (auto timed = timing::makeGeodesicTimedCurve<G>(curve, rateBounds(r)))
       {
         adopt(timed, boundFields<Space>(), true);
@@ -178,7 +184,9 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   }
   if (r.timing == Timing::kTimeOptimal)
   {
-    auto timed = timing::makeTimeOptimalCurve<G>(curve, rateBounds(r));
+    timing::TimeOptimalOptions options;
+    options.boxes = jointBoxesOf(r, curve);
+    auto timed = timing::makeTimeOptimalCurve<G>(curve, rateBounds(r), options);
     out.time_scale = timed->profile().stretch;
     adopt(timed, boundFields<Space>(), false);  // (grid points map exactly: the end is the end)
     setTimedFigures(r, timed->profile(), &fig);
@@ -196,13 +204,7 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   {
     const double k = out.time_scale;
     curve = std::make_shared<TimeScaledCurve<G>>(curve, k);
-    fig.max_linear_speed /= k;
-    fig.max_angular_speed /= k;
-    fig.max_linear_acceleration /= k * k;
-    fig.max_angular_acceleration /= k * k;
-    fig.max_linear_jerk /= k * k * k;
-    fig.max_angular_jerk /= k * k * k;
-    fig.energy /= k * k * k;
+    planner_detail::stretchFigures(k, &fig);
   }
 }
 
@@ -322,6 +324,7 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   const WorkShape shape = workShape(r);
   requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
   PlannedMotion<Space, G> planned = planMotion<Space, G>(r, times);
+  const std::shared_ptr<const arm::JointPath> joints = followWithArm(r, &planned);
   const std::shared_ptr<const Curve<G>> curve = std::move(planned.curve);
   const CurveFigures& fig = planned.figures;
   BasicResult<Space> out = std::move(planned.out);
@@ -359,6 +362,9 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
     if (!allFinite(s))
       throw InterpolationError("the curve is not finite at t = " + formatNumber(s.time) +
                                " s (the input is too close to a singular configuration)");
+    if constexpr (std::is_same_v<Space, PoseSpace>)
+      if (joints)
+        fillJoints(*joints, &s, s.time == t0 ? Side::kLeft : Side::kRight);
     block.push_back(std::move(s));
   };
   // With sample_tolerance, the samples it inserts before each one (up to ~max_samples in all).
@@ -405,11 +411,13 @@ SphereResult dispatch(const ValidatedSphereRequest& r, const PlannerLimits& limi
 
 template <class Space>
 BasicResult<Space> generateWith(const BasicRequest<Space>& request, const PlannerLimits& limits,
-                                const SampleSink<Space>* sink)
+                                const SampleSink<Space>* sink, std::shared_ptr<const arm::ArmModel> arm = nullptr)
 {
   Deadline deadline(std::max(kDeadlineFactor * limits.max_work_seconds, kMinDeadlineSeconds), limits.max_work_seconds);
   const ScopedDeadline scope(deadline);
-  return dispatch(validateRequest(request, limits), limits, sink);
+  BasicValidatedRequest<Space> r = validateRequest(request, limits);
+  r.joint_space = jointSpaceOf(request, std::move(arm));
+  return dispatch(r, limits, sink);
 }
 }  // namespace
 
@@ -456,6 +464,18 @@ BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLim
                             const SampleSink<Space>& sink)
 {
   return generateWith<Space>(request, limits, &sink);
+}
+
+TrajectoryResult generate(const TrajectoryRequest& request, const PlannerLimits& limits,
+                          std::shared_ptr<const arm::ArmModel> arm)
+{
+  return generateWith<PoseSpace>(request, limits, nullptr, std::move(arm));
+}
+
+TrajectoryResult generate(const TrajectoryRequest& request, const PlannerLimits& limits,
+                          std::shared_ptr<const arm::ArmModel> arm, const SampleSink<PoseSpace>& sink)
+{
+  return generateWith<PoseSpace>(request, limits, &sink, std::move(arm));
 }
 
 template std::vector<double> waypointTimes<PoseSpace>(const ValidatedRequest&);

@@ -126,7 +126,7 @@ using R = TrajectoryRequest;
 /// Every field, in the order of srv/GenerateTrajectory.srv (then the CLI's start_state): the
 /// order in which they are read, so that a request with several bad fields names the same one
 /// whatever the order of its keys.
-const std::array<Field, 38> kFields = { {
+const std::array<Field, 39> kFields = { {
     { "waypoints", &waypoints, true },
     { "waypoint_frames", &waypointFrames, false },
     { "times", &numbers<&R::times>, true },
@@ -160,6 +160,7 @@ const std::array<Field, 38> kFields = { {
     { "sample_period", &number<&R::sample_period>, false },
     { "sample_count", &integer<&R::sample_count, 4294967295LL>, false },
     { "sample_tolerance", &number<&R::sample_tolerance>, false },
+    { "joint_seed", &numbers<&R::joint_seed>, false },
     { "child_frame_id", &childFrameId, false },
     { "publish", &publish, false },
     { "from_current", &fromCurrent, false },

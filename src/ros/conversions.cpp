@@ -116,6 +116,7 @@ TrajectoryRequest fromMsg(const GenerateTrajectory::Request& msg, const std::vec
   r.sample_period = msg.sample_period;
   r.sample_count = msg.sample_count;
   r.sample_tolerance = msg.sample_tolerance;
+  r.joint_seed = msg.joint_seed;
   return r;
 }
 
@@ -152,6 +153,25 @@ trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, 
   return traj;
 }
 
+trajectory_msgs::JointTrajectory& toMsg(const TrajectoryResult& result, const std_msgs::Header& header,
+                                        trajectory_msgs::JointTrajectory& traj)
+{
+  traj.header = header;
+  traj.joint_names = result.joint_names;
+  traj.points.resize(result.joint_names.empty() ? 0 : result.samples.size());
+  const auto copy = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  for (std::size_t i = 0; i < traj.points.size(); ++i)
+  {
+    const TrajectorySample& s = result.samples[i];
+    auto& point = traj.points[i];
+    point.positions = copy(s.joint_position);
+    point.velocities = copy(s.joint_velocity);
+    point.accelerations = copy(s.joint_acceleration);
+    point.time_from_start = ros::Duration(s.time);
+  }
+  return traj;
+}
+
 GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out)
 {
   out.duration = result.duration;
@@ -168,6 +188,19 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.residual_linear = result.residual_linear;
   out.residual_angular = result.residual_angular;
   out.energy = result.figures.energy;
+  out.joint_max_velocity.clear();
+  out.joint_max_acceleration.clear();
+  for (const arm::JointPeak& p : result.joint_figures.peaks)
+  {
+    out.joint_max_velocity.push_back(p.velocity);
+    out.joint_max_acceleration.push_back(p.acceleration);
+  }
+  const int binding = result.joint_figures.binding_joint;
+  out.joint_binding =
+      binding < 0 || result.joint_names.empty() ?
+          std::string() :
+          result.joint_names[static_cast<std::size_t>(binding)] + " " + result.joint_figures.binding_quantity;
+  out.joint_binding_ratio = binding < 0 ? 0.0 : result.joint_figures.binding_ratio;
   return out;
 }
 

@@ -44,6 +44,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
   markers_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   status_pub_ = private_nh_.advertise<GenerationStatus>("status", 1, true);
   moving_frame_ = std::make_unique<MovingFrame>(nh_, private_nh_, playback_, p.publish_tf, p.tf_rate, p.child_frame_id);
+  arm_ = std::make_unique<NodeArm>(nh_, private_nh_, p);
   parameters_ = std::make_unique<RunTimeParameters>(
       private_nh_, p, [this](const NodeParameters& before, const NodeParameters& after) {
         playback_.setLoop(after.loop);
@@ -86,7 +87,7 @@ InterpolationNode::InterpolationNode(ros::NodeHandle nh, ros::NodeHandle private
                   << p.tf_rate << " Hz" << (p.loop ? " looping" : "") << ", " << p.max_tf_samples
                   << " static; defaults curve " << p.curve << ", geometry " << p.geometry << ", parameterization "
                   << p.parameterization << "; auto_generate " << (p.auto_generate ? "on" : "off") << "; max_samples "
-                  << p.max_samples << ", max_waypoints " << p.max_waypoints);
+                  << p.max_samples << ", max_waypoints " << p.max_waypoints << "; " << arm_->summary());
 }
 
 InterpolationNode::~InterpolationNode()
@@ -187,7 +188,7 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
     filled = applyRequestDefaults(params, &r);
     ros::Time stamp = startOf(req, params, frame, child, &recorded_times, &r);
     const std::chrono::steady_clock::time_point planning = std::chrono::steady_clock::now();
-    const TrajectoryResult result = se3_interpolation::generate(r, limits);
+    const TrajectoryResult result = se3_interpolation::generate(r, limits, arm_->forRequest());
     const std::chrono::steady_clock::time_point filling = std::chrono::steady_clock::now();
 
     std_msgs::Header header;
@@ -200,6 +201,8 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       toMsg(result, header, res.path);
     if (outputs.trajectory)
       toMsg(result, header, child, res.trajectory);
+    if (outputs.joint_trajectory)
+      toMsg(result, header, res.joint_trajectory);
     // The service's latency apart from transport (docs/performance.md "Service latency"):
     // rosconsole logger ros.se3_interpolation.timing at debug level.
     ROS_DEBUG_NAMED("timing", "generate: %zu samples, planner %.1f ms, response messages %.1f ms",

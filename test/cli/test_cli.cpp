@@ -38,6 +38,8 @@
 
 #include "csv_writer.h"
 #include "recorded_waypoints.h"
+#include "se3_interpolation/arm/arm_model.h"
+#include "se3_interpolation/arm/joint_limits.h"
 #include "se3_interpolation/planner/planner.h"
 #include "yaml_request.h"
 
@@ -188,8 +190,9 @@ TEST(Cli, PureTranslationCsvIsTheClassicalPolygon)
   EXPECT_EQ(header, "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz");
   ASSERT_EQ(rows.size(), 5U);
   // t, x, y, vx, vy on the polygon (0,0) → (2,0) in 1 s → (2,4) in 2 s
-  const double expected[5][5] = { { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 2, 0, 0, 2 }, { 2, 2, 2, 0, 2 },
-                                  { 3, 2, 4, 0, 2 } };
+  const double expected[5][5] = {
+    { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 2, 0, 0, 2 }, { 2, 2, 2, 0, 2 }, { 3, 2, 4, 0, 2 }
+  };
   for (int i = 0; i < 5; ++i)
   {
     ASSERT_EQ(rows[i].size(), 20U);
@@ -229,7 +232,8 @@ TEST(Cli, TimeOptimalPolylineIsTheSumOfTheTrapezoids)
 
   const CliRun bad = run(data("unknown_timing.yaml"));
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal, constant_speed)"), std::string::npos)
+  EXPECT_NE(bad.err.find("timing: unknown value 'fastest' (expected one of: stretch, time_optimal, constant_speed)"),
+            std::string::npos)
       << bad.err;
 }
 
@@ -259,8 +263,8 @@ TEST(Cli, ScrewBezierCsvToFile)
       EXPECT_GT(q.dot(Eigen::Vector4d(rows[i - 1][4], rows[i - 1][5], rows[i - 1][6], rows[i - 1][7])), 0.0);
     }
   }
-  for (const char* figure : { "duration: 2", "length: ", "rotation_length: ", "max_linear_speed: ",
-                              "max_angular_speed: ", "energy: " })
+  for (const char* figure :
+       { "duration: 2", "length: ", "rotation_length: ", "max_linear_speed: ", "max_angular_speed: ", "energy: " })
     EXPECT_NE(r.err.find(figure), std::string::npos) << figure;
 }
 
@@ -296,9 +300,10 @@ TEST(Cli, StartStateIsTheClassicalQuinticAndFromCurrentIsRefused)
   const CliRun refused = run(writeTemp("from_current.yaml", text + "from_current: true\n"));
   EXPECT_EQ(refused.status, 2);
   EXPECT_NE(refused.err.find("from_current: the CLI plays no trajectory"), std::string::npos) << refused.err;
-  const CliRun sphere = run(writeTemp("start_sphere.yaml",
-                                      "waypoints: [[1, 0, 0], [0, 1, 0]]\nstart_state: {pose: {position: [0, 0, 0]}}\n") +
-                            " --space sphere");
+  const CliRun sphere =
+      run(writeTemp("start_sphere.yaml",
+                    "waypoints: [[1, 0, 0], [0, 1, 0]]\nstart_state: {pose: {position: [0, 0, 0]}}\n") +
+          " --space sphere");
   EXPECT_EQ(sphere.status, 2);
   EXPECT_NE(sphere.err.find("start_state:"), std::string::npos) << sphere.err;
 }
@@ -337,8 +342,9 @@ TEST(Cli, BlendRadiusCutsTheCornerWithTheEuclideanQuartic)
   // Outside [0.75, 1.25] s the polygon of translation.yaml at the same times; at t = 1 the
   // quartic Bezier (1.5,0) (1.75,0) (2,0) (2,0.25) (2,0.5) at lambda = 1/2 and its velocity
   // B'(1/2) d(lambda)/dt = (0.5, 0.5) * 2.
-  const double expected[5][5] = { { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 30.5 / 16, 1.5 / 16, 1, 1 },
-                                  { 2, 2, 2, 0, 2 }, { 3, 2, 4, 0, 2 } };
+  const double expected[5][5] = {
+    { 0, 0, 0, 2, 0 }, { 0.5, 1, 0, 2, 0 }, { 1, 30.5 / 16, 1.5 / 16, 1, 1 }, { 2, 2, 2, 0, 2 }, { 3, 2, 4, 0, 2 }
+  };
   for (int i = 0; i < 5; ++i)
   {
     ASSERT_EQ(rows[i].size(), 20U);
@@ -467,8 +473,8 @@ TEST(CsvWriter, EveryNumberParsesBackBitForBit)
     *end = '\0';
     double read = 0.0;
     const std::from_chars_result r = std::from_chars(text, end, read);
-    const bool exact = r.ec == std::errc() && r.ptr == end && bits(read) == bits(v) &&
-                       bits(std::strtod(text, nullptr)) == bits(v);
+    const bool exact =
+        r.ec == std::errc() && r.ptr == end && bits(read) == bits(v) && bits(std::strtod(text, nullptr)) == bits(v);
     if (!exact && ++failures <= 5)
     {
       ADD_FAILURE() << std::hexfloat << v << " printed as '" << text << "'";
@@ -502,7 +508,7 @@ TEST(Cli, LargeCsvIsTheSamplesBitForBit)
   constexpr int kSamples = 20000;
   const std::string csv = testing::TempDir() + "large.csv";
   for (const std::string& source : { data("bezier_screw.yaml"), data("time_optimal.yaml"),
-                                    std::string(SE3_TEST_DATA) + "/../../../config/example_request.yaml" })
+                                     std::string(SE3_TEST_DATA) + "/../../../config/example_request.yaml" })
   {
     const std::string request = withSampleCount(source, "large_request.yaml", kSamples);
     const CliRun r = run(request + " -o " + csv);
@@ -562,29 +568,28 @@ TEST(Cli, ServiceSpellingEqualsListSpelling)
 {
   const std::string tail =
       "times: [0, 1.5, 3, 4]\ncurve: interpolating\ngeometry: screw\nend_condition: clamped\nsample_count: 9\n";
-  const std::string list = writeTemp(
-      "list_spelling.yaml",
-      "waypoints:\n"
-      "  - {position: [0, 0, 0.5], orientation: [0, 0, 0, 1]}\n"
-      "  - {position: [1, 0, 1], orientation: [0, 0, 0.7071068, 0.7071068]}\n"
-      "  - {position: [1, 1, 1], orientation: [0.5, 0.5, 0.5, 0.5]}\n"
-      "  - {position: [0, 1, 0.5], orientation: [0, 0, 1, 0]}\n"
-      "start_velocity: {linear: [0.2, 0, 0], angular: [0, 0, 0]}\n"
-      "end_velocity: {linear: [0, 0, 0], angular: [0, 0, 0.5]}\n" +
-          tail);
-  const std::string service = writeTemp(
-      "service_spelling.yaml",
-      "waypoints:\n"
-      "  header: {seq: 0, stamp: {secs: 0, nsecs: 0}, frame_id: map}\n"
-      "  poses:\n"
-      "    - {position: {x: 0, y: 0, z: 0.5}, orientation: {w: 1}}\n"
-      "    - {position: {x: 1, z: 1}, orientation: {z: 0.7071068, w: 0.7071068}}\n"
-      "    - {position: {x: 1, y: 1, z: 1}, orientation: {x: 0.5, y: 0.5, z: 0.5, w: 0.5}}\n"
-      "    - {position: {y: 1, z: 0.5}, orientation: {z: 1}}\n"
-      "start_velocity: {linear: {x: 0.2}, angular: {}}\n"
-      "end_velocity: {angular: {z: 0.5}}\n"
-      "publish: true\nchild_frame_id: moving\noutputs: [trajectory]\n" +
-          tail);
+  const std::string list = writeTemp("list_spelling.yaml",
+                                     "waypoints:\n"
+                                     "  - {position: [0, 0, 0.5], orientation: [0, 0, 0, 1]}\n"
+                                     "  - {position: [1, 0, 1], orientation: [0, 0, 0.7071068, 0.7071068]}\n"
+                                     "  - {position: [1, 1, 1], orientation: [0.5, 0.5, 0.5, 0.5]}\n"
+                                     "  - {position: [0, 1, 0.5], orientation: [0, 0, 1, 0]}\n"
+                                     "start_velocity: {linear: [0.2, 0, 0], angular: [0, 0, 0]}\n"
+                                     "end_velocity: {linear: [0, 0, 0], angular: [0, 0, 0.5]}\n" +
+                                         tail);
+  const std::string service =
+      writeTemp("service_spelling.yaml",
+                "waypoints:\n"
+                "  header: {seq: 0, stamp: {secs: 0, nsecs: 0}, frame_id: map}\n"
+                "  poses:\n"
+                "    - {position: {x: 0, y: 0, z: 0.5}, orientation: {w: 1}}\n"
+                "    - {position: {x: 1, z: 1}, orientation: {z: 0.7071068, w: 0.7071068}}\n"
+                "    - {position: {x: 1, y: 1, z: 1}, orientation: {x: 0.5, y: 0.5, z: 0.5, w: 0.5}}\n"
+                "    - {position: {y: 1, z: 0.5}, orientation: {z: 1}}\n"
+                "start_velocity: {linear: {x: 0.2}, angular: {}}\n"
+                "end_velocity: {angular: {z: 0.5}}\n"
+                "publish: true\nchild_frame_id: moving\noutputs: [trajectory]\n" +
+                    tail);
   const CliRun a = run(list);
   const CliRun b = run(service);
   ASSERT_EQ(a.status, 0) << a.err;
@@ -639,7 +644,8 @@ TEST(Cli, ServiceSpellingRefusals)
     // The service's outputs, checked as the service checks them.
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: [path, markers]\n",
       "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
-    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: path\n", "outputs: expected a list of names" },
+    { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: path\n",
+      "outputs: expected a list of names" },
   };
   const std::string out = testing::TempDir() + "spelling_must_not_exist.csv";
   for (const auto& c : cases)
@@ -651,9 +657,9 @@ TEST(Cli, ServiceSpellingRefusals)
     EXPECT_FALSE(exists(out)) << c.first;
   }
   // {w: 1} is the identity, a position map with missing components is 0: the origin, at rest.
-  const CliRun identity = run(
-      writeTemp("identity.yaml", "waypoints: {poses: [{position: {}, orientation: {w: 1}}, {position: {x: 2}, "
-                                 "orientation: {w: 1}}]}\ntimes: [0, 1]\nsample_count: 2\n"));
+  const CliRun identity = run(writeTemp("identity.yaml",
+                                        "waypoints: {poses: [{position: {}, orientation: {w: 1}}, {position: {x: 2}, "
+                                        "orientation: {w: 1}}]}\ntimes: [0, 1]\nsample_count: 2\n"));
   ASSERT_EQ(identity.status, 0) << identity.err;
   std::string header;
   const auto rows = parseCsv(identity.out, &header);
@@ -704,8 +710,9 @@ TEST(Cli, RepeatedKeysAreErrorsNamingTheKeyAndLine)
   EXPECT_NE(stdout_run.err.find("curve: repeated key at line 5"), std::string::npos) << stdout_run.err;
   EXPECT_TRUE(stdout_run.out.empty()) << stdout_run.out;
   // The sphere space reads the same document check.
-  const CliRun sphere = run(writeTemp("repeated_sphere.yaml", "waypoints: [[1, 0, 0], [0, 1, 0]]\ntimes: [0, 1]\n"
-                                                              "times: [0, 2]\n") +
+  const CliRun sphere = run(writeTemp("repeated_sphere.yaml",
+                                      "waypoints: [[1, 0, 0], [0, 1, 0]]\ntimes: [0, 1]\n"
+                                      "times: [0, 2]\n") +
                             " --space sphere");
   EXPECT_EQ(sphere.status, 2);
   EXPECT_NE(sphere.err.find("times: repeated key at line 3 (first given at line 2)"), std::string::npos) << sphere.err;
@@ -738,10 +745,11 @@ int countEntries(const std::string& folder, const std::string& prefix)
 // & Melchiorri §3.4); the figures carry the peaks; bad jerk values exit 2 naming the field.
 TEST(Cli, JerkBoundsGiveTheDoubleSAndItsPeaks)
 {
-  const std::string base = "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
-                           "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
-                           "timing: time_optimal\nmax_linear_velocity: 0.5\nmax_linear_acceleration: 1.0\n"
-                           "sample_period: 0.001\n";
+  const std::string base =
+      "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
+      "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
+      "timing: time_optimal\nmax_linear_velocity: 0.5\nmax_linear_acceleration: 1.0\n"
+      "sample_period: 0.001\n";
   const CliRun r = run(writeFile("cli_jerk.yaml", base + "max_linear_jerk: 5.0\n"));
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string figures = "\n" + r.err;  // one `name: value` per line
@@ -776,9 +784,10 @@ TEST(Cli, JerkBoundsGiveTheDoubleSAndItsPeaks)
 // speeds and a missing ramp bound exit 2 naming the field.
 TEST(Cli, ConstantSpeedHoldsItsSpeedInItsWindow)
 {
-  const std::string base = "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
-                           "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
-                           "timing: constant_speed\nsample_period: 0.001\n";
+  const std::string base =
+      "waypoints:\n  - {position: [0, 0, 0], orientation: [0, 0, 0, 1]}\n"
+      "  - {position: [2, 0, 0], orientation: [0, 0, 0, 1]}\ncurve: piecewise_geodesic\n"
+      "timing: constant_speed\nsample_period: 0.001\n";
   const CliRun r = run(writeFile("cli_constant_speed.yaml", base + "speed: 0.5\nmax_linear_acceleration: 1.0\n"));
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string figures = "\n" + r.err;
@@ -921,8 +930,7 @@ TEST(CliHostile, MaxWorkSecondsBoundsTheRequest)
 {
   const CliRun tight = run(data("bezier_screw.yaml") + " --max-work-seconds 1e-6");
   EXPECT_EQ(tight.status, 2);
-  EXPECT_NE(tight.err.find("the limit (max_work_seconds) is 9.9999999999999995e-07 s"), std::string::npos)
-      << tight.err;
+  EXPECT_NE(tight.err.find("the limit (max_work_seconds) is 9.9999999999999995e-07 s"), std::string::npos) << tight.err;
   EXPECT_EQ(run(data("bezier_screw.yaml") + " --max-work-seconds 100").status, 0);
   const CliRun bad = run(data("bezier_screw.yaml") + " --max-work-seconds -3");
   EXPECT_EQ(bad.status, 2);
@@ -970,7 +978,8 @@ void expectPose(const Pose<double>& pose, const Pose<double>& expected, double t
 }
 
 /// Expects the recording to be exactly `poses` at `times`.
-void expectRecorded(const RecordedWaypoints& r, const std::vector<Pose<double>>& poses, const std::vector<double>& times)
+void expectRecorded(const RecordedWaypoints& r, const std::vector<Pose<double>>& poses,
+                    const std::vector<double>& times)
 {
   ASSERT_EQ(r.waypoints.size(), poses.size());
   ASSERT_EQ(r.times.size(), times.size());
@@ -991,7 +1000,8 @@ std::string expectCliPassesThrough(const std::string& recording, const std::stri
   std::string sample_times;
   for (std::size_t i = 0; i < times.size(); ++i)
     sample_times += (i ? ", " : "") + std::string(se3_interpolation::formatNumber(times[i]));
-  const std::string options = writeTemp("recorded_options.yaml", "curve: " + curve + "\nsample_times: [" + sample_times + "]\n");
+  const std::string options =
+      writeTemp("recorded_options.yaml", "curve: " + curve + "\nsample_times: [" + sample_times + "]\n");
   const std::string out = testing::TempDir() + "recorded_out.csv";
   std::remove(out.c_str());
   const CliRun r = run(options + " " + recording + " -o " + out);
@@ -1090,33 +1100,52 @@ TEST(RecordedCsv, MalformedFilesNameTheLineColumnAndByte)
     std::vector<std::string> needles;
   } cases[] = {
     { "empty.csv", "", { "line 1, column 1 (byte offset 0): the file is empty" } },
-    { "no_qw.csv", "t,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n",
+    { "no_qw.csv",
+      "t,x,y,z,qx,qy,qz\n0,0,0,0,0,0,0\n",
       { "line 1, column 1 (byte offset 0): column 'qw': missing from the header",
         "its cells: 't', 'x', 'y', 'z', 'qx', 'qy', 'qz')" } },
-    { "twice.csv", "t,x,y,x,z,qx,qy,qz,qw\n", { "line 1, column 7 (byte offset 6): column 'x' named twice (cells 2 and 4)" } },
+    { "twice.csv",
+      "t,x,y,x,z,qx,qy,qz,qw\n",
+      { "line 1, column 7 (byte offset 6): column 'x' named twice (cells 2 and 4)" } },
     { "header_only.csv", head, { "line 2, column 1 (byte offset 20): no rows" } },
-    { "short_row.csv", head + row0 + "1,1,0,0,0,0,1\n", { "line 3, column 14 (byte offset 49): 7 cells, but the header (line 1) has 8" } },
+    { "short_row.csv",
+      head + row0 + "1,1,0,0,0,0,1\n",
+      { "line 3, column 14 (byte offset 49): 7 cells, but the header (line 1) has 8" } },
     { "long_row.csv", head + row0 + row1 + "2,1,0,0,0,0,0,1,9\n", { "line 4, column 17 (byte offset 68): 9 cells" } },
     { "blank_line.csv", head + row0 + "\n" + row1, { "line 3, column 1 (byte offset 36): 1 cell," } },
-    { "word.csv", head + row0 + row1 + "2,1,1,0,zero,0,0,1\n",
+    { "word.csv",
+      head + row0 + row1 + "2,1,1,0,zero,0,0,1\n",
       { "line 4, column 9 (byte offset 60): cell 5 (column 'qx'): 'zero' is not a finite number" } },
-    { "nan.csv", head + row0 + "1,nan,0,0,0,0,0,1\n", { "line 3, column 3 (byte offset 38): cell 2 (column 'x'): 'nan' is not a finite number" } },
-    { "empty_cell.csv", head + row0 + "1,1,0,,0,0,0,1\n", { "line 3, column 7 (byte offset 42): cell 4 (column 'z'): ''" } },
-    { "nul.csv", head + row0 + std::string("1,1,0,0,\0x,0,0,1\n", 17),
+    { "nan.csv",
+      head + row0 + "1,nan,0,0,0,0,0,1\n",
+      { "line 3, column 3 (byte offset 38): cell 2 (column 'x'): 'nan' is not a finite number" } },
+    { "empty_cell.csv",
+      head + row0 + "1,1,0,,0,0,0,1\n",
+      { "line 3, column 7 (byte offset 42): cell 4 (column 'z'): ''" } },
+    { "nul.csv",
+      head + row0 + std::string("1,1,0,0,\0x,0,0,1\n", 17),
       { "line 3, column 9 (byte offset 44): cell 5 (column 'qx'): '\\x00x' is not a finite number" } },
-    { "nul_header.csv", std::string("t,x,y,z,q\0x,qy,qz,qw\n", 21) + row0,
+    { "nul_header.csv",
+      std::string("t,x,y,z,q\0x,qy,qz,qw\n", 21) + row0,
       { "line 1, column 1 (byte offset 0): column 'qx': missing", "'q\\x00x', 'qy'" } },
-    { "utf16.csv", std::string("\xFF\xFEt\0,\0x\0\n\0", 10),
+    { "utf16.csv",
+      std::string("\xFF\xFEt\0,\0x\0\n\0", 10),
       { "line 1, column 1 (byte offset 0): the file starts with a UTF-16 byte order mark (FF FE)" } },
-    { "bom_word.csv", "\xEF\xBB\xBF" + head + "0,0,0,0,0,0,0,one\n",
+    { "bom_word.csv",
+      "\xEF\xBB\xBF" + head + "0,0,0,0,0,0,0,one\n",
       { "line 2, column 15 (byte offset 37): cell 8 (column 'qw'): 'one'" } },
-    { "cr_word.csv", "t,x,y,z,qx,qy,qz,qw\r0,0,0,0,0,0,0,1\r1,one,0,0,0,0,0,1\r",
+    { "cr_word.csv",
+      "t,x,y,z,qx,qy,qz,qw\r0,0,0,0,0,0,0,1\r1,one,0,0,0,0,0,1\r",
       { "line 3, column 3 (byte offset 38): cell 2 (column 'x'): 'one'" } },
-    { "long_line.csv", head + std::string((std::size_t(1) << 20) + 1, '0'),
+    { "long_line.csv",
+      head + std::string((std::size_t(1) << 20) + 1, '0'),
       { "line 2, column 1 (byte offset 20): the line is longer than 1048576 bytes" } },
     // The request validation's checks, with the line they came from.
-    { "not_unit.csv", head + row0 + "1,1,0,0,0,0,0,2\n", { "waypoints[1]", "line 3, column 1 (byte offset 36) of --waypoints" } },
-    { "not_increasing.csv", head + row0 + row1 + "1,2,0,0,0,0,0,1\n",
+    { "not_unit.csv",
+      head + row0 + "1,1,0,0,0,0,0,2\n",
+      { "waypoints[1]", "line 3, column 1 (byte offset 36) of --waypoints" } },
+    { "not_increasing.csv",
+      head + row0 + row1 + "1,2,0,0,0,0,0,1\n",
       { "times[2]", "line 4, column 1 (byte offset 52) of --waypoints" } },
   };
   for (const auto& c : cases)
@@ -1149,8 +1178,9 @@ TEST(RecordedCsv, MalformedFilesNameTheLineColumnAndByte)
   }
   catch (const se3_interpolation::InvalidInputError& e)
   {
-    EXPECT_EQ(std::string(e.what()), "--waypoints 'capped.csv' line 4, column 1 (byte offset 52): more than 2 "
-                                     "waypoints, the most se3_interpolate takes");
+    EXPECT_EQ(std::string(e.what()),
+              "--waypoints 'capped.csv' line 4, column 1 (byte offset 52): more than 2 "
+              "waypoints, the most se3_interpolate takes");
   }
 }
 
@@ -1380,8 +1410,12 @@ TEST(RecordedBag, ReadsEachTypeExactly)
     double offset;
     const char* frame_id;
   } cases[] = {
-    { "/pose", "", "", 0.0, "map" },     { "/tool", "", "", 1.0, "world" },   { "/tool", "tool0", "world", 1.0, "world" },
-    { "/tf", "tool0", "", 2.0, "world" }, { "/tf", "flange", "", 3.0, "base" }, { "/tf", "flange", "base", 3.0, "base" },
+    { "/pose", "", "", 0.0, "map" },
+    { "/tool", "", "", 1.0, "world" },
+    { "/tool", "tool0", "world", 1.0, "world" },
+    { "/tf", "tool0", "", 2.0, "world" },
+    { "/tf", "flange", "", 3.0, "base" },
+    { "/tf", "flange", "base", 3.0, "base" },
   };
   for (const auto& c : cases)
   {
@@ -1414,28 +1448,31 @@ TEST(RecordedBag, RefusalsNameTheOption)
   const std::pair<std::string, std::vector<std::string>> cases[] = {
     { "--bag " + testing::TempDir() + "no_such.bag --topic /tf --frame tool0", { "--bag '", "cannot be opened" } },
     { "--bag " + not_a_bag + " --topic /tf --frame tool0", { "--bag '" + not_a_bag + "'", "cannot be opened" } },
-    { "--bag " + bag + " --topic /odom", { "--topic '/odom': no message on it", "'/chatter (std_msgs/String)'",
-                                           "'/pose (geometry_msgs/PoseStamped)'", "'/tf (tf2_msgs/TFMessage)'" } },
+    { "--bag " + bag + " --topic /odom",
+      { "--topic '/odom': no message on it", "'/chatter (std_msgs/String)'", "'/pose (geometry_msgs/PoseStamped)'",
+        "'/tf (tf2_msgs/TFMessage)'" } },
     { "--bag " + bag + " --topic /chatter", { "--topic '/chatter': carries std_msgs/String; expected" } },
-    { "--bag " + bag + " --topic /tf", { "--frame: --topic '/tf' carries tf2_msgs/TFMessage",
-                                         "'camera', 'flange', 'tool0'" } },
-    { "--bag " + bag + " --topic /tf --frame gripper", { "--frame 'gripper': no transform of it",
-                                                         "'camera', 'flange', 'tool0'" } },
+    { "--bag " + bag + " --topic /tf",
+      { "--frame: --topic '/tf' carries tf2_msgs/TFMessage", "'camera', 'flange', 'tool0'" } },
+    { "--bag " + bag + " --topic /tf --frame gripper",
+      { "--frame 'gripper': no transform of it", "'camera', 'flange', 'tool0'" } },
     { "--bag " + bag + " --topic /tool --frame flange", { "--frame 'flange': no transform of it", "'tool0'" } },
     { "--bag " + bag + " --topic /pose --frame tool0", { "--frame 'tool0'", "PoseStamped, which has no child frame" } },
-    { "--bag " + bag + " --topic /tf_mixed --frame tool0", { "--parent: the transforms of 'tool0'",
-                                                             "'base', 'world'", "choose one with --parent" } },
-    { "--bag " + bag + " --topic /tf --frame tool0 --parent base", { "--parent 'base': none of the transforms of "
-                                                                     "'tool0'", "(their frames: 'world')" } },
-    { "--bag " + bag + " --topic /pose --parent world", { "--parent 'world': none of the poses on '/pose'",
-                                                          "'map'" } },
+    { "--bag " + bag + " --topic /tf_mixed --frame tool0",
+      { "--parent: the transforms of 'tool0'", "'base', 'world'", "choose one with --parent" } },
+    { "--bag " + bag + " --topic /tf --frame tool0 --parent base",
+      { "--parent 'base': none of the transforms of "
+        "'tool0'",
+        "(their frames: 'world')" } },
+    { "--bag " + bag + " --topic /pose --parent world", { "--parent 'world': none of the poses on '/pose'", "'map'" } },
   };
   for (const auto& c : cases)
   {
     expectRefused(options + " " + c.first, c.second);
   }
   const std::string with_waypoints = data("bezier_screw.yaml");
-  expectRefused(with_waypoints + " --bag " + bag + " --topic /pose", { "waypoints: given both", "--bag '" + bag + "'" });
+  expectRefused(with_waypoints + " --bag " + bag + " --topic /pose",
+                { "waypoints: given both", "--bag '" + bag + "'" });
 }
 
 // A bag cut short (a recording killed, a copy interrupted) has lost its index: rosbag says only
@@ -1470,15 +1507,16 @@ TEST(CliFit, SaveBsplineReplaysTheFit)
   for (int i = 0; i <= 300; ++i)
   {
     const double t = 0.01 * i;
-    const se3_interpolation::Quaternion<double> q = se3_interpolation::so3Exp(Eigen::Vector3d(0.2 * t, -0.1 * t, 0.3 * std::sin(t)));
+    const se3_interpolation::Quaternion<double> q =
+        se3_interpolation::so3Exp(Eigen::Vector3d(0.2 * t, -0.1 * t, 0.3 * std::sin(t)));
     csv += cell(t) + "," + cell(0.2 * t + noise(rng)) + "," + cell(std::sin(t) + noise(rng)) + "," + cell(noise(rng)) +
            "," + cell(q.x()) + "," + cell(q.y()) + "," + cell(q.z()) + "," + cell(q.w()) + "\n";
   }
   const std::string recording = writeTemp("fit_recording.csv", csv);
   for (const char* geometry : { "double_geodesic", "screw" })
   {
-    const std::string options = writeTemp(
-        "fit_options.yaml", std::string("curve: fit\ngeometry: ") + geometry + "\ncontrol_period: 0.5\nsample_count: 41\n");
+    const std::string options = writeTemp("fit_options.yaml", std::string("curve: fit\ngeometry: ") + geometry +
+                                                                  "\ncontrol_period: 0.5\nsample_count: 41\n");
     const std::string saved = testing::TempDir() + "fitted_bspline.yaml";
     std::remove(saved.c_str());
     const CliRun fit = run(options + " --waypoints " + recording + " --save-bspline " + saved);
@@ -1547,15 +1585,17 @@ TEST(CliFit, SavedBsplineReplaysTheSamplesAsTheyAre)
     const se3_interpolation::Quaternion<double> q =
         se3_interpolation::so3Exp(Eigen::Vector3d(0.3 * t, -0.2 * t, 0.4 * std::sin(t)));
     in_file += "    - {position: [" + cell(0.2 * t) + ", " + cell(0.3 * std::sin(2.0 * t)) + ", " + cell(0.05 * t * t) +
-               "], orientation: [" + cell(q.x()) + ", " + cell(q.y()) + ", " + cell(q.z()) + ", " + cell(q.w()) + "]}\n";
+               "], orientation: [" + cell(q.x()) + ", " + cell(q.y()) + ", " + cell(q.z()) + ", " + cell(q.w()) +
+               "]}\n";
     times += (i ? ", " : "") + cell(t);
   }
   in_file += times + "]\n";
-  const std::string common = "curve: fit\ngeometry: screw\ncontrol_period: 0.4\nrotation_scale: 2.5\n"
-                             "sample_period: 0.0125\nmax_linear_acceleration: 1\nmax_angular_acceleration: 2\n";
-  for (const std::string& timing : std::vector<std::string>{ "timing: time_optimal\nmax_linear_velocity: 0.3\nmax_angular_velocity: 0.5\n",
-                                                             "timing: constant_speed\nspeed: 0.1\n",
-                                                             "max_linear_velocity: 0.05\n" + in_file })
+  const std::string common =
+      "curve: fit\ngeometry: screw\ncontrol_period: 0.4\nrotation_scale: 2.5\n"
+      "sample_period: 0.0125\nmax_linear_acceleration: 1\nmax_angular_acceleration: 2\n";
+  for (const std::string& timing :
+       std::vector<std::string>{ "timing: time_optimal\nmax_linear_velocity: 0.3\nmax_angular_velocity: 0.5\n",
+                                 "timing: constant_speed\nspeed: 0.1\n", "max_linear_velocity: 0.05\n" + in_file })
   {
     SCOPED_TRACE(timing.substr(0, 60));
     const bool header = timing.find("header") != std::string::npos;
@@ -1601,9 +1641,11 @@ TEST(CliFit, HundredThousandPosesFromCsv)
   for (int i = 0; i < 100000; ++i)
   {
     const double t = 0.01 * i;
-    const se3_interpolation::Quaternion<double> q = se3_interpolation::so3Exp(Eigen::Vector3d(0.5 * std::sin(0.25 * t), 0.0, 0.3 * std::cos(0.1 * t)));
-    csv += cell(t) + "," + cell(0.3 * std::sin(0.3 * t) + noise(rng)) + "," + cell(0.2 * std::cos(0.5 * t) + noise(rng)) +
-           "," + cell(noise(rng)) + "," + cell(q.x()) + "," + cell(q.y()) + "," + cell(q.z()) + "," + cell(q.w()) + "\n";
+    const se3_interpolation::Quaternion<double> q =
+        se3_interpolation::so3Exp(Eigen::Vector3d(0.5 * std::sin(0.25 * t), 0.0, 0.3 * std::cos(0.1 * t)));
+    csv += cell(t) + "," + cell(0.3 * std::sin(0.3 * t) + noise(rng)) + "," +
+           cell(0.2 * std::cos(0.5 * t) + noise(rng)) + "," + cell(noise(rng)) + "," + cell(q.x()) + "," + cell(q.y()) +
+           "," + cell(q.z()) + "," + cell(q.w()) + "\n";
   }
   const std::string recording = writeTemp("fit_large.csv", csv);
   const std::string options = writeTemp("fit_large.yaml", "curve: fit\nsample_count: 1000\n");
@@ -1613,4 +1655,81 @@ TEST(CliFit, HundredThousandPosesFromCsv)
   std::cout << "[ timing   ] 10^5 poses fitted through se3_interpolate in " << seconds << " s\n";
   ASSERT_EQ(fit.status, 0) << fit.err;
   EXPECT_NE(fit.err.find("control_poses: 4003"), std::string::npos) << fit.err;  // ⌈999.99 / 0.25⌉ + 3
+}
+
+namespace
+{
+/// docs/examples/ and config/robots/ of the source tree.
+std::string sourceFile(const std::string& relative)
+{
+  return std::string(SE3_TEST_DATA) + "/../../../" + relative;
+}
+
+/// The UR5e options of docs/joint_space.md's command, with `extra` after them.
+std::string ur5eOptions(const std::string& extra = "")
+{
+  return " --urdf " + sourceFile("config/robots/ur5e.urdf") + " --base-link base_link --tip-link tool0" +
+         " --joint-limits " + sourceFile("config/robots/ur5e_joint_limits.yaml") + extra;
+}
+}  // namespace
+
+TEST(Cli, ArmColumnsAreThePlannersJointSamples)
+{
+  const std::string request = sourceFile("docs/examples/ur5e_joint_space.yaml");
+  const CliRun r = run(request + ur5eOptions());
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string header;
+  const std::vector<std::vector<double>> rows = parseCsv(r.out, &header);
+  std::string joints;
+  for (const char* prefix : { "q_", "dq_", "ddq_" })
+    for (const char* name : { "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
+                              "wrist_2_joint", "wrist_3_joint" })
+      joints += std::string(",") + prefix + name;
+  EXPECT_EQ(header, "t,x,y,z,qx,qy,qz,qw,vx,vy,vz,wx,wy,wz,ax,ay,az,alx,aly,alz" + joints);
+  auto model = std::make_shared<se3_interpolation::arm::ArmModel>(
+      se3_interpolation::arm::ArmModel::fromUrdfFile(sourceFile("config/robots/ur5e.urdf"), "base_link", "tool0"));
+  model->applyLimits(se3_interpolation::arm::readJointLimitsFile(sourceFile("config/robots/ur5e_joint_limits.yaml")));
+  const se3_interpolation::TrajectoryResult expected =
+      se3_interpolation::generate(se3_interpolation::cli::requestFromYaml(YAML::LoadFile(request)),
+                                  se3_interpolation::PlannerLimits(), model);
+  ASSERT_EQ(rows.size(), expected.samples.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+  {
+    ASSERT_EQ(rows[i].size(), 38u);
+    const se3_interpolation::TrajectorySample& s = expected.samples[i];
+    for (Eigen::Index k = 0; k < 6; ++k)
+    {
+      EXPECT_EQ(bits(rows[i][20 + static_cast<std::size_t>(k)]), bits(s.joint_position[k])) << i;
+      EXPECT_EQ(bits(rows[i][26 + static_cast<std::size_t>(k)]), bits(s.joint_velocity[k])) << i;
+      EXPECT_EQ(bits(rows[i][32 + static_cast<std::size_t>(k)]), bits(s.joint_acceleration[k])) << i;
+    }
+  }
+  EXPECT_NE(r.err.find("joint_shoulder_pan_joint: max_velocity "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("joint_binding: "), std::string::npos) << r.err;
+}
+
+TEST(Cli, ArmErrorsExitTwoWithoutOutput)
+{
+  const std::string request = sourceFile("docs/examples/ur5e_joint_space.yaml");
+  const std::string out = testing::TempDir() + "arm_must_not_exist.csv";
+  const std::string urdf = " --urdf " + sourceFile("config/robots/ur5e.urdf");
+  const std::string bad_limits =
+      writeTemp("bad_limits.yaml", "joint_limits:\n  no_such_joint: {has_velocity_limits: true, max_velocity: 1.0}\n");
+  const std::pair<std::string, std::string> cases[] = {
+    { request + " --urdf /no/such/file.urdf --base-link base_link --tip-link tool0", "/no/such/file.urdf" },
+    { request + urdf + " --base-link base_link", "--tip-link" },
+    { request + " --tip-link tool0", "--urdf" },
+    { request + urdf + " --base-link base_link --tip-link no_such_link", "no_such_link" },
+    { request + urdf + " --base-link base_link --tip-link tool0 --joint-limits " + bad_limits, "no_such_joint" },
+    { request, "joint_seed" },
+    { request + urdf + " --base-link base_link --tip-link tool0 --space sphere", "--urdf" },
+  };
+  for (const auto& c : cases)
+  {
+    std::remove(out.c_str());
+    const CliRun r = run(c.first + " -o " + out);
+    EXPECT_EQ(r.status, 2) << c.first;
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << ": " << r.err;
+    EXPECT_FALSE(exists(out)) << c.first;
+  }
 }

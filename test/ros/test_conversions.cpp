@@ -481,6 +481,8 @@ std::vector<CopiedField> copiedFields()
                 [](const T& r) { return r.sample_count == 4000000007u; } });
   f.push_back({ "sample_tolerance", [](R& m) { m.sample_tolerance = 2.5e-4; },
                 [](const T& r) { return r.sample_tolerance == 2.5e-4; } });
+  f.push_back({ "joint_seed", [](R& m) { m.joint_seed = { 0.25, -1.5, 2.75 }; },
+                [](const T& r) { return r.joint_seed == std::vector<double>{ 0.25, -1.5, 2.75 }; } });
   return f;
 }
 

@@ -23,5 +23,10 @@ struct TrajectorySample
   Pose<double> pose;  ///< world_T_body, quaternion sign-continuous along the samples
   Twist velocity;
   Twist acceleration;
+  /// With an arm following the motion (arm/joint_path.h): its movable joints' positions (rad, m),
+  /// velocities and accelerations in chain order; empty without one.
+  Eigen::VectorXd joint_position;
+  Eigen::VectorXd joint_velocity;
+  Eigen::VectorXd joint_acceleration;
 };
 }  // namespace se3_interpolation

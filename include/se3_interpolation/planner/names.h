@@ -57,9 +57,10 @@ struct NameTable<FitLoss>
 template <>
 struct NameTable<ResponseOutput>
 {
-  static constexpr std::array<std::pair<const char*, ResponseOutput>, 2> kNames = { {
+  static constexpr std::array<std::pair<const char*, ResponseOutput>, 3> kNames = { {
       { "path", ResponseOutput::kPath },
       { "trajectory", ResponseOutput::kTrajectory },
+      { "joint_trajectory", ResponseOutput::kJointTrajectory },
   } };
 };
 
@@ -72,13 +73,16 @@ inline ResponseOutputs parseResponseOutputs(const std::vector<std::string>& outp
   ResponseOutputs chosen;
   chosen.path = false;
   chosen.trajectory = false;
+  chosen.joint_trajectory = false;
   for (std::size_t i = 0; i < outputs.size(); ++i)
   {
     const std::string field = indexedField("outputs", i);
     if (outputs[i].empty())
       throw InvalidInputError(field + ": empty name (expected one of: " + knownNames<ResponseOutput>() + ")");
-    bool& slot =
-        parseName(outputs[i], field, ResponseOutput::kPath) == ResponseOutput::kPath ? chosen.path : chosen.trajectory;
+    const ResponseOutput named = parseName(outputs[i], field, ResponseOutput::kPath);
+    bool& slot = named == ResponseOutput::kPath       ? chosen.path :
+                 named == ResponseOutput::kTrajectory ? chosen.trajectory :
+                                                        chosen.joint_trajectory;
     if (slot)
       throw InvalidInputError(field + ": " + quotedText(outputs[i]) + " is named twice");
     slot = true;

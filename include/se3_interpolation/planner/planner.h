@@ -30,6 +30,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 
 #include "se3_interpolation/planner/request.h"
 
@@ -67,6 +68,22 @@ BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLim
 template <class Space>
 BasicResult<Space> generate(const BasicRequest<Space>& request, const PlannerLimits& limits,
                             const SampleSink<Space>& sink);
+
+/// generate() with an arm following the motion (docs/joint_space.md; arm/joint_path.h,
+/// arm/joint_timing.h): the request's joint_seed is required (the arm's joint positions at the
+/// motion's start); every timing holds the arm's joint velocity and acceleration limits together
+/// with the request's bounds (time_optimal in its passes; the others by a uniform stretch of the
+/// motion; a motion from a start state and constant_speed are refused naming the joint and time
+/// where a joint would exceed its limits); every sample carries the joints' positions, velocities
+/// and accelerations, and the result the joint names and figures.
+/// @throws what generate() throws, and InvalidInputError naming joint_seed, or the time and pose
+///         where the arm cannot follow the motion (out of reach, singular, past a position limit)
+TrajectoryResult generate(const TrajectoryRequest& request, const PlannerLimits& limits,
+                          std::shared_ptr<const arm::ArmModel> arm);
+
+/// The arm's generate() handing its samples to `sink` (as generate() with a sink).
+TrajectoryResult generate(const TrajectoryRequest& request, const PlannerLimits& limits,
+                          std::shared_ptr<const arm::ArmModel> arm, const SampleSink<PoseSpace>& sink);
 
 /// Waypoint times: the explicit ones, else spaced by the parameterisation (docs/timing.md): chord
 /// steps are √(|Δp|² + (ρ Δθ)²) for poses and the great-circle angle on the sphere.

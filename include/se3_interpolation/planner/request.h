@@ -18,11 +18,13 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "se3_interpolation/analysis/figures.h"
+#include "se3_interpolation/arm/joint_timing.h"
 #include "se3_interpolation/curves/end_condition.h"
 #include "se3_interpolation/fitting/bspline_fit.h"
 #include "se3_interpolation/geometry/geometry.h"
@@ -61,8 +63,9 @@ enum class Timing
 /// the CLI checks the names too and writes its CSV whatever they are).
 enum class ResponseOutput
 {
-  kPath,       ///< "path": nav_msgs/Path of the sampled poses
-  kTrajectory  ///< "trajectory": MultiDOFJointTrajectory of poses, velocities and accelerations
+  kPath,            ///< "path": nav_msgs/Path of the sampled poses
+  kTrajectory,      ///< "trajectory": MultiDOFJointTrajectory of poses, velocities and accelerations
+  kJointTrajectory  ///< "joint_trajectory": JointTrajectory of an arm's joints (empty without an arm)
 };
 
 /// Which of the response's sample arrays to fill (default: all, the behaviour before `outputs`).
@@ -70,6 +73,7 @@ struct ResponseOutputs
 {
   bool path = true;
   bool trajectory = true;
+  bool joint_trajectory = true;
 };
 
 /// The defaults of the request's empty or zero fields: the one place the planner, the node's
@@ -146,6 +150,15 @@ struct StartState
   Twist acceleration;
 };
 
+/// The arm that follows a pose motion (arm/joint_path.h): its model, whose base frame is the
+/// waypoints' frame and whose tip is the moving body, and the joint positions it has at the
+/// motion's start (the request's joint_seed; the first waypoint is reached on their branch).
+struct JointSpace
+{
+  std::shared_ptr<const arm::ArmModel> arm;
+  Eigen::VectorXd seed;
+};
+
 /// Poses: waypoints world_T_body, velocities spatial twists; geometry chosen by the request.
 struct PoseSpace
 {
@@ -217,6 +230,9 @@ struct BasicRequest
   /// Start from this state instead of at waypoints[0] (the service's `from_current`, filled by the
   /// node from the trajectory it is playing; the CLI's `start_state`). With it one waypoint suffices.
   std::optional<StartState> start_state;
+  /// rad or m per movable joint of the arm in chain order: its joint positions at the motion's
+  /// start. Required with an arm (generate()'s `arm`), refused without one. Poses only.
+  std::vector<double> joint_seed;
 };
 
 /// A request after validation: names parsed, defaults resolved, points normalised, sphere
@@ -262,6 +278,8 @@ struct BasicValidatedRequest
   /// `start_replaces_first`, else inserted before it).
   std::optional<StartState> start_state;
   bool start_replaces_first = false;
+  /// With an arm: the arm and the validated joint_seed.
+  std::optional<JointSpace> joint_space;
 };
 
 template <class Space>
@@ -302,6 +320,11 @@ struct BasicResult
   std::vector<double> knots;
   /// Length, rotation length, peak rates and energy of the final (timed) motion.
   CurveFigures figures;
+  /// With an arm: its movable joints' names in chain order (the samples' joint vectors follow it)
+  /// and the joint rates of the final motion against the arm's limits (per joint peak |q̇|, |q̈|,
+  /// the binding joint and its ratio to its limit). Empty without an arm.
+  std::vector<std::string> joint_names;
+  arm::JointRatesCheck joint_figures;
   /// The final curve's point at any time in [start_time, start_time + duration] (for TF).
   std::function<Waypoint(double)> point_at;
   /// Point, velocity and acceleration (exact jets, one-sided from the right) at any such time: what

@@ -5,6 +5,7 @@
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Path.h>
 #include <std_msgs/Header.h>
+#include <trajectory_msgs/JointTrajectory.h>
 #include <trajectory_msgs/MultiDOFJointTrajectory.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -48,9 +49,15 @@ trajectory_msgs::MultiDOFJointTrajectory& toMsg(const TrajectoryResult& result, 
                                                 const std::string& joint_name,
                                                 trajectory_msgs::MultiDOFJointTrajectory& out);
 
+/// An arm's JointTrajectory (joint_names in chain order; per sample positions, velocities,
+/// accelerations and time_from_start); no points without an arm.
+trajectory_msgs::JointTrajectory& toMsg(const TrajectoryResult& result, const std_msgs::Header& header,
+                                        trajectory_msgs::JointTrajectory& out);
+
 /// The response's figures from the result's: duration, length, rotation_length, max_linear_speed,
 /// max_angular_speed, the peak accelerations and jerks, the constant-speed window, the fit's
-/// residuals, energy (success, message and the sample arrays are left as they are).
+/// residuals, energy, an arm's joint figures (success, message and the sample arrays are left as
+/// they are).
 GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, GenerateTrajectory::Response& out);
 /// The message of a successful generation: the samples and duration, what the timing did (the
 /// stretch factor of a `stretch` that slowed the curve down, the time-optimal or constant-speed

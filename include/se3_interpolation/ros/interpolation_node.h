@@ -48,6 +48,7 @@
 #include "se3_interpolation/GenerateTrajectory.h"
 #include "se3_interpolation/execution/playback.h"
 #include "se3_interpolation/planner/planner.h"
+#include "se3_interpolation/ros/node_arm.h"
 #include "se3_interpolation/ros/follow_trajectory_server.h"
 #include "se3_interpolation/ros/master_watchdog.h"
 #include "se3_interpolation/ros/moving_frame.h"
@@ -121,6 +122,7 @@ private:
   ros::Publisher markers_pub_;
   ros::Publisher status_pub_;
   std::unique_ptr<MovingFrame> moving_frame_;
+  std::unique_ptr<NodeArm> arm_;  ///< the arm following the motions (~tip_link), or why it is not
   std::unique_ptr<WaypointTopics> waypoint_topics_;
   std::unique_ptr<RunTimeParameters> parameters_;
   std::unique_ptr<FollowTrajectoryServer> follow_server_;

@@ -1,0 +1,196 @@
+// The joint limits as the time-optimal timing's box constraint, and the dense check of a timed
+// motion's joint rates (arm/joint_timing.h).
+#include "se3_interpolation/arm/joint_timing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "se3_interpolation/deadline.h"
+#include "se3_interpolation/timing/peak_search.h"
+
+namespace se3_interpolation
+{
+namespace arm
+{
+static_assert(kMaxArmJoints <= static_cast<int>(timing::kMaxBoxComponents),
+              "every joint of an arm must fit the time-optimal timing's box constraint");
+
+namespace
+{
+/// A motion of at most this many analytic pieces is checked on kJointCheckIntervals intervals per
+/// piece; one of more pieces (a time-optimal motion's pieces are its refined grid's intervals) on
+/// one per piece; and every motion on at least kJointCheckMinIntervals in all.
+constexpr std::size_t kJointCheckDensePieces = 2048;
+constexpr std::size_t kJointCheckMinIntervals = 512;
+/// Intervals whose parabola through ends and middle peaks inside within this fraction of the
+/// joint's peak so far are searched.
+constexpr double kJointSearchMargin = 1e-3;
+/// Evaluations between two checks of the request's deadline.
+constexpr std::size_t kEvaluationsPerDeadlineCheck = 256;
+
+double limitOrNone(double limit)
+{
+  return std::isfinite(limit) ? limit : 0.0;
+}
+
+/// The running peaks of checkJointRates.
+class PeakTracker
+{
+public:
+  PeakTracker(const JointPath& motion, JointRatesCheck* check) : motion_(motion), check_(*check) {}
+
+  /// Interval [t0, t1] with its ends' states (a, b): the middle, and the searched peaks.
+  void interval(double t0, double t1, const JointState& a, const JointState& b)
+  {
+    const double h = t1 - t0;
+    checkDeadlineEvery(count_++, kEvaluationsPerDeadlineCheck / 3, "joint limits");
+    const JointState m = motion_.at(t0 + 0.5 * h, Side::kRight);
+    const int n = static_cast<int>(check_.peaks.size());
+    for (int k = 0; k < n; ++k)
+    {
+      JointPeak& p = check_.peaks[static_cast<std::size_t>(k)];
+      const double va = std::abs(a.velocity[k]), vm = std::abs(m.velocity[k]), vb = std::abs(b.velocity[k]);
+      const double aa = std::abs(a.acceleration[k]), am = std::abs(m.acceleration[k]), ab = std::abs(b.acceleration[k]);
+      record(&p.velocity, &p.velocity_time, { va, vm, vb }, t0, h);
+      record(&p.acceleration, &p.acceleration_time, { aa, am, ab }, t0, h);
+      if (timing::detail::parabolaPeaksInside(va, vm, vb, p.velocity * (1.0 - kJointSearchMargin)))
+        raise(&p.velocity, &p.velocity_time, t0, h,
+              timing::detail::localMaxOf(
+                  [&](double l) { return std::abs(motion_.at(t0 + l * h, Side::kRight).velocity[k]); }, va, vm, vb));
+      if (timing::detail::parabolaPeaksInside(aa, am, ab, p.acceleration * (1.0 - kJointSearchMargin)))
+        raise(&p.acceleration, &p.acceleration_time, t0, h,
+              timing::detail::localMaxOf(
+                  [&](double l) { return std::abs(motion_.at(t0 + l * h, Side::kRight).acceleration[k]); }, aa, am,
+                  ab));
+    }
+  }
+
+private:
+  static void record(double* peak, double* when, const std::array<double, 3>& v, double t0, double h)
+  {
+    for (int j = 0; j < 3; ++j)
+      if (v[static_cast<std::size_t>(j)] > *peak)
+      {
+        *peak = v[static_cast<std::size_t>(j)];
+        *when = t0 + 0.5 * j * h;
+      }
+  }
+  /// A searched peak: its time is the interval's middle (within half the interval).
+  static void raise(double* peak, double* when, double t0, double h, double value)
+  {
+    if (value > *peak)
+    {
+      *peak = value;
+      *when = t0 + 0.5 * h;
+    }
+  }
+
+  const JointPath& motion_;
+  JointRatesCheck& check_;
+  std::size_t count_ = 0;
+};
+
+/// The breakpoints within [start, end], sorted and distinct, the ends included.
+std::vector<double> pieces(const std::vector<double>& breakpoints, double start, double end)
+{
+  std::vector<double> b{ start, end };
+  for (double t : breakpoints)
+    if (t > start && t < end)
+      b.push_back(t);
+  std::sort(b.begin(), b.end());
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  return b;
+}
+
+/// The limit ratios of the peaks: the binding joint and the stretch.
+void rate(const ArmModel& arm, JointRatesCheck* c)
+{
+  for (std::size_t k = 0; k < c->peaks.size(); ++k)
+  {
+    const JointLimits& l = arm.joints()[k].limits;
+    const JointPeak& p = c->peaks[k];
+    const double v = l.hasVelocityLimit() ? p.velocity / l.max_velocity : 0.0;
+    const double a = l.hasAccelerationLimit() ? p.acceleration / l.max_acceleration : 0.0;
+    c->stretch = std::max({ c->stretch, v, std::sqrt(a) });
+    if (std::max(v, a) > c->binding_ratio || c->binding_joint < 0)
+    {
+      const bool velocity = v >= a;
+      c->binding_joint = static_cast<int>(k);
+      c->binding_quantity = velocity ? "velocity" : "acceleration";
+      c->binding_ratio = std::max(v, a);
+      c->binding_time = velocity ? p.velocity_time : p.acceleration_time;
+    }
+  }
+}
+}  // namespace
+
+JointBoxes::JointBoxes(JointPath path) : path_(std::move(path)) {}
+
+std::size_t JointBoxes::size() const
+{
+  return static_cast<std::size_t>(path_.arm().dof());
+}
+
+double JointBoxes::velocityLimit(std::size_t k) const
+{
+  return limitOrNone(path_.arm().joints()[k].limits.max_velocity);
+}
+
+double JointBoxes::accelerationLimit(std::size_t k) const
+{
+  return limitOrNone(path_.arm().joints()[k].limits.max_acceleration);
+}
+
+void JointBoxes::jet(double s, Side side, double* w, double* a) const
+{
+  const JointState q = path_.at(s, side);
+  for (Eigen::Index k = 0; k < q.velocity.size(); ++k)
+  {
+    w[k] = q.velocity[k];
+    a[k] = q.acceleration[k];
+  }
+}
+
+JointRatesCheck checkJointRates(const JointPath& motion, const std::vector<double>& breakpoints)
+{
+  JointRatesCheck check;
+  check.peaks.assign(static_cast<std::size_t>(motion.arm().dof()), JointPeak());
+  const std::vector<double> b = pieces(breakpoints, motion.start(), motion.end());
+  const std::size_t count = b.size() - 1;
+  const double span = b.back() - b.front();
+  PeakTracker tracker(motion, &check);
+  for (std::size_t j = 0; j < count; ++j)
+  {
+    const double length = b[j + 1] - b[j];
+    const std::size_t share =
+        static_cast<std::size_t>(std::ceil(static_cast<double>(kJointCheckMinIntervals) * length / span));
+    const std::size_t m = std::max<std::size_t>(share, count <= kJointCheckDensePieces ? kJointCheckIntervals : 1);
+    JointState a = motion.at(b[j], Side::kRight);
+    for (std::size_t i = 0; i < m; ++i)
+    {
+      const double t0 = b[j] + length * static_cast<double>(i) / static_cast<double>(m);
+      const bool last = i + 1 == m;
+      const double t1 = last ? b[j + 1] : b[j] + length * static_cast<double>(i + 1) / static_cast<double>(m);
+      JointState e = motion.at(t1, last ? Side::kLeft : Side::kRight);
+      tracker.interval(t0, t1, a, e);
+      a = std::move(e);
+    }
+  }
+  rate(motion.arm(), &check);
+  return check;
+}
+
+std::string jointExcessMessage(const ArmModel& arm, const JointRatesCheck& check)
+{
+  const std::size_t k = static_cast<std::size_t>(std::max(check.binding_joint, 0));
+  const ArmJoint& joint = arm.joints()[k];
+  const bool velocity = check.binding_quantity == "velocity";
+  const char* unit = joint.isPrismatic() ? (velocity ? "m/s" : "m/s²") : (velocity ? "rad/s" : "rad/s²");
+  const double value = velocity ? check.peaks[k].velocity : check.peaks[k].acceleration;
+  const double limit = velocity ? joint.limits.max_velocity : joint.limits.max_acceleration;
+  return "joint " + quotedText(joint.name) + ": " + check.binding_quantity + " " + formatNumber(value) + " " + unit +
+         " at t = " + formatNumber(check.binding_time) + " s, above its limit " + formatNumber(limit) + " " + unit;
+}
+
+}  // namespace arm
+}  // namespace se3_interpolation

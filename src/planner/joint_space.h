@@ -1,0 +1,43 @@
+// The planner's joint space (docs/joint_space.md): the request's joint_seed validated against the
+// arm, the arm's joint limits as the time-optimal timing's box constraint, and the arm following
+// the timed motion: its joint limits held by a uniform stretch where the timing did not hold them
+// (or refused where the motion's start may not change), and its joints in every sample.
+#pragma once
+
+#include <memory>
+
+#include "se3_interpolation/arm/joint_timing.h"
+#include "se3_interpolation/planner/request.h"
+#include "planned_motion.h"
+
+namespace se3_interpolation
+{
+namespace planner_detail
+{
+/// The arm and joint_seed of a request: none without an arm and without a seed; a seed without an
+/// arm, an arm without a seed, a seed of the wrong length or not finite, or a seed on the sphere are
+/// refused naming joint_seed.
+template <class Space>
+std::optional<JointSpace> jointSpaceOf(const BasicRequest<Space>& request, std::shared_ptr<const arm::ArmModel> arm);
+
+/// The arm's joint limits along the path `curve` (its time axis the path parameter), tracked from
+/// the seed, as the time-optimal timing's box constraint; null without an arm.
+template <class Space, class G>
+std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
+                                                          const std::shared_ptr<const Curve<G>>& curve);
+
+/// The arm following the timed motion m (null without an arm): the motion stretched uniformly
+/// where a joint exceeds its limits (its figures, time_scale and waypoint times with it), refused
+/// naming the joint and time where the motion starts moving or keeps a constant speed; sets
+/// m's joint names and figures.
+template <class Space, class G>
+std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m);
+
+/// The sample's joints from the arm's motion (its time, from `side` at a breakpoint).
+void fillJoints(const arm::JointPath& joints, TrajectorySample* s, Side side);
+
+/// Scales the figures of a motion stretched uniformly by k (speeds 1/k, accelerations 1/k², jerks
+/// 1/k³, the energy 1/k³).
+void stretchFigures(double k, CurveFigures* fig);
+}  // namespace planner_detail
+}  // namespace se3_interpolation

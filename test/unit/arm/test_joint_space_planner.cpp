@@ -1,0 +1,172 @@
+// The planner with an arm (planner/planner.h's generate() with an arm, docs/joint_space.md): the
+// UR5e of config/robots/ follows interpolating motions through poses made by its own forward
+// kinematics. Checked independently of the planner's joint code: forward kinematics of every joint
+// sample against the pose sample, J·q̇ against the twist, every joint velocity and acceleration
+// against the limits file at the samples (and the figures, from the dense check, against them),
+// durations against the motion without the arm, and the refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "arm_test_utils.h"
+#include "se3_interpolation/arm/arm_model.h"
+#include "se3_interpolation/arm/joint_limits.h"
+#include "se3_interpolation/planner/planner.h"
+
+using namespace se3_interpolation;
+using se3_interpolation::test::robotFile;
+
+namespace
+{
+/// The UR5e with the limits of its file, velocities and accelerations scaled by `scale`.
+std::shared_ptr<const arm::ArmModel> ur5e(double velocity_scale = 1.0, double acceleration_scale = 1.0)
+{
+  auto model =
+      std::make_shared<arm::ArmModel>(arm::ArmModel::fromUrdfFile(robotFile("ur5e.urdf"), "base_link", "tool0"));
+  arm::JointLimitsFile limits = arm::readJointLimitsFile(robotFile("ur5e_joint_limits.yaml"));
+  for (auto& entry : limits.joints)
+  {
+    entry.second.max_velocity = *entry.second.max_velocity * velocity_scale;
+    entry.second.max_acceleration = *entry.second.max_acceleration * acceleration_scale;
+  }
+  model->applyLimits(limits);
+  return model;
+}
+
+const std::vector<std::vector<double>> kConfigurations = {
+  { 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 },
+  { 0.4, -1.0, 1.3, -1.8, -1.4, 0.3 },
+  { 0.9, -1.3, 1.7, -2.0, -1.6, -0.2 },
+  { 1.2, -0.9, 1.2, -1.7, -1.3, 0.5 },
+};
+
+/// Waypoints at the UR5e's forward kinematics of kConfigurations; joint_seed the first of them.
+TrajectoryRequest request(const arm::ArmModel& arm, const std::string& timing)
+{
+  TrajectoryRequest r;
+  for (const std::vector<double>& q : kConfigurations)
+    r.waypoints.push_back(arm.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), 6)));
+  r.joint_seed = kConfigurations.front();
+  r.timing = timing;
+  r.max_linear_velocity = 0.5;
+  r.max_angular_velocity = 1.0;
+  r.max_linear_acceleration = 2.0;
+  r.max_angular_acceleration = 4.0;
+  r.sample_count = 2001;
+  return r;
+}
+
+/// Every sample's joints against its pose and twist, and against the arm's limits; returns the
+/// largest ratio of a joint rate to its limit at the samples.
+double checkSamples(const TrajectoryResult& out, const arm::ArmModel& arm)
+{
+  double worst = 0.0;
+  for (const TrajectorySample& s : out.samples)
+  {
+    EXPECT_EQ(s.joint_position.size(), 6);
+    const Pose<double> fk = arm.basePoseOfTip(s.joint_position);
+    EXPECT_LT((fk.p - s.pose.p).norm(), 1e-9) << s.time;
+    // The rotation between them: 2|vec(q_fk⁻¹ q)| ≈ its angle.
+    EXPECT_LT(2.0 * (fk.q.conjugate() * s.pose.q).vec().norm(), 1e-9) << s.time;
+    Eigen::Matrix<double, 6, 1> twist;
+    twist << s.velocity.angular, s.velocity.linear;
+    EXPECT_LT((arm.jacobian(s.joint_position) * s.joint_velocity - twist).norm(), 1e-8 * (1.0 + twist.norm()))
+        << s.time;
+    for (int k = 0; k < 6; ++k)
+    {
+      const arm::JointLimits& l = arm.joints()[static_cast<std::size_t>(k)].limits;
+      worst = std::max({ worst, std::abs(s.joint_velocity[k]) / l.max_velocity,
+                         std::abs(s.joint_acceleration[k]) / l.max_acceleration });
+      EXPECT_GE(s.joint_position[k], l.min_position);
+      EXPECT_LE(s.joint_position[k], l.max_position);
+    }
+  }
+  for (std::size_t k = 0; k < 6; ++k)
+  {
+    const arm::JointLimits& l = arm.joints()[k].limits;
+    EXPECT_LE(out.joint_figures.peaks[k].velocity, l.max_velocity * (1.0 + 1e-6)) << k;
+    EXPECT_LE(out.joint_figures.peaks[k].acceleration, l.max_acceleration * (1.0 + 1e-6)) << k;
+  }
+  return worst;
+}
+}  // namespace
+
+TEST(JointSpacePlanner, LooseJointLimitsLeaveTheTimeOptimalMotionAsItIs)
+{
+  const auto arm = ur5e(100.0, 100.0);
+  TrajectoryRequest r = request(*arm, "time_optimal");
+  const TrajectoryResult with = generate(r, PlannerLimits(), arm);
+  r.joint_seed.clear();
+  const TrajectoryResult without = generate(r, PlannerLimits());
+  EXPECT_NEAR(with.duration, without.duration, 1e-6 * without.duration);
+  EXPECT_LT(checkSamples(with, *arm), 0.1);
+  EXPECT_EQ(with.joint_names.size(), 6u);
+  EXPECT_TRUE(without.joint_names.empty());
+}
+
+TEST(JointSpacePlanner, BindingJointLimitsSlowEveryTimingAndHoldAtTheSamples)
+{
+  // Joint limits at 15 % of the file's velocities and accelerations: tighter than the Cartesian
+  // bounds on this motion.
+  const auto arm = ur5e(0.15, 0.15);
+  for (const char* timing : { "time_optimal", "stretch" })
+  {
+    TrajectoryRequest r = request(*arm, timing);
+    const TrajectoryResult with = generate(r, PlannerLimits(), arm);
+    r.joint_seed.clear();
+    const TrajectoryResult without = generate(r, PlannerLimits());
+    EXPECT_GT(with.duration, 1.05 * without.duration) << timing;
+    const double worst = checkSamples(with, *arm);
+    EXPECT_LE(worst, 1.0 + 1e-6) << timing;
+    // A binding limit is reached (within the samples' spacing).
+    EXPECT_GT(worst, 0.97) << timing;
+    EXPECT_NEAR(with.joint_figures.binding_ratio, 1.0, 1e-3) << timing;
+  }
+}
+
+TEST(JointSpacePlanner, TheTimeOptimalMotionUnderJointLimitsIsFasterThanAStretch)
+{
+  const auto arm = ur5e(0.15, 0.15);
+  const TrajectoryResult optimal = generate(request(*arm, "time_optimal"), PlannerLimits(), arm);
+  const TrajectoryResult stretched = generate(request(*arm, "stretch"), PlannerLimits(), arm);
+  EXPECT_LT(optimal.duration, stretched.duration);
+}
+
+TEST(JointSpacePlanner, RefusalsNameTheField)
+{
+  const auto arm = ur5e();
+  TrajectoryRequest r = request(*arm, "time_optimal");
+  const auto refused = [](const TrajectoryRequest& q, std::shared_ptr<const arm::ArmModel> a, const std::string& text) {
+    try
+    {
+      generate(q, PlannerLimits(), std::move(a));
+      ADD_FAILURE() << "accepted; expected an error naming " << text;
+    }
+    catch (const InvalidInputError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  refused(r, nullptr, "joint_seed");
+  TrajectoryRequest no_seed = r;
+  no_seed.joint_seed.clear();
+  refused(no_seed, arm, "joint_seed");
+  TrajectoryRequest short_seed = r;
+  short_seed.joint_seed.pop_back();
+  refused(short_seed, arm, "joint_seed");
+  TrajectoryRequest nan_seed = r;
+  nan_seed.joint_seed[2] = std::nan("");
+  refused(nan_seed, arm, "joint_seed[2]");
+  // A waypoint 3 m away: out of the UR5e's reach (0.85 m).
+  TrajectoryRequest far = r;
+  far.waypoints[2].p += Eigen::Vector3d(3.0, 0.0, 0.0);
+  refused(far, arm, "t = ");
+  // constant_speed keeps its speed: joints that cannot follow it are refused naming the joint.
+  const auto slow = ur5e(0.05, 0.05);
+  TrajectoryRequest constant = request(*slow, "constant_speed");
+  constant.speed = 0.3;
+  refused(constant, slow, "joint '");
+}
