@@ -69,6 +69,24 @@ std::string poseWhere(double t, const Pose<double>& pose)
   return "at t = " + formatNumber(t) + " s (position " + vectorText(pose.p) + " m)";
 }
 
+/// The first joint of `arm` whose position in q is past its limits, or −1.
+int jointPastLimit(const ArmModel& arm, const Eigen::VectorXd& q)
+{
+  for (int i = 0; i < arm.dof(); ++i)
+  {
+    const JointLimits& l = arm.joints()[static_cast<std::size_t>(i)].limits;
+    if (!(q[i] >= l.min_position && q[i] <= l.max_position))
+      return i;
+  }
+  return -1;
+}
+
+JointPathError singularError(double t, const Eigen::VectorXd& q)
+{
+  return JointPathError("the arm passes a singular configuration at t = " + formatNumber(t) +
+                        " s (q = " + vectorText(q) + ")");
+}
+
 double smallestSingularValue(const Eigen::MatrixXd& m)
 {
   return Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues().tail(1)(0);
@@ -154,7 +172,7 @@ int JointPath::newton(const Pose<double>& target, Eigen::VectorXd& q, int max_it
   {
     Eigen::Isometry3d x;
     ArmJacobian j;
-    arm_->kinematics(q, q, &x, &j, nullptr);
+    arm_->kinematics(q, q, &x, &j, nullptr);  // (q̇ unread without J̇)
     const Vector6d e = poseError(target, x);
     const double err = e.lpNorm<Eigen::Infinity>();
     if (err <= kPoseTolerance || (err <= kPoseFloor && err > 0.5 * previous))
@@ -200,7 +218,7 @@ Eigen::VectorXd JointPath::solveFromSeed(const Eigen::VectorXd& seed, const Pose
     throw JointPathError("the arm passes a singular configuration " + poseWhere(t, target) + " (q = " + vectorText(q) +
                          ")");
   throw JointPathError("the pose " + poseWhere(t, target) + " is out of the arm's reach (pose error " +
-                       formatNumber(e.lpNorm<Eigen::Infinity>()) + " m or rad left from the joint seed)");
+                       formatNumber(e.lpNorm<Eigen::Infinity>()) + " m or rad left by the damped solve)");
 }
 
 JointState JointPath::rates(const Eigen::VectorXd& q, const Kinematics& k) const
@@ -234,24 +252,55 @@ void JointPath::checkPoint(const TrackedPoint& point) const
 {
   const Eigen::JacobiSVD<Matrix6d> svd(freeColumns(arm_->jacobian(point.q), free_));
   if (!(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
-    throw JointPathError("the arm passes a singular configuration at t = " + formatNumber(point.t) +
-                         " s (q = " + vectorText(point.q) + ")");
+    throw singularError(point.t, point.q);
   checkLimits(point.t, point.q);
 }
 
 void JointPath::checkLimits(double t, const Eigen::VectorXd& q) const
 {
-  for (int i = 0; i < arm_->dof(); ++i)
+  if (jointPastLimit(*arm_, q) >= 0)
+    throw limitError(t, q);
+}
+
+JointPathError JointPath::limitError(double t, const Eigen::VectorXd& q) const
+{
+  const int i = jointPastLimit(*arm_, q);
+  const ArmJoint& joint = arm_->joints()[static_cast<std::size_t>(i)];
+  const std::string unit = joint.isPrismatic() ? " m" : " rad";
+  return JointPathError("joint '" + joint.name + "' would pass its position limit [" +
+                        formatNumber(joint.limits.min_position) + ", " + formatNumber(joint.limits.max_position) + "]" +
+                        unit + " at t = " + formatNumber(t) + " s (q = " + formatNumber(q[i]) + unit + ")");
+}
+
+double JointPath::firstTimeWhere(const TrackedPoint& from, double t, Eigen::VectorXd& q,
+                                 const std::function<bool(const Eigen::VectorXd&)>& past,
+                                 Eigen::VectorXd* q_before) const
+{
+  // Bisection of the step (from.t, t], each midpoint solved by Newton from the step's predictor,
+  // to 1e-9 of the motion's span. A midpoint where Newton fails (a singular configuration, where
+  // J_r cannot be inverted) counts as past: the refusal is about where the path stops.
+  double lo = from.t, hi = t;
+  while (hi - lo > kMinStepFraction * (end() - start()))
   {
-    const ArmJoint& joint = arm_->joints()[static_cast<std::size_t>(i)];
-    const JointLimits& l = joint.limits;
-    if (joint.type == JointType::kContinuous || (q[i] >= l.min_position && q[i] <= l.max_position))
-      continue;
-    const std::string unit = joint.isPrismatic() ? " m" : " rad";
-    throw JointPathError("joint '" + joint.name + "' would pass its position limit [" + formatNumber(l.min_position) +
-                         ", " + formatNumber(l.max_position) + "]" + unit + " at t = " + formatNumber(t) +
-                         " s (q = " + formatNumber(q[i]) + unit + ")");
+    const double mid = 0.5 * (lo + hi), dt = mid - from.t;
+    Eigen::VectorXd qm = from.q + from.qd * dt + 0.5 * from.qdd * dt * dt;
+    if (newton(motion_(mid, Side::kRight).pose, qm, kStepIterations) < 0)
+      hi = mid;
+    else if (past(qm))
+      hi = mid, q = qm;
+    else
+    {
+      lo = mid;
+      if (q_before)
+        *q_before = qm;
+    }
   }
+  return hi;
+}
+
+double JointPath::freeDeterminant(const Eigen::VectorXd& q) const
+{
+  return freeColumns(arm_->jacobian(q), free_).determinant();
 }
 
 void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
@@ -297,6 +346,21 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
                              " s (q = " + vectorText(point.q) + "; the IK branch cannot be followed beyond)");
       }
       continue;
+    }
+    if (jointPastLimit(*arm_, q) >= 0)
+    {
+      const double crossing =
+          firstTimeWhere(point, t, q, [this](const auto& x) { return jointPastLimit(*arm_, x) >= 0; });
+      throw limitError(crossing, q);
+    }
+    // det J_r changes sign only through a singular configuration, which a step may step over.
+    const double sign = freeDeterminant(point.q);
+    if (freeDeterminant(q) * sign <= 0)
+    {
+      Eigen::VectorXd before = point.q;
+      const double crossing = firstTimeWhere(
+          point, t, q, [&](const auto& x) { return freeDeterminant(x) * sign <= 0; }, &before);
+      throw singularError(crossing, before);
     }
     point = trackedPoint(t, q, kin);
     checkPoint(point);

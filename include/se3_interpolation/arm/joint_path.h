@@ -31,7 +31,10 @@
 // the predictor's error (O(h³)) being small beside the step itself: a larger correction means that
 // Newton went to another branch of the IK (an elbow or wrist flip), which is detected and never
 // taken. Otherwise h is halved; h doubles after a step that converged in ≤ 2 iterations, capped at
-// the piece's length / 4. The tracked points are stored.
+// the piece's length / 4. The tracked points are stored. A step over which det J_r changes sign
+// has stepped over a singular configuration (det J_r = 0 in between), and one after which a joint
+// is past its limit has passed it: both are refused at the crossing time, found by bisection of the
+// step (Newton at each midpoint) to 1e-9 of the motion's span.
 //
 // Rates at known q:  q̇_r = J_r⁻¹ V,  q̈_r = J_r⁻¹ (A − J̇(q, q̇) q̇),  V = [ω; ṗ], A = [ω̇; p̈] the
 // motion's spatial twist and acceleration in the base frame; the held joints' rates are 0.
@@ -42,8 +45,8 @@
 //
 // Refusals (JointPathError, an InvalidInputError, naming what and where): the seed's length or
 // finiteness; a pose out of reach ("at t = 1.5 s (position (0.9, 0, 0.3) m)"); a singular
-// configuration on the path (σ_min(J_r) < 1e-8 σ_max(J_r) at a tracked point, or the step halved
-// below 1e-9 of the motion's span); a joint passing its position limit (every tracked point and
+// configuration on the path (σ_min(J_r) < 1e-8 σ_max(J_r) at a tracked point, det J_r changing
+// sign over a step, or the step halved below 1e-9 of the motion's span); a joint passing its position limit (every tracked point and
 // every at()). A path near a singularity is followed (its joint rates are large).
 #pragma once
 
@@ -131,6 +134,16 @@ private:
   Eigen::VectorXd solveFromSeed(const Eigen::VectorXd& seed, const Pose<double>& target, double t) const;
   void checkPoint(const TrackedPoint& point) const;
   void checkLimits(double t, const Eigen::VectorXd& q) const;
+  /// The limit refusal at t for q, which has a joint past its limits.
+  JointPathError limitError(double t, const Eigen::VectorXd& q) const;
+  /// The first time in (from.t, t] at which past(q(t)) holds (it holds at t for the given q), by
+  /// bisection; q becomes the joint positions there, *q_before (if given) those at the latest time
+  /// found before it.
+  double firstTimeWhere(const TrackedPoint& from, double t, Eigen::VectorXd& q,
+                        const std::function<bool(const Eigen::VectorXd&)>& past,
+                        Eigen::VectorXd* q_before = nullptr) const;
+  /// det J_r(q) (its sign changes only through a singular configuration).
+  double freeDeterminant(const Eigen::VectorXd& q) const;
 
   std::shared_ptr<const ArmModel> arm_;
   PoseMotion motion_;

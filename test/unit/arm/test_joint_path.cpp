@@ -125,6 +125,33 @@ std::string messageOf(const std::function<void()>& f)
   return "(no error)";
 }
 
+/// The pose motion of the joint motion q(t) = a + (b − a)(3t² − 2t³) on [0, 1] (FK; V = J q̇,
+/// A = J q̈ + J̇ q̇), and that joint motion.
+struct JointMotion
+{
+  Eigen::VectorXd a, b;
+  JointState at(double t) const
+  {
+    const double s = t * t * (3 - 2 * t), sd = 6 * t * (1 - t), sdd = 6 - 12 * t;
+    return JointState{ a + (b - a) * s, (b - a) * sd, (b - a) * sdd };
+  }
+  PoseMotion motion(const ArmModel& arm) const
+  {
+    return [arm, self = *this](double t, Side) {
+      const JointState s = self.at(t);
+      Eigen::Isometry3d x;
+      ArmJacobian j, jd;
+      arm.kinematics(s.position, s.velocity, &x, &j, &jd);
+      const Eigen::Matrix<double, 6, 1> v = j * s.velocity, acc = j * s.acceleration + jd * s.velocity;
+      Kinematics k;
+      k.pose = Pose<double>(Quaternion<double>(x.linear()), x.translation());
+      k.velocity.angular = v.head<3>(), k.velocity.linear = v.tail<3>();
+      k.acceleration.angular = acc.head<3>(), k.acceleration.linear = acc.tail<3>();
+      return k;
+    };
+  }
+};
+
 const Eigen::VectorXd kUrA = vec({ 0.3, -1.2, 1.4, -1.8, -1.5, 0.4 });
 const Eigen::VectorXd kUrB = vec({ 0.6, -1.0, 1.1, -1.6, -1.3, 0.8 });
 const Eigen::VectorXd kUrC = vec({ 0.9, -1.3, 1.5, -1.2, -1.6, 1.2 });
@@ -145,6 +172,23 @@ TEST(JointPath, Ur5eFollowsTheMotionOnTheSeedsBranch)
   EXPECT_LT((path.at(path.end()).position - kUrC).lpNorm<Eigen::Infinity>(), 1e-9);
   expectFollows(path, *curve);
   expectDerivatives(path);
+}
+
+TEST(JointPath, Ur5eRecoversTheJointMotionOfAPoseMotion)
+{
+  // The UR5e's IK is locally unique, so the path of FK(q(t)) from q(0) is q(t) itself, with its
+  // rates: q to the pose tolerance through J_r⁻¹ (1e-9), q̇ and q̈ to the rounding of the solves.
+  const ArmModel arm = ur5e();
+  const JointMotion joint{ kUrA, kUrC };
+  const JointPath path(arm, joint.motion(arm), { 0.0, 1.0 }, kUrA);
+  for (int i = 0; i <= 100; ++i)
+  {
+    const double t = i / 100.0;
+    const JointState s = path.at(t), expected = joint.at(t);
+    EXPECT_LT((s.position - expected.position).lpNorm<Eigen::Infinity>(), 1e-9) << "t = " << t;
+    EXPECT_LT((s.velocity - expected.velocity).lpNorm<Eigen::Infinity>(), 1e-8) << "t = " << t;
+    EXPECT_LT((s.acceleration - expected.acceleration).lpNorm<Eigen::Infinity>(), 1e-7) << "t = " << t;
+  }
 }
 
 TEST(JointPath, SeedAwayFromTheSolutionFindsTheSameBranch)
@@ -260,7 +304,12 @@ TEST(JointPathRefusals, Ur5eJointPastATighterLimit)
   limits.joints["wrist_3_joint"].max_position = 1.0;
   arm.applyLimits(limits);
   const std::string m = messageOf([&] { jointPathOf(arm, curve, kUrA); });
-  EXPECT_NE(m.find("joint 'wrist_3_joint' would pass its position limit [-1, 1] rad at t = "), std::string::npos) << m;
+  const std::string expected = "joint 'wrist_3_joint' would pass its position limit [-1, 1] rad at t = ";
+  ASSERT_NE(m.find(expected), std::string::npos) << m;
+  // The time named is the crossing: there the path without the tighter limit has q6 = 1.
+  const double t = std::stod(m.substr(m.find(expected) + expected.size()));
+  const JointPath free = jointPathOf(ur5e(), curve, kUrA);
+  EXPECT_NEAR(free.at(t).position[5], 1.0, 1e-6) << m;
 }
 
 TEST(JointPathRefusals, PandaToolTurnedBeyondJoint7)
@@ -285,6 +334,20 @@ TEST(JointPathRefusals, SingularStart)
   EXPECT_NE(m.find("the arm passes a singular configuration at t = 0"), std::string::npos) << m;
 }
 
+TEST(JointPathRefusals, MotionThroughTheWristSingularity)
+{
+  // q5 from −0.4 to 0.4 rad: the joint motion crosses q5 = 0 at t = 0.5 s, which no tracked point
+  // need land on; det J_r changes sign over the step, and the refusal names the crossing.
+  const ArmModel arm = ur5e();
+  Eigen::VectorXd a = kUrA, b = kUrA;
+  a[4] = -0.4, b[4] = 0.4;
+  const JointMotion joint{ a, b };
+  const std::string m = messageOf([&] { JointPath(arm, joint.motion(arm), { 0.0, 1.0 }, a); });
+  const std::string expected = "the arm passes a singular configuration at t = ";
+  ASSERT_NE(m.find(expected), std::string::npos) << m;
+  EXPECT_NEAR(std::stod(m.substr(m.find(expected) + expected.size())), 0.5, 1e-6) << m;
+}
+
 TEST(JointPathRefusals, ChainOfFiveJoints)
 {
   const ArmModel arm = ur5e("wrist_3_link");
@@ -296,6 +359,32 @@ TEST(JointPathRefusals, ChainOfFiveJoints)
                    "least 6"),
             std::string::npos)
       << m;
+}
+
+TEST(JointPath, StepsStopAtEveryBreakpoint)
+{
+  const ArmModel arm = ur5e();
+  const PoseCurve curve = motionThrough(arm, { kUrA, kUrB, kUrC, kUrB });
+  const JointPath path = jointPathOf(arm, curve, kUrA);
+  ASSERT_EQ(path.breakpoints(), (std::vector<double>{ 0, 1, 2, 3 }));
+  ASSERT_EQ(path.trackedPoints().size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k)
+  {
+    EXPECT_EQ(path.trackedPoints()[k].front().t, path.breakpoints()[k]);
+    EXPECT_EQ(path.trackedPoints()[k].back().t, path.breakpoints()[k + 1]);
+  }
+  expectFollows(path, *curve);
+}
+
+TEST(JointPathRefusals, BadBreakpointsAndMotion)
+{
+  const ArmModel arm = ur5e();
+  const PoseCurve curve = motionThrough(arm, { kUrA, kUrB });
+  const PoseMotion motion = [curve](double t, Side side) { return kinematicsAt(*curve, t, side); };
+  EXPECT_THROW(JointPath(arm, motion, { 0.0 }, kUrA), JointPathError);
+  EXPECT_THROW(JointPath(arm, motion, { 1.0, 0.0 }, kUrA), JointPathError);
+  EXPECT_THROW(JointPath(arm, PoseMotion(), { 0.0, 1.0 }, kUrA), JointPathError);
+  EXPECT_NO_THROW(JointPath(arm, motion, { 0.0, 0.5, 1.0 }, kUrA));
 }
 
 TEST(JointPathRefusals, EvaluationOutsideTheDomain)
