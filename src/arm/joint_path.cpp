@@ -34,6 +34,9 @@ constexpr double kMinStepFraction = 1e-9;
 constexpr double kSeedStepLimit = 0.5;
 constexpr int kSeedIterations = 500;
 constexpr double kMaxDamping = 1e8;
+/// Pose error (m, rad) at which the damped solve hands over to full Newton: well inside Newton's
+/// quadratic convergence for arms of about 1 m (J_r's second derivatives are of order 1).
+constexpr double kSeedHandoff = 1e-6;
 
 /// e(q) of the header: [log(R* Rᵀ)∨; p* − p].
 Vector6d poseError(const Pose<double>& target, const Eigen::Isometry3d& x)
@@ -195,7 +198,7 @@ Eigen::VectorXd JointPath::solveFromSeed(const Eigen::VectorXd& seed, const Pose
   Eigen::VectorXd q = seed;
   double lambda = 1e-3;
   Vector6d e = poseError(target, arm_->base_T_tip(q));
-  for (int it = 0; it < kSeedIterations && e.lpNorm<Eigen::Infinity>() > 1e-6 && lambda < kMaxDamping; ++it)
+  for (int it = 0; it < kSeedIterations && e.lpNorm<Eigen::Infinity>() > kSeedHandoff && lambda < kMaxDamping; ++it)
   {
     const Matrix6d jr = freeColumns(arm_->jacobian(q), free_);
     Vector6d dq = (jr.transpose() * jr + lambda * Matrix6d::Identity()).ldlt().solve(jr.transpose() * e);
@@ -211,10 +214,11 @@ Eigen::VectorXd JointPath::solveFromSeed(const Eigen::VectorXd& seed, const Pose
     else
       lambda *= 10;
   }
-  if (e.lpNorm<Eigen::Infinity>() <= 1e-6 && newton(target, q, kSolveIterations) >= 0)
+  if (e.lpNorm<Eigen::Infinity>() <= kSeedHandoff && newton(target, q, kSolveIterations) >= 0)
     return q;
   const Eigen::JacobiSVD<Matrix6d> svd(freeColumns(arm_->jacobian(q), free_));
-  if (e.lpNorm<Eigen::Infinity>() <= 1e-6 && !(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
+  if (e.lpNorm<Eigen::Infinity>() <= kSeedHandoff &&
+      !(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
     throw JointPathError("the arm passes a singular configuration " + poseWhere(t, target) + " (q = " + vectorText(q) +
                          ")");
   throw JointPathError("the pose " + poseWhere(t, target) + " is out of the arm's reach (pose error " +
