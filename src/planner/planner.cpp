@@ -73,7 +73,11 @@ template <class G>
 TrajectorySample sampleAt(const Curve<G>& curve, double t, const TrajectorySample* previous, Side side = Side::kRight)
 {
   const Kinematics k = kinematicsAt(curve, t, side);
-  TrajectorySample s{ t, k.pose, k.velocity, k.acceleration };
+  TrajectorySample s;
+  s.time = t;
+  s.pose = k.pose;
+  s.velocity = k.velocity;
+  s.acceleration = k.acceleration;
   alignSign(&s, previous);
   return s;
 }
