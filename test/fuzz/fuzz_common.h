@@ -19,11 +19,11 @@
 // start_acceleration, velocities, parameterization, rotation_scale, duration,
 // max_linear_velocity, max_angular_velocity, max_linear_acceleration, max_angular_acceleration,
 // max_linear_jerk, max_angular_jerk, timing (constant_speed too), speed, sample_times, sample_period, sample_count,
-// sample_tolerance, blend_radius, start_state (the service's
+// sample_tolerance, joint_seed, blend_radius, start_state (the service's
 // from_current: on waypoints[0], near it or anywhere, at rest or moving, valid or not), and the
 // response's `outputs` (parsed with names.h's table by runRequestTarget). The service's
 // waypoint_frames, child_frame_id and publish belong to the node, not to the core request. The
-// fields read last (blend_radius, timing, start_state, outputs, the jerk bounds, constant_speed and speed, the fit's, sample_tolerance) were added last, so that the
+// fields read last (blend_radius, timing, start_state, outputs, the jerk bounds, constant_speed and speed, the fit's, sample_tolerance, joint_seed) were added last, so that the
 // earlier fields of the seed corpus keep their bytes.
 #pragma once
 
@@ -370,6 +370,12 @@ inline TrajectoryRequest decode(ByteReader& in, std::vector<std::string>* respon
   // sample_tolerance: after everything else, from its own bytes (optionalNumber: 0 most often,
   // else tiny to huge, negative, NaN or infinite).
   r.sample_tolerance = in.optionalNumber();
+  // joint_seed: after sample_tolerance, from its own bytes; the fuzzed planner has no arm, so a
+  // seed (one request in 16, up to 8 numbers) is refused naming joint_seed.
+  if (in.byte() % 16 == 15)
+    r.joint_seed.assign(static_cast<std::size_t>(in.range(0, 8)), 0.0);
+  for (double& q : r.joint_seed)
+    q = in.number();
   return r;
 }
 
@@ -418,7 +424,7 @@ inline std::string describe(const TrajectoryRequest& r)
        "\nsample_count: " + std::to_string(r.sample_count) + "\nblend_radius: " +
        list(std::vector<double>{ r.blend_radius }) + "\nmax_linear_jerk, max_angular_jerk: " +
        list(std::vector<double>{ r.max_linear_jerk, r.max_angular_jerk }) + "\ntiming: '" + r.timing + "'\nspeed: " + list(std::vector<double>{ r.speed }) + "\ncontrol_period, smoothing, loss_scale: " +
-       list(std::vector<double>{ r.control_period, r.smoothing, r.loss_scale }) + "\nloss: '" + r.loss + "'\nsample_tolerance: " + list(std::vector<double>{ r.sample_tolerance }) + "\n";
+       list(std::vector<double>{ r.control_period, r.smoothing, r.loss_scale }) + "\nloss: '" + r.loss + "'\nsample_tolerance: " + list(std::vector<double>{ r.sample_tolerance }) + "\njoint_seed: " + list(r.joint_seed) + "\n";
   if (r.start_state)
     s += "start_state: {pose: {position: " + list(r.start_state->pose.p) + ", orientation: " +
          list(r.start_state->pose.q.coeffs()) + "}, velocity: " + twist(r.start_state->velocity) +
