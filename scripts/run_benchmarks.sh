@@ -90,6 +90,13 @@ echo "== bench_lin${SE3_BENCH_RUCKIG_DIR:+ (Ruckig $(git -C "$SE3_BENCH_RUCKIG_D
 "$OUT/bench_lin" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
   --benchmark_display_aggregates_only=true
 
+build bench_joint_space "$SE3_ROOT/src/arm/arm_model.cpp" "$SE3_ROOT/src/arm/joint_limits.cpp" -lurdfdom_model \
+  -lyaml-cpp -lorocos-kdl
+echo
+echo "== bench_joint_space"
+"$OUT/bench_joint_space" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+  --benchmark_display_aggregates_only=true
+
 build bench_cli_output -I"$SE3_ROOT/src/cli" "$SE3_ROOT/src/cli/csv_writer.cpp"
 echo
 echo "== bench_cli_output"

@@ -1,5 +1,6 @@
-// The kinematics of arm/arm_model.h: (FK) as a product of the joints' transforms, (J) and (J̇)
-// from the joints' base-frame axes and origins, all on stack buffers of kMaxArmJoints.
+// The kinematics of arm/arm_model.h, the chain's members that need Eigen only (core sources): (FK)
+// as a product of the joints' transforms, (J) and (J̇) from the joints' base-frame axes and
+// origins, all on stack buffers of kMaxArmJoints.
 #include <cmath>
 
 #include "se3_interpolation/arm/arm_model.h"
@@ -8,6 +9,15 @@ namespace se3_interpolation
 {
 namespace arm
 {
+std::vector<std::string> ArmModel::jointNames() const
+{
+  std::vector<std::string> names;
+  names.reserve(joints_.size());
+  for (const ArmJoint& j : joints_)
+    names.push_back(j.name);
+  return names;
+}
+
 void ArmModel::checkJointVector(const JointVectorRef& v, const std::string& field) const
 {
   if (v.size() != dof())

@@ -174,14 +174,5 @@ void ArmModel::applyLimits(const JointLimitsFile& limits)
   }
 }
 
-std::vector<std::string> ArmModel::jointNames() const
-{
-  std::vector<std::string> names;
-  names.reserve(joints_.size());
-  for (const ArmJoint& j : joints_)
-    names.push_back(j.name);
-  return names;
-}
-
 }  // namespace arm
 }  // namespace se3_interpolation

@@ -267,6 +267,8 @@ GenerationStatus& copyFigures(const GenerateTrajectory::Response& res, Generatio
   out.residual_linear = res.residual_linear;
   out.residual_angular = res.residual_angular;
   out.energy = res.energy;
+  out.joint_binding = res.joint_binding;
+  out.joint_binding_ratio = res.joint_binding_ratio;
   return out;
 }
 

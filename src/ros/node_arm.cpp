@@ -71,9 +71,9 @@ std::shared_ptr<const arm::ArmModel> loadArm(const ros::NodeHandle& nh, const ro
   if (!nh.searchParam(p.robot_description, key) || !nh.getParam(key, urdf))
     throw InvalidInputError("~robot_description: no parameter " + quotedText(p.robot_description) +
                             " holds the arm's URDF (load it as robot_state_publisher reads it)");
-  auto model = std::make_shared<arm::ArmModel>(urdf, p.base_link, p.tip_link, "parameter " + quotedText(key));
+  auto model = std::make_shared<arm::ArmModel>(urdf, p.base_link, p.tip_link, key);
   XmlRpc::XmlRpcValue limits;
-  if (private_nh.getParam("joint_limits", limits))
+  if (private_nh.getParam(kJointLimitsParameter, limits))
   {
     std::ostringstream text;
     text << "{\"joint_limits\": ";

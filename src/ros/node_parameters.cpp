@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "se3_interpolation/exceptions.h"
+#include "se3_interpolation/ros/node_arm.h"
 #include "se3_interpolation/planner/validation.h"
 #include "se3_interpolation/ros/frame_memory.h"
 
@@ -271,8 +272,9 @@ std::vector<std::string> unknownParameterWarnings(const std::vector<std::string>
       continue;
     // A nested name (~a/b) is the parameter a.
     const std::string name = full.substr(prefix.size(), full.find('/', prefix.size()) - prefix.size());
-    // ~executed_frame is the node's own record for a respawn (ros/frame_memory.h), not a setting.
-    if (name.empty() || findNodeParameter(name) || name == kFrameMemoryParameter ||
+    // ~executed_frame is the node's own record for a respawn (ros/frame_memory.h), not a setting;
+    // ~joint_limits the arm's limits (ros/node_arm.h), a dictionary beside the table.
+    if (name.empty() || findNodeParameter(name) || name == kFrameMemoryParameter || name == kJointLimitsParameter ||
         std::find(warned_names.begin(), warned_names.end(), name) != warned_names.end())
       continue;
     warned_names.push_back(name);

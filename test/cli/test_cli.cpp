@@ -643,7 +643,7 @@ TEST(Cli, ServiceSpellingRefusals)
       "waypoint_frames: the command-line tool has no TF" },
     // The service's outputs, checked as the service checks them.
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: [path, markers]\n",
-      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory, joint_trajectory)" },
     { "waypoints: {poses: [{position: {}}, {position: {x: 1}}]}\noutputs: path\n",
       "outputs: expected a list of names" },
   };

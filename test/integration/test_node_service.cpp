@@ -310,7 +310,7 @@ TEST(NodeService, BadRequestsFailCleanlyAndTheNodeKeepsServing)
       "waypoints: 250 waypoints make a bezier of degree 249" },
     // outputs: only the names of the response's sample arrays, each once.
     { "unknown output", [](auto& s) { s.request.outputs = { "trajectory", "markers" }; },
-      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+      "outputs[1]: unknown value 'markers' (expected one of: path, trajectory, joint_trajectory)" },
     { "repeated output", [](auto& s) { s.request.outputs = { "path", "path" }; }, "outputs[1]: 'path' is named twice" },
     { "empty output name", [](auto& s) { s.request.outputs = { "" }; }, "outputs[0]: empty name" },
   };

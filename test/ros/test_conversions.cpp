@@ -93,7 +93,8 @@ std::vector<TestPose> testPoses()
     poses.push_back(angleAxisPose("1e-12 rad #" + i, 1e-12, axis, p));
   }
   for (double t : { 1e6, -3.5e9, 1e12 })
-    poses.push_back(angleAxisPose("translation " + std::to_string(t), 1.0, unitVector(rng), Eigen::Vector3d(t, -t, 0.5 * t)));
+    poses.push_back(
+        angleAxisPose("translation " + std::to_string(t), 1.0, unitVector(rng), Eigen::Vector3d(t, -t, 0.5 * t)));
   for (int k = 0; k < 500; ++k)
   {
     const std::string i = std::to_string(k);
@@ -182,13 +183,12 @@ TrajectoryResult syntheticResult(std::size_t n)
 TrajectoryResult plannedResult(const std::string& curve, std::vector<Pose<double>>* waypoints)
 {
   TrajectoryRequest r;
-  r.waypoints = { Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(0, 0, 0)),
-                  Pose<double>(Quaternion<double>(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())),
-                               Eigen::Vector3d(1, 0, 0)),
-                  Pose<double>(Quaternion<double>(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitX())),
-                               Eigen::Vector3d(1, 1, 0.5)),
-                  Pose<double>(Quaternion<double>(Eigen::AngleAxisd(-0.7, Eigen::Vector3d::UnitY())),
-                               Eigen::Vector3d(2, 1, 1)) };
+  r.waypoints = {
+    Pose<double>(Quaternion<double>::Identity(), Eigen::Vector3d(0, 0, 0)),
+    Pose<double>(Quaternion<double>(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ())), Eigen::Vector3d(1, 0, 0)),
+    Pose<double>(Quaternion<double>(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitX())), Eigen::Vector3d(1, 1, 0.5)),
+    Pose<double>(Quaternion<double>(Eigen::AngleAxisd(-0.7, Eigen::Vector3d::UnitY())), Eigen::Vector3d(2, 1, 1))
+  };
   r.curve = curve;
   if (curve == "piecewise_geodesic")
     r.blend_radius = 0.2;
@@ -341,8 +341,7 @@ TEST(Conversions, TwistRoundTrips)
 {
   std::mt19937 rng(3);
   std::normal_distribution<double> n(0.0, 10.0);
-  std::vector<Twist> twists = { Twist(), twistOf(1e300, -1e-300, 0.0, -0.0, 7e15, -3.25),
-                                twistOf(1, 2, 3, 4, 5, 6) };
+  std::vector<Twist> twists = { Twist(), twistOf(1e300, -1e-300, 0.0, -0.0, 7e15, -3.25), twistOf(1, 2, 3, 4, 5, 6) };
   for (int k = 0; k < 1000; ++k)
     twists.push_back(twistOf(n(rng), n(rng), n(rng), n(rng), n(rng), n(rng)));
   for (std::size_t k = 0; k < twists.size(); ++k)
@@ -424,17 +423,27 @@ std::vector<CopiedField> copiedFields()
                   }
                   return true;
                 } });
-  f.push_back({ "times", [](R& m) { m.times = { 0.0, 1.25, 3.5 }; },
-                [](const T& r) { return r.times == std::vector<double>{ 0.0, 1.25, 3.5 }; } });
+  f.push_back({ "times",
+                [](R& m) {
+                  m.times = { 0.0, 1.25, 3.5 };
+                },
+                [](const T& r) {
+                  return r.times == std::vector<double>{ 0.0, 1.25, 3.5 };
+                } });
   f.push_back({ "curve", [](R& m) { m.curve = "curve-name"; }, [](const T& r) { return r.curve == "curve-name"; } });
   f.push_back({ "geometry", [](R& m) { m.geometry = "geometry-name"; },
                 [](const T& r) { return r.geometry == "geometry-name"; } });
   f.push_back({ "degree", [](R& m) { m.degree = 201; }, [](const T& r) { return r.degree == 201; } });
-  f.push_back({ "knots", [](R& m) { m.knots = { 0.0, 0.0, 0.5, 7.0 }; },
-                [](const T& r) { return r.knots == std::vector<double>{ 0.0, 0.0, 0.5, 7.0 }; } });
+  f.push_back({ "knots",
+                [](R& m) {
+                  m.knots = { 0.0, 0.0, 0.5, 7.0 };
+                },
+                [](const T& r) {
+                  return r.knots == std::vector<double>{ 0.0, 0.0, 0.5, 7.0 };
+                } });
   f.push_back({ "continuity", [](R& m) { m.continuity = 7; }, [](const T& r) { return r.continuity == 7; } });
-  f.push_back({ "blend_radius", [](R& m) { m.blend_radius = 0.0625; },
-                [](const T& r) { return r.blend_radius == 0.0625; } });
+  f.push_back(
+      { "blend_radius", [](R& m) { m.blend_radius = 0.0625; }, [](const T& r) { return r.blend_radius == 0.0625; } });
   f.push_back({ "end_condition", [](R& m) { m.end_condition = "end-name"; },
                 [](const T& r) { return r.end_condition == "end-name"; } });
   f.push_back({ "start_velocity", [](R& m) { m.start_velocity = distinctTwistMsg(10.0); },
@@ -444,15 +453,18 @@ std::vector<CopiedField> copiedFields()
   f.push_back({ "start_acceleration", [](R& m) { m.start_acceleration = distinctTwistMsg(30.0); },
                 [](const T& r) { return sameTwist(r.start_acceleration, distinctTwist(30.0)); } });
   f.push_back({ "velocities",
-                [](R& m) { m.velocities = { distinctTwistMsg(40.0), distinctTwistMsg(50.0), distinctTwistMsg(60.0) }; },
+                [](R& m) {
+                  m.velocities = { distinctTwistMsg(40.0), distinctTwistMsg(50.0), distinctTwistMsg(60.0) };
+                },
                 [](const T& r) {
                   return r.velocities.size() == 3 && sameTwist(r.velocities[0], distinctTwist(40.0)) &&
-                         sameTwist(r.velocities[1], distinctTwist(50.0)) && sameTwist(r.velocities[2], distinctTwist(60.0));
+                         sameTwist(r.velocities[1], distinctTwist(50.0)) &&
+                         sameTwist(r.velocities[2], distinctTwist(60.0));
                 } });
   f.push_back({ "parameterization", [](R& m) { m.parameterization = "param-name"; },
                 [](const T& r) { return r.parameterization == "param-name"; } });
-  f.push_back({ "rotation_scale", [](R& m) { m.rotation_scale = 2.75; },
-                [](const T& r) { return r.rotation_scale == 2.75; } });
+  f.push_back(
+      { "rotation_scale", [](R& m) { m.rotation_scale = 2.75; }, [](const T& r) { return r.rotation_scale == 2.75; } });
   f.push_back({ "duration", [](R& m) { m.duration = 12.5; }, [](const T& r) { return r.duration == 12.5; } });
   f.push_back({ "max_linear_velocity", [](R& m) { m.max_linear_velocity = 1.5; },
                 [](const T& r) { return r.max_linear_velocity == 1.5; } });
@@ -466,23 +478,34 @@ std::vector<CopiedField> copiedFields()
                 [](const T& r) { return r.max_linear_jerk == 5.5; } });
   f.push_back({ "max_angular_jerk", [](R& m) { m.max_angular_jerk = 6.5; },
                 [](const T& r) { return r.max_angular_jerk == 6.5; } });
-  f.push_back({ "timing", [](R& m) { m.timing = "timing-name"; }, [](const T& r) { return r.timing == "timing-name"; } });
+  f.push_back(
+      { "timing", [](R& m) { m.timing = "timing-name"; }, [](const T& r) { return r.timing == "timing-name"; } });
   f.push_back({ "speed", [](R& m) { m.speed = 7.5; }, [](const T& r) { return r.speed == 7.5; } });
   f.push_back({ "control_period", [](R& m) { m.control_period = 0.375; },
                 [](const T& r) { return r.control_period == 0.375; } });
   f.push_back({ "smoothing", [](R& m) { m.smoothing = 8.5; }, [](const T& r) { return r.smoothing == 8.5; } });
   f.push_back({ "loss", [](R& m) { m.loss = "loss-name"; }, [](const T& r) { return r.loss == "loss-name"; } });
   f.push_back({ "loss_scale", [](R& m) { m.loss_scale = 9.5; }, [](const T& r) { return r.loss_scale == 9.5; } });
-  f.push_back({ "sample_times", [](R& m) { m.sample_times = { 0.125, 0.375 }; },
-                [](const T& r) { return r.sample_times == std::vector<double>{ 0.125, 0.375 }; } });
+  f.push_back({ "sample_times",
+                [](R& m) {
+                  m.sample_times = { 0.125, 0.375 };
+                },
+                [](const T& r) {
+                  return r.sample_times == std::vector<double>{ 0.125, 0.375 };
+                } });
   f.push_back({ "sample_period", [](R& m) { m.sample_period = 0.03125; },
                 [](const T& r) { return r.sample_period == 0.03125; } });
   f.push_back({ "sample_count", [](R& m) { m.sample_count = 4000000007u; },
                 [](const T& r) { return r.sample_count == 4000000007u; } });
   f.push_back({ "sample_tolerance", [](R& m) { m.sample_tolerance = 2.5e-4; },
                 [](const T& r) { return r.sample_tolerance == 2.5e-4; } });
-  f.push_back({ "joint_seed", [](R& m) { m.joint_seed = { 0.25, -1.5, 2.75 }; },
-                [](const T& r) { return r.joint_seed == std::vector<double>{ 0.25, -1.5, 2.75 }; } });
+  f.push_back({ "joint_seed",
+                [](R& m) {
+                  m.joint_seed = { 0.25, -1.5, 2.75 };
+                },
+                [](const T& r) {
+                  return r.joint_seed == std::vector<double>{ 0.25, -1.5, 2.75 };
+                } });
   return f;
 }
 
@@ -811,12 +834,18 @@ std::vector<Figure> figures()
       [](const Res& m) { return m.constant_speed_start; }, [](const S& s) { return s.constant_speed_start; } },
     { "constant_speed_end", [](T& r, double v) { r.constant_speed_end = v; },
       [](const Res& m) { return m.constant_speed_end; }, [](const S& s) { return s.constant_speed_end; } },
-    { "residual_linear", [](T& r, double v) { r.residual_linear = v; },
-      [](const Res& m) { return m.residual_linear; }, [](const S& s) { return s.residual_linear; } },
+    { "residual_linear", [](T& r, double v) { r.residual_linear = v; }, [](const Res& m) { return m.residual_linear; },
+      [](const S& s) { return s.residual_linear; } },
     { "residual_angular", [](T& r, double v) { r.residual_angular = v; },
       [](const Res& m) { return m.residual_angular; }, [](const S& s) { return s.residual_angular; } },
     { "energy", [](T& r, double v) { r.figures.energy = v; }, [](const Res& m) { return m.energy; },
       [](const S& s) { return s.energy; } },
+    { "joint_binding_ratio",
+      [](T& r, double v) {
+        r.joint_figures.binding_joint = 0;
+        r.joint_figures.binding_ratio = v;
+      },
+      [](const Res& m) { return m.joint_binding_ratio; }, [](const S& s) { return s.joint_binding_ratio; } },
   };
 }
 }  // namespace

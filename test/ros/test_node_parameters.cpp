@@ -57,7 +57,9 @@ TEST(NodeParameters, EveryRowAcceptsItsDefaultAndNamesItself)
       if (std::isfinite(spec.max))
       {
         EXPECT_EQ(parameterError(spec, spec.max), "") << spec.name;
-        EXPECT_EQ(parameterError(spec, std::nextafter(spec.max, INFINITY)).rfind(std::string("~") + spec.name + ": refused", 0), 0u)
+        EXPECT_EQ(parameterError(spec, std::nextafter(spec.max, INFINITY))
+                      .rfind(std::string("~") + spec.name + ": refused", 0),
+                  0u)
             << spec.name;
       }
     }
@@ -143,9 +145,12 @@ TEST(NodeParameters, IntParametersGivenAsDoublesAreNamedAsGiven)
 
 TEST(NodeParameters, UnknownPrivateParametersAreNamedWithTheClosestKnownOne)
 {
-  const std::vector<std::string> server = { "/arm/node/max_velocity", "/arm/node/tf_rate", "/arm/node/curv",
-                                            "/arm/node/curv/nested", "/arm/other/x",   "/arm/node_b/y",
-                                            "/arm/node/blend_radius" };
+  const std::vector<std::string> server = {
+    "/arm/node/max_velocity", "/arm/node/tf_rate",
+    "/arm/node/curv",         "/arm/node/curv/nested",
+    "/arm/other/x",           "/arm/node_b/y",
+    "/arm/node/blend_radius", "/arm/node/joint_limits/elbow_joint/max_velocity"
+  };
   const std::vector<std::string> warnings = unknownParameterWarnings(server, "/arm/node");
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_EQ(warnings[0], "~max_velocity: unknown parameter, ignored (did you mean ~max_linear_velocity?)");
@@ -303,7 +308,8 @@ TEST(NodeParameters, DynamicReconfigureIsTheTablesRunTimeRows)
     if (spec.reconfigure[0] == '\0')
       continue;
     run_time.insert(spec.name);
-    const auto it = std::find_if(descriptions.begin(), descriptions.end(), [&](const auto& p) { return p->name == spec.name; });
+    const auto it =
+        std::find_if(descriptions.begin(), descriptions.end(), [&](const auto& p) { return p->name == spec.name; });
     ASSERT_NE(it, descriptions.end()) << spec.name;
     const std::string type = (*it)->type;
     switch (spec.type)

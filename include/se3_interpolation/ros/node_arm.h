@@ -16,6 +16,10 @@
 
 namespace se3_interpolation
 {
+/// The arm's joint limits below the node's private namespace (~joint_limits/<joint>/max_velocity, ...):
+/// a dictionary, not a row of the parameter table.
+constexpr const char* kJointLimitsParameter = "joint_limits";
+
 /// The arm the node's requests are followed by, or why it could not be loaded.
 class NodeArm
 {

@@ -121,8 +121,6 @@ TEST(JointSpaceSweep, EveryServedMotionHoldsTheInvariantsAndEveryRefusalNamesWhe
     r.timing = timings[(i / 12) % 2];
     if (r.curve == "piecewise_geodesic")
       r.blend_radius = 0.02;
-    if (r.curve == "bspline" || r.curve == "bezier")
-      r.waypoints.push_back(r.waypoints.back());
     r.max_linear_velocity = 0.5;
     r.max_angular_velocity = 1.0;
     r.max_linear_acceleration = 2.0;

@@ -271,10 +271,10 @@ TEST(Validation, ResponseOutputsAreNamedOnceEachFromTheirTable)
   EXPECT_TRUE(both.trajectory);
 
   const std::pair<std::vector<std::string>, std::string> bad[] = {
-    { { "path", "markers" }, "outputs[1]: unknown value 'markers' (expected one of: path, trajectory)" },
+    { { "path", "markers" }, "outputs[1]: unknown value 'markers' (expected one of: path, trajectory, joint_trajectory)" },
     { { "Path" }, "outputs[0]: unknown value 'Path'" },
     { { "trajectory", "trajectory" }, "outputs[1]: 'trajectory' is named twice" },
-    { { "path", "" }, "outputs[1]: empty name (expected one of: path, trajectory)" },
+    { { "path", "" }, "outputs[1]: empty name (expected one of: path, trajectory, joint_trajectory)" },
   };
   for (const auto& b : bad)
   {

@@ -1,0 +1,165 @@
+// Google Benchmark of joint space (docs/joint_space.md) on the UR5e of config/robots/:
+//  - inverse kinematics along a motion, per sample: arm::JointPath's at() (each sample from the
+//    tracked neighbours, Newton to 1e-12) against KDL's ChainIkSolverPos_LMA seeded by the previous
+//    sample's solution (its default accuracy 1e-5), on the same 1000 poses of an interpolating
+//    spline; and the tracking that JointPath's construction does once per motion, per sample;
+//  - the time-optimal timing with the joint limits against the Cartesian bounds alone, through
+//    generate() (interpolating spline, 100 samples), N = 100 and 1000 waypoints.
+// Waypoints: the UR5e's forward kinematics of a random walk in joint space from a working
+// configuration (steps of ±0.05 rad per joint, a fixed seed), so that every pose is reachable on
+// one branch. Bounds: 0.5 m/s, 1 rad/s, 2 m/s², 4 rad/s²; the limits file's joint limits.
+#include <benchmark/benchmark.h>
+
+#include <kdl/chain.hpp>
+#include <kdl/chainiksolverpos_lma.hpp>
+#include <kdl/frames.hpp>
+#include <kdl/jntarray.hpp>
+
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "../test/unit/arm/arm_test_utils.h"
+#include "se3_interpolation/arm/joint_limits.h"
+#include "se3_interpolation/arm/joint_path.h"
+#include "se3_interpolation/planner/planner.h"
+
+namespace
+{
+using namespace se3_interpolation;
+
+std::shared_ptr<const arm::ArmModel> ur5e()
+{
+  auto model = std::make_shared<arm::ArmModel>(
+      arm::ArmModel::fromUrdfFile(test::robotFile("ur5e.urdf"), "base_link", "tool0"));
+  model->applyLimits(arm::readJointLimitsFile(test::robotFile("ur5e_joint_limits.yaml")));
+  return model;
+}
+
+const std::vector<double> kHome = { 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 };
+
+TrajectoryRequest walk(const arm::ArmModel& model, std::size_t n)
+{
+  std::mt19937 rng(54);
+  std::uniform_real_distribution<double> step(-0.05, 0.05);
+  Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(kHome.data(), 6);
+  TrajectoryRequest r;
+  r.joint_seed = kHome;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    r.waypoints.push_back(model.basePoseOfTip(q));
+    for (Eigen::Index k = 0; k < 6; ++k)
+      q[k] += step(rng);
+  }
+  r.curve = "interpolating";
+  r.timing = "time_optimal";
+  r.max_linear_velocity = 0.5;
+  r.max_angular_velocity = 1.0;
+  r.max_linear_acceleration = 2.0;
+  r.max_angular_acceleration = 4.0;
+  return r;
+}
+
+/// The motion of a 50-waypoint walk sampled 1000 times, as poses and as the samples' times.
+struct Samples
+{
+  std::shared_ptr<const arm::ArmModel> model = ur5e();
+  TrajectoryResult motion;
+  Samples()
+  {
+    TrajectoryRequest r = walk(*model, 50);
+    r.sample_count = 1000;
+    motion = generate(r, PlannerLimits(), model);
+  }
+};
+
+const Samples& samples()
+{
+  static const Samples s;
+  return s;
+}
+
+void jointPathPerSample(benchmark::State& state)
+{
+  const Samples& s = samples();
+  const std::function<Kinematics(double, Side)> motion = [&s](double t, Side) {
+    const TrajectorySample q = s.motion.state_at(t);
+    return Kinematics{ q.pose, q.velocity, q.acceleration };
+  };
+  const arm::JointPath path(*s.model, motion, { s.motion.start_time, s.motion.start_time + s.motion.duration },
+                            Eigen::Map<const Eigen::VectorXd>(kHome.data(), 6));
+  for (auto _ : state)
+    for (const TrajectorySample& sample : s.motion.samples)
+      benchmark::DoNotOptimize(path.at(sample.time).position);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.motion.samples.size()));
+}
+
+void jointPathTrackingPerSample(benchmark::State& state)
+{
+  const Samples& s = samples();
+  const std::function<Kinematics(double, Side)> motion = [&s](double t, Side) {
+    const TrajectorySample q = s.motion.state_at(t);
+    return Kinematics{ q.pose, q.velocity, q.acceleration };
+  };
+  for (auto _ : state)
+  {
+    const arm::JointPath path(*s.model, motion, { s.motion.start_time, s.motion.start_time + s.motion.duration },
+                              Eigen::Map<const Eigen::VectorXd>(kHome.data(), 6));
+    benchmark::DoNotOptimize(path.end());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.motion.samples.size()));
+}
+
+void kdlLmaPerSample(benchmark::State& state)
+{
+  const Samples& s = samples();
+  const KDL::Chain chain = test::kdlChain(test::readText(test::robotFile("ur5e.urdf")), "base_link", "tool0");
+  KDL::ChainIkSolverPos_LMA solver(chain);
+  KDL::JntArray seed(6), out(6);
+  for (auto _ : state)
+  {
+    for (unsigned k = 0; k < 6; ++k)
+      seed(k) = kHome[k];
+    for (const TrajectorySample& sample : s.motion.samples)
+    {
+      const Eigen::Quaterniond& q = sample.pose.q;
+      const KDL::Frame target(KDL::Rotation::Quaternion(q.x(), q.y(), q.z(), q.w()),
+                              KDL::Vector(sample.pose.p.x(), sample.pose.p.y(), sample.pose.p.z()));
+      solver.CartToJnt(seed, target, out);
+      seed = out;
+    }
+    benchmark::DoNotOptimize(out.data);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.motion.samples.size()));
+}
+
+void timeOptimal(benchmark::State& state, bool with_arm)
+{
+  const auto model = ur5e();
+  const TrajectoryRequest with = walk(*model, static_cast<std::size_t>(state.range(0)));
+  TrajectoryRequest without = with;
+  without.joint_seed.clear();
+  double duration = 0.0;
+  for (auto _ : state)
+    duration = (with_arm ? generate(with, PlannerLimits(), model) : generate(without, PlannerLimits())).duration;
+  state.counters["duration_s"] = duration;
+}
+
+void jointLimitedTimeOptimal(benchmark::State& state)
+{
+  timeOptimal(state, true);
+}
+
+void cartesianTimeOptimal(benchmark::State& state)
+{
+  timeOptimal(state, false);
+}
+}  // namespace
+
+BENCHMARK(jointPathPerSample)->Unit(benchmark::kMicrosecond);
+BENCHMARK(jointPathTrackingPerSample)->Unit(benchmark::kMicrosecond);
+BENCHMARK(kdlLmaPerSample)->Unit(benchmark::kMicrosecond);
+BENCHMARK(cartesianTimeOptimal)->Arg(100)->Arg(1000)->Unit(benchmark::kMillisecond);
+BENCHMARK(jointLimitedTimeOptimal)->Arg(100)->Arg(1000)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
