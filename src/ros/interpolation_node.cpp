@@ -201,7 +201,8 @@ void InterpolationNode::generateInto(const GenerateTrajectory::Request& req, Gen
       toMsg(result, header, res.path);
     if (outputs.trajectory)
       toMsg(result, header, child, res.trajectory);
-    if (outputs.joint_trajectory)
+    // (Without an arm the joint trajectory stays empty, its header unset, as an omitted output.)
+    if (outputs.joint_trajectory && !result.joint_names.empty())
       toMsg(result, header, res.joint_trajectory);
     // The service's latency apart from transport (docs/performance.md "Service latency"):
     // rosconsole logger ros.se3_interpolation.timing at debug level.
