@@ -91,6 +91,24 @@ void stretchMotion(double k, PlannedMotion<Space, G>* m)
   for (double& t : m->out.waypoint_times)
     t = t0 + (t - t0) * k;
 }
+
+/// The arm following m's timed motion, tracked between the waypoints' times: a timing's own
+/// breakpoints (a time-optimal motion's thousands of grid times, where only s̈ jumps) would cost a
+/// tracked point each, and the tracking's adaptive steps follow the motion between them anyway.
+template <class Space, class G>
+std::shared_ptr<arm::JointPath> followTimedMotion(const arm::ArmModel& model, const PlannedMotion<Space, G>& m,
+                                                  const Eigen::VectorXd& seed)
+{
+  const std::shared_ptr<const Curve<G>> curve = m.curve;
+  const double t0 = curve->startTime(), t1 = curve->endTime();
+  std::vector<double> b{ t0 };
+  for (double t : m.out.waypoint_times)
+    if (t > b.back() && t < t1)
+      b.push_back(t);
+  b.push_back(t1);
+  arm::PoseMotion motion = [curve](double t, Side side) { return kinematicsAt(*curve, t, side); };
+  return std::make_shared<arm::JointPath>(model, std::move(motion), std::move(b), seed);
+}
 }  // namespace
 
 template <class Space, class G>
@@ -103,7 +121,7 @@ std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<
     if (!r.joint_space)
       return nullptr;
     const arm::ArmModel& model = *r.joint_space->arm;
-    auto joints = std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, m->curve, r.joint_space->seed));
+    auto joints = followTimedMotion(model, *m, r.joint_space->seed);
     arm::JointRatesCheck check = arm::checkJointRates(*joints, m->curve->breakpoints());
     if (check.stretch > 1.0)
     {
@@ -118,7 +136,7 @@ std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<
       else
       {
         stretchMotion(check.stretch, m);
-        joints = std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, m->curve, r.joint_space->seed));
+        joints = followTimedMotion(model, *m, r.joint_space->seed);
         check = arm::checkJointRates(*joints, m->curve->breakpoints());
       }
     }
