@@ -183,10 +183,12 @@ int JointPath::newton(const Pose<double>& target, Eigen::VectorXd& q, int max_it
     if (it == max_iterations || !std::isfinite(err))
       return -1;
     previous = err;
-    const Eigen::JacobiSVD<Matrix6d> svd(freeColumns(j, free_), Eigen::ComputeFullU | Eigen::ComputeFullV);
-    if (!(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
+    // LU with its reciprocal condition estimate (L1 norm, within a factor 6 of σ_min/σ_max for a
+    // 6 × 6 matrix): a fifth of an SVD's work per step; the tracked points' own check is the SVD's.
+    const Eigen::PartialPivLU<Matrix6d> lu(freeColumns(j, free_));
+    if (!(lu.rcond() > kSingularRatio))
       return -1;
-    const Vector6d dq = svd.solve(e);
+    const Vector6d dq = lu.solve(e);
     for (int c = 0; c < 6; ++c)
       q[free_[static_cast<std::size_t>(c)]] += dq[c];
   }
