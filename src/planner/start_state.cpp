@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "joint_space.h"
 #include "planned_motion.h"
 #include "start_brakes.h"
 #include "se3_interpolation/analysis/figures.h"
@@ -178,6 +179,7 @@ std::shared_ptr<const timing::TimeOptimalCurve<G>> timeOptimalFromStart(const Va
   timing::TimeOptimalOptions options;
   options.start_speed = 1.0;
   options.hold_start = true;
+  options.boxes = jointBoxesOf(r, path);
   auto timed = timing::makeTimeOptimalCurve<G>(path, rateBounds(r), options);
   const double excess = timed->profile().recovery_excess;
   if (excess > 1.0 + kBoundTolerance)

@@ -170,3 +170,26 @@ TEST(JointSpacePlanner, RefusalsNameTheField)
   constant.speed = 0.3;
   refused(constant, slow, "joint '");
 }
+
+TEST(JointSpacePlanner, AMovingStartIsTimedWithinTheJointLimits)
+{
+  // Replanning from a moving arm: the start state at the first pose, moving at 0.05 m/s; the
+  // time-optimal timing holds the joint limits from there (without them in its passes, the
+  // elbow would reach 13 rad/s² against its 5).
+  const auto arm = ur5e();
+  TrajectoryRequest r = request(*arm, "time_optimal");
+  r.max_linear_velocity = 1.0;
+  r.max_angular_velocity = 2.0;
+  r.max_linear_acceleration = 4.0;
+  r.max_angular_acceleration = 8.0;
+  StartState start;
+  start.pose = r.waypoints.front();
+  start.velocity.linear = Eigen::Vector3d(0.05, 0.0, 0.0);
+  r.start_state = start;
+  const TrajectoryResult out = generate(r, PlannerLimits(), arm);
+  EXPECT_LE(checkSamples(out, *arm), 1.0 + 1e-6);
+  // The first sample is the start state: its joint velocity is J⁻¹ of the start's twist.
+  const TrajectorySample& first = out.samples.front();
+  EXPECT_LT((first.velocity.linear - start.velocity.linear).norm(), 1e-9);
+  EXPECT_GT(first.joint_velocity.norm(), 0.0);
+}
