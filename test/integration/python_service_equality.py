@@ -68,8 +68,11 @@ class PythonServiceEquality(unittest.TestCase):
         rospy.wait_for_service(SERVICE, timeout=60)
         generate = rospy.ServiceProxy(SERVICE, GenerateTrajectory)
         for path in sorted(glob.glob(os.path.join(EXAMPLES, "*.yaml"))):
+            request = example(path)
+            # An arm's example (joint_seed) needs a node with that arm (test/integration/node_arm.test).
+            if "joint_seed" in request:
+                continue
             with self.subTest(example=os.path.basename(path)):
-                request = example(path)
                 mine = s.generate(request)
                 answer = generate(service_request(request))
                 self.assertTrue(answer.success, answer.message)
