@@ -83,56 +83,70 @@ ArmJacobian ArmModel::jacobianDerivative(const JointVectorRef& q, const JointVec
 void ArmModel::kinematics(const JointVectorRef& q, const JointVectorRef& qd, Eigen::Isometry3d* base_T_tip,
                           ArmJacobian* jacobian, ArmJacobian* jacobian_derivative) const
 {
-  checkJointVector(q, "q");
+  ArmFrames f;
+  frames(q, &f);
   if (jacobian_derivative)
     checkJointVector(qd, "qd");
-  Eigen::Vector3d z[kMaxArmJoints];
-  Eigen::Vector3d o[kMaxArmJoints];
-  Eigen::Isometry3d t;
-  forward(q, &t, z, o);
   if (base_T_tip)
-    *base_T_tip = t;
+    *base_T_tip = f.base_T_tip;
   if (!jacobian && !jacobian_derivative)
     return;
+  const ArmJacobian j = this->jacobian(f);
+  if (jacobian)
+    *jacobian = j;
+  if (jacobian_derivative)
+    *jacobian_derivative = this->jacobianDerivative(f, j, qd);
+}
+
+void ArmModel::frames(const JointVectorRef& q, ArmFrames* f) const
+{
+  checkJointVector(q, "q");
+  forward(q, &f->base_T_tip, f->z.data(), f->o.data());
+}
+
+ArmJacobian ArmModel::jacobian(const ArmFrames& f) const
+{
   const int n = dof();
-  const Eigen::Vector3d p = t.translation();
-  // (J), and ṗ = J_v q̇ for (J̇).
-  Eigen::Vector3d p_dot = Eigen::Vector3d::Zero();
-  ArmJacobian local;
-  ArmJacobian& jac = jacobian ? *jacobian : local;
-  jac.resize(6, n);
+  const Eigen::Vector3d p = f.base_T_tip.translation();
+  ArmJacobian jac(6, n);
   for (int i = 0; i < n; ++i)
   {
+    const Eigen::Vector3d& z = f.z[static_cast<std::size_t>(i)];
     if (joints_[static_cast<std::size_t>(i)].isPrismatic())
-      jac.col(i) << Eigen::Vector3d::Zero(), z[i];
+      jac.col(i) << Eigen::Vector3d::Zero(), z;
     else
-      jac.col(i) << z[i], z[i].cross(p - o[i]);
-    if (jacobian_derivative)
-      p_dot += jac.block<3, 1>(3, i) * qd[i];
+      jac.col(i) << z, z.cross(p - f.o[static_cast<std::size_t>(i)]);
   }
-  if (!jacobian_derivative)
-    return;
-  // (J̇): ω, the angular velocity of joint i's parent link, and v_o, the velocity of o_i.
-  ArmJacobian& jd = *jacobian_derivative;
-  jd.resize(6, n);
+  return jac;
+}
+
+ArmJacobian ArmModel::jacobianDerivative(const ArmFrames& f, const ArmJacobian& jac, const JointVectorRef& qd) const
+{
+  // ṗ = J_v q̇; ω, the angular velocity of joint i's parent link, and v_o, the velocity of o_i.
+  const int n = dof();
+  const Eigen::Vector3d p = f.base_T_tip.translation();
+  const Eigen::Vector3d p_dot = jac.bottomRows<3>() * qd;
+  ArmJacobian jd(6, n);
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_o = Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i)
   {
-    const bool prismatic = joints_[static_cast<std::size_t>(i)].isPrismatic();
-    const Eigen::Vector3d z_dot = omega.cross(z[i]);
+    const std::size_t k = static_cast<std::size_t>(i);
+    const bool prismatic = joints_[k].isPrismatic();
+    const Eigen::Vector3d z_dot = omega.cross(f.z[k]);
     if (prismatic)
       jd.col(i) << Eigen::Vector3d::Zero(), z_dot;
     else
-      jd.col(i) << z_dot, z_dot.cross(p - o[i]) + z[i].cross(p_dot - v_o);
+      jd.col(i) << z_dot, z_dot.cross(p - f.o[k]) + f.z[k].cross(p_dot - v_o);
     // The child link of joint i: its angular velocity, then the velocity of o_{i+1}, fixed on it.
     if (prismatic)
-      v_o += z[i] * qd[i];
+      v_o += f.z[k] * qd[i];
     else
-      omega += z[i] * qd[i];
+      omega += f.z[k] * qd[i];
     if (i + 1 < n)
-      v_o += omega.cross(o[i + 1] - o[i]);
+      v_o += omega.cross(f.o[k + 1] - f.o[k]);
   }
+  return jd;
 }
 
 }  // namespace arm

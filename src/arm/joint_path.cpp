@@ -118,8 +118,11 @@ JointPath::JointPath(const ArmModel& arm, PoseMotion motion, std::vector<double>
 
   const Kinematics k0 = motion_(start(), Side::kRight);
   const Eigen::VectorXd q0 = solveFromSeed(seed, k0.pose, start());
-  TrackedPoint point = trackedPoint(start(), q0, k0);
-  checkPoint(point);
+  ArmFrames f;
+  arm_->frames(q0, &f);
+  FreeJacobian free_jacobian;
+  TrackedPoint point = trackedPoint(start(), q0, f, k0, &free_jacobian);
+  checkPoint(point, free_jacobian);
   pieces_.resize(breakpoints_.size() - 1);
   for (std::size_t k = 0; k + 1 < breakpoints_.size(); ++k)
     trackPiece(k, point);
@@ -168,15 +171,15 @@ void JointPath::chooseHeldJoints(const Eigen::VectorXd& seed, const JointPathOpt
       free_.push_back(i);
 }
 
-int JointPath::newton(const Pose<double>& target, Eigen::VectorXd& q, int max_iterations) const
+int JointPath::newton(const Pose<double>& target, Eigen::VectorXd& q, int max_iterations, ArmFrames* frames) const
 {
+  ArmFrames local;
+  ArmFrames& f = frames ? *frames : local;
   double previous = std::numeric_limits<double>::infinity();
   for (int it = 0; it <= max_iterations; ++it)
   {
-    Eigen::Isometry3d x;
-    ArmJacobian j;
-    arm_->kinematics(q, q, &x, &j, nullptr);  // (q̇ unread without J̇)
-    const Vector6d e = poseError(target, x);
+    arm_->frames(q, &f);
+    const Vector6d e = poseError(target, f.base_T_tip);
     const double err = e.lpNorm<Eigen::Infinity>();
     if (err <= kPoseTolerance || (err <= kPoseFloor && err > 0.5 * previous))
       return it;
@@ -184,8 +187,8 @@ int JointPath::newton(const Pose<double>& target, Eigen::VectorXd& q, int max_it
       return -1;
     previous = err;
     // LU with its reciprocal condition estimate (L1 norm, within a factor 6 of σ_min/σ_max for a
-    // 6 × 6 matrix): a fifth of an SVD's work per step; the tracked points' own check is the SVD's.
-    const Eigen::PartialPivLU<Matrix6d> lu(freeColumns(j, free_));
+    // 6 × 6 matrix): a fifth of an SVD's work per step.
+    const Eigen::PartialPivLU<Matrix6d> lu(freeColumns(arm_->jacobian(f), free_));
     if (!(lu.rcond() > kSingularRatio))
       return -1;
     const Vector6d dq = lu.solve(e);
@@ -229,35 +232,46 @@ Eigen::VectorXd JointPath::solveFromSeed(const Eigen::VectorXd& seed, const Pose
 
 JointState JointPath::rates(const Eigen::VectorXd& q, const Kinematics& k) const
 {
+  ArmFrames f;
+  arm_->frames(q, &f);
+  return ratesAt(q, f, k, nullptr);
+}
+
+JointState JointPath::ratesAt(const Eigen::VectorXd& q, const ArmFrames& f, const Kinematics& k,
+                              FreeJacobian* free_jacobian) const
+{
   const int n = arm_->dof();
   JointState s;
   s.position = q;
   s.velocity = Eigen::VectorXd::Zero(n);
   s.acceleration = Eigen::VectorXd::Zero(n);
-  const Eigen::PartialPivLU<Matrix6d> lu(freeColumns(arm_->jacobian(q), free_));
+  const ArmJacobian j = arm_->jacobian(f);
+  const Eigen::PartialPivLU<Matrix6d> lu(freeColumns(j, free_));
   Vector6d v, a;
   v << k.velocity.angular, k.velocity.linear;
   const Vector6d qd = lu.solve(v);
   for (int c = 0; c < 6; ++c)
     s.velocity[free_[static_cast<std::size_t>(c)]] = qd[c];
-  const ArmJacobian jd = arm_->jacobianDerivative(q, s.velocity);
+  const ArmJacobian jd = arm_->jacobianDerivative(f, j, s.velocity);
   a << k.acceleration.angular, k.acceleration.linear;
   const Vector6d qdd = lu.solve(a - jd * s.velocity);
   for (int c = 0; c < 6; ++c)
     s.acceleration[free_[static_cast<std::size_t>(c)]] = qdd[c];
+  if (free_jacobian)
+    *free_jacobian = FreeJacobian{ lu.determinant(), lu.rcond() };
   return s;
 }
 
-TrackedPoint JointPath::trackedPoint(double t, const Eigen::VectorXd& q, const Kinematics& k) const
+TrackedPoint JointPath::trackedPoint(double t, const Eigen::VectorXd& q, const ArmFrames& f, const Kinematics& k,
+                                     FreeJacobian* free_jacobian) const
 {
-  const JointState s = rates(q, k);
-  return TrackedPoint{ t, q, s.velocity, s.acceleration };
+  JointState s = ratesAt(q, f, k, free_jacobian);
+  return TrackedPoint{ t, q, std::move(s.velocity), std::move(s.acceleration) };
 }
 
-void JointPath::checkPoint(const TrackedPoint& point) const
+void JointPath::checkPoint(const TrackedPoint& point, const FreeJacobian& free_jacobian) const
 {
-  const Eigen::JacobiSVD<Matrix6d> svd(freeColumns(arm_->jacobian(point.q), free_));
-  if (!(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
+  if (!(free_jacobian.rcond > kSingularRatio))
     throw singularError(point.t, point.q);
   checkLimits(point.t, point.q);
 }
@@ -317,11 +331,14 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
   {
     const Kinematics kin = motion_(a, Side::kRight);
     Eigen::VectorXd q = point.q;
-    if (newton(kin.pose, q, kStepIterations) < 0 || (q - point.q).lpNorm<Eigen::Infinity>() > kBranchJump)
+    ArmFrames f;
+    if (newton(kin.pose, q, kStepIterations, &f) < 0 || (q - point.q).lpNorm<Eigen::Infinity>() > kBranchJump)
       throw JointPathError("the pose motion jumps at its breakpoint " + poseWhere(a, kin.pose));
-    point = trackedPoint(a, q, kin);
-    checkPoint(point);
+    FreeJacobian free_jacobian;
+    point = trackedPoint(a, q, f, kin, &free_jacobian);
+    checkPoint(point, free_jacobian);
   }
+  double sign = freeDeterminant(point.q);
   std::vector<TrackedPoint>& piece = pieces_[k];
   piece.push_back(point);
   const double max_step = (b - a) / 4;
@@ -334,7 +351,8 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
     const Kinematics kin = motion_(t, last ? Side::kLeft : Side::kRight);
     const Eigen::VectorXd predicted = point.q + point.qd * dt + 0.5 * point.qdd * dt * dt;
     Eigen::VectorXd q = predicted;
-    const int iterations = newton(kin.pose, q, kStepIterations);
+    ArmFrames f;
+    const int iterations = newton(kin.pose, q, kStepIterations, &f);
     const double allowed = std::min(kBranchJump, 0.1 * ((point.qd * dt).lpNorm<Eigen::Infinity>() +
                                                         (point.qdd * dt * dt).lpNorm<Eigen::Infinity>()) +
                                                      1e-9);
@@ -359,17 +377,19 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
           firstTimeWhere(point, t, q, [this](const auto& x) { return jointPastLimit(*arm_, x) >= 0; });
       throw limitError(crossing, q);
     }
+    FreeJacobian free_jacobian;
+    TrackedPoint next = trackedPoint(t, q, f, kin, &free_jacobian);
     // det J_r changes sign only through a singular configuration, which a step may step over.
-    const double sign = freeDeterminant(point.q);
-    if (freeDeterminant(q) * sign <= 0)
+    if (free_jacobian.determinant * sign <= 0)
     {
       Eigen::VectorXd before = point.q;
       const double crossing = firstTimeWhere(
           point, t, q, [&](const auto& x) { return freeDeterminant(x) * sign <= 0; }, &before);
       throw singularError(crossing, before);
     }
-    point = trackedPoint(t, q, kin);
-    checkPoint(point);
+    checkPoint(next, free_jacobian);
+    sign = free_jacobian.determinant;
+    point = std::move(next);
     piece.push_back(point);
     h = std::min(iterations <= 2 ? 2 * dt : dt, max_step);
   }
@@ -396,10 +416,11 @@ JointState JointPath::at(double t, Side side) const
   Eigen::VectorXd q = predicted;
   for (int i : held_)
     q[i] = p0.q[i];
-  if (newton(kin.pose, q, kSolveIterations) < 0 || (q - predicted).lpNorm<Eigen::Infinity>() > kBranchJump)
+  ArmFrames f;
+  if (newton(kin.pose, q, kSolveIterations, &f) < 0 || (q - predicted).lpNorm<Eigen::Infinity>() > kBranchJump)
     throw JointPathError("joint path: the evaluation " + poseWhere(t, kin.pose) + " would leave the tracked branch");
   checkLimits(t, q);
-  return rates(q, kin);
+  return ratesAt(q, f, kin, nullptr);
 }
 
 }  // namespace arm

@@ -37,7 +37,7 @@ double limitOrNone(double limit)
 class PeakTracker
 {
 public:
-  PeakTracker(const JointPath& motion, JointRatesCheck* check) : motion_(motion), check_(*check) {}
+  PeakTracker(const JointMotion& motion, JointRatesCheck* check) : motion_(motion), check_(*check) {}
 
   /// Interval [t0, t1] with its ends' states (a, b): the middle, and the searched peaks.
   void interval(double t0, double t1, const JointState& a, const JointState& b)
@@ -85,7 +85,7 @@ private:
     }
   }
 
-  const JointPath& motion_;
+  const JointMotion& motion_;
   JointRatesCheck& check_;
   std::size_t count_ = 0;
 };
@@ -102,9 +102,14 @@ std::vector<double> pieces(const std::vector<double>& breakpoints, double start,
   return b;
 }
 
-/// The limit ratios of the peaks: the binding joint and the stretch.
+/// The limit ratios of c's peaks: the binding joint and the stretch.
 void rate(const ArmModel& arm, JointRatesCheck* c)
 {
+  c->stretch = 1.0;
+  c->binding_joint = -1;
+  c->binding_quantity.clear();
+  c->binding_ratio = 0.0;
+  c->binding_time = 0.0;
   for (std::size_t k = 0; k < c->peaks.size(); ++k)
   {
     const JointLimits& l = arm.joints()[k].limits;
@@ -124,26 +129,26 @@ void rate(const ArmModel& arm, JointRatesCheck* c)
 }
 }  // namespace
 
-JointBoxes::JointBoxes(JointPath path) : path_(std::move(path)) {}
+JointBoxes::JointBoxes(JointPath path) : path_(std::make_shared<const JointPath>(std::move(path))) {}
 
 std::size_t JointBoxes::size() const
 {
-  return static_cast<std::size_t>(path_.arm().dof());
+  return static_cast<std::size_t>(path_->arm().dof());
 }
 
 double JointBoxes::velocityLimit(std::size_t k) const
 {
-  return limitOrNone(path_.arm().joints()[k].limits.max_velocity);
+  return limitOrNone(path_->arm().joints()[k].limits.max_velocity);
 }
 
 double JointBoxes::accelerationLimit(std::size_t k) const
 {
-  return limitOrNone(path_.arm().joints()[k].limits.max_acceleration);
+  return limitOrNone(path_->arm().joints()[k].limits.max_acceleration);
 }
 
 void JointBoxes::jet(double s, Side side, double* w, double* a) const
 {
-  const JointState q = path_.at(s, side);
+  const JointState q = path_->at(s, side);
   for (Eigen::Index k = 0; k < q.velocity.size(); ++k)
   {
     w[k] = q.velocity[k];
@@ -151,7 +156,27 @@ void JointBoxes::jet(double s, Side side, double* w, double* a) const
   }
 }
 
-JointRatesCheck checkJointRates(const JointPath& motion, const std::vector<double>& breakpoints)
+RetimedJointPath::RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end)
+  : path_(std::move(path)), clock_(std::move(clock)), start_(start), end_(end)
+{
+}
+
+JointState RetimedJointPath::at(double t, Side side) const
+{
+  if (!(t >= start_ && t <= end_))
+    throw JointPathError("joint motion: t = " + formatNumber(t) + " s is outside [" + formatNumber(start_) + ", " +
+                         formatNumber(end_) + "] s");
+  Side path_side = side;
+  const Jet<2> s = clock_(t, side, &path_side);
+  // (The clock maps the ends onto the path's ends up to rounding.)
+  JointState q = path_->at(std::clamp(s.value(), path_->start(), path_->end()), path_side);
+  const double sd = s.derivative(1), sdd = s.derivative(2);
+  q.acceleration = q.acceleration * (sd * sd) + q.velocity * sdd;
+  q.velocity *= sd;
+  return q;
+}
+
+JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<double>& breakpoints)
 {
   JointRatesCheck check;
   check.peaks.assign(static_cast<std::size_t>(motion.arm().dof()), JointPeak());
@@ -178,6 +203,27 @@ JointRatesCheck checkJointRates(const JointPath& motion, const std::vector<doubl
   }
   rate(motion.arm(), &check);
   return check;
+}
+
+JointRatesCheck jointRatesOf(const ArmModel& arm, std::vector<JointPeak> peaks)
+{
+  JointRatesCheck check;
+  check.peaks = std::move(peaks);
+  rate(arm, &check);
+  return check;
+}
+
+JointRatesCheck stretchJointRates(const ArmModel& arm, const JointRatesCheck& check, double k, double t0)
+{
+  std::vector<JointPeak> peaks = check.peaks;
+  for (JointPeak& p : peaks)
+  {
+    p.velocity /= k;
+    p.acceleration /= k * k;
+    p.velocity_time = t0 + (p.velocity_time - t0) * k;
+    p.acceleration_time = t0 + (p.acceleration_time - t0) * k;
+  }
+  return jointRatesOf(arm, std::move(peaks));
 }
 
 std::string jointExcessMessage(const ArmModel& arm, const JointRatesCheck& check)

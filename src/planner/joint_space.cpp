@@ -2,7 +2,9 @@
 #include "joint_space.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -92,27 +94,53 @@ void stretchMotion(double k, PlannedMotion<Space, G>* m)
     t = t0 + (t - t0) * k;
 }
 
-/// The arm following m's timed motion, tracked between the waypoints' times: a timing's own
-/// breakpoints (a time-optimal motion's thousands of grid times, where only s̈ jumps) would cost a
-/// tracked point each, and the tracking's adaptive steps follow the motion between them anyway.
-template <class Space, class G>
-std::shared_ptr<arm::JointPath> followTimedMotion(const arm::ArmModel& model, const PlannedMotion<Space, G>& m,
-                                                  const Eigen::VectorXd& seed)
+/// The path under a timed curve: the first curve down its chain of clocks (RetimedCurve::base)
+/// that runs on its own time; the curve itself where it is not retimed.
+template <class G>
+std::shared_ptr<const Curve<G>> pathUnder(const std::shared_ptr<const Curve<G>>& curve)
 {
-  const std::shared_ptr<const Curve<G>> curve = m.curve;
-  const double t0 = curve->startTime(), t1 = curve->endTime();
-  std::vector<double> b{ t0 };
-  for (double t : m.out.waypoint_times)
-    if (t > b.back() && t < t1)
-      b.push_back(t);
-  b.push_back(t1);
-  arm::PoseMotion motion = [curve](double t, Side side) { return kinematicsAt(*curve, t, side); };
-  return std::make_shared<arm::JointPath>(model, std::move(motion), std::move(b), seed);
+  std::shared_ptr<const Curve<G>> c = curve;
+  while (const auto* retimed = dynamic_cast<const RetimedCurve<G>*>(c.get()))
+    c = retimed->sharedBase();
+  return c;
+}
+
+/// The arm's joints on `curve`'s time: the joint path of the path under it (the time-optimal
+/// timing's own, which its boxes tracked, or tracked here) on the composed clocks down to it.
+template <class G>
+std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<const Curve<G>>& curve,
+                                                     std::shared_ptr<const arm::JointPath> path)
+{
+  arm::RetimedJointPath::Clock clock = [curve](double t, Side side, Side* path_side) {
+    Jet<2> s = Jet<2>::variable(t);
+    *path_side = side;
+    for (const Curve<G>* c = curve.get(); const auto* retimed = dynamic_cast<const RetimedCurve<G>*>(c);
+         c = &retimed->base())
+    {
+      const Side outer = *path_side;
+      s = retimed->clock(s, outer, path_side);
+    }
+    return s;
+  };
+  return std::make_shared<arm::RetimedJointPath>(std::move(path), std::move(clock), curve->startTime(),
+                                                 curve->endTime());
+}
+
+/// The joint path a time-optimal timing held as its boxes, with its check; none for other curves.
+template <class G>
+std::optional<std::pair<std::shared_ptr<const arm::JointPath>, arm::JointRatesCheck>>
+heldByTiming(const arm::ArmModel& model, const Curve<G>& curve)
+{
+  const auto* timed = dynamic_cast<const timing::TimeOptimalCurve<G>*>(&curve);
+  const auto boxes = timed ? std::dynamic_pointer_cast<const arm::JointBoxes>(timed->profile().boxes) : nullptr;
+  if (!boxes)
+    return std::nullopt;
+  return std::make_pair(boxes->path(), arm::jointRatesOf(model, timed->profile().box_peaks));
 }
 }  // namespace
 
 template <class Space, class G>
-std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m)
+std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m)
 {
   if constexpr (std::is_same_v<Space, SphereSpace>)
     return nullptr;
@@ -121,8 +149,15 @@ std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<
     if (!r.joint_space)
       return nullptr;
     const arm::ArmModel& model = *r.joint_space->arm;
-    auto joints = followTimedMotion(model, *m, r.joint_space->seed);
-    arm::JointRatesCheck check = arm::checkJointRates(*joints, m->curve->breakpoints());
+    std::shared_ptr<const arm::JointPath> path;
+    arm::JointRatesCheck check;
+    if (auto held = heldByTiming(model, *m->curve))
+      std::tie(path, check) = std::move(*held);
+    else
+    {
+      path = std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, pathUnder(m->curve), r.joint_space->seed));
+      check = arm::checkJointRates(*jointsOn(m->curve, path), m->curve->breakpoints());
+    }
     if (check.stretch > 1.0)
     {
       if (r.start_state || r.timing == Timing::kConstantSpeed)
@@ -135,18 +170,18 @@ std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<
       }
       else
       {
-        stretchMotion(check.stretch, m);
-        joints = followTimedMotion(model, *m, r.joint_space->seed);
-        check = arm::checkJointRates(*joints, m->curve->breakpoints());
+        const double k = check.stretch;
+        stretchMotion(k, m);
+        check = arm::stretchJointRates(model, check, k, m->curve->startTime());
       }
     }
     m->out.joint_names = model.jointNames();
     m->out.joint_figures = std::move(check);
-    return joints;
+    return jointsOn(m->curve, std::move(path));
   }
 }
 
-void fillJoints(const arm::JointPath& joints, TrajectorySample* s, Side side)
+void fillJoints(const arm::JointMotion& joints, TrajectorySample* s, Side side)
 {
   arm::JointState q = joints.at(s->time, side);
   s->joint_position = std::move(q.position);
@@ -164,11 +199,11 @@ template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<PoseSpace, Sc
     const ValidatedRequest&, const std::shared_ptr<const Curve<ScrewSe3>>&);
 template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<SphereSpace, Sphere>(
     const ValidatedSphereRequest&, const std::shared_ptr<const Curve<Sphere>>&);
-template std::shared_ptr<const arm::JointPath> followWithArm<PoseSpace, DoubleGeodesicSe3>(
+template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, DoubleGeodesicSe3>(
     const ValidatedRequest&, PlannedMotion<PoseSpace, DoubleGeodesicSe3>*);
-template std::shared_ptr<const arm::JointPath> followWithArm<PoseSpace, ScrewSe3>(const ValidatedRequest&,
+template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, ScrewSe3>(const ValidatedRequest&,
                                                                                   PlannedMotion<PoseSpace, ScrewSe3>*);
-template std::shared_ptr<const arm::JointPath> followWithArm<SphereSpace, Sphere>(const ValidatedSphereRequest&,
+template std::shared_ptr<const arm::JointMotion> followWithArm<SphereSpace, Sphere>(const ValidatedSphereRequest&,
                                                                                   PlannedMotion<SphereSpace, Sphere>*);
 }  // namespace planner_detail
 }  // namespace se3_interpolation

@@ -31,10 +31,10 @@ std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRe
 /// naming the joint and time where the motion starts moving or keeps a constant speed; sets
 /// m's joint names and figures.
 template <class Space, class G>
-std::shared_ptr<const arm::JointPath> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m);
+std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m);
 
 /// The sample's joints from the arm's motion (its time, from `side` at a breakpoint).
-void fillJoints(const arm::JointPath& joints, TrajectorySample* s, Side side);
+void fillJoints(const arm::JointMotion& joints, TrajectorySample* s, Side side);
 
 /// Scales the figures of a motion stretched uniformly by k (speeds 1/k, accelerations 1/k², jerks
 /// 1/k³, the energy 1/k³).

@@ -328,7 +328,7 @@ BasicResult<Space> run(const BasicValidatedRequest<Space>& r, const PlannerLimit
   const WorkShape shape = workShape(r);
   requireWorkWithin(estimateWork(shape, expectedSamples(shape, times.back() - times.front())), shape, limits);
   PlannedMotion<Space, G> planned = planMotion<Space, G>(r, times);
-  const std::shared_ptr<const arm::JointPath> joints = followWithArm(r, &planned);
+  const std::shared_ptr<const arm::JointMotion> joints = followWithArm(r, &planned);
   const std::shared_ptr<const Curve<G>> curve = std::move(planned.curve);
   const CurveFigures& fig = planned.figures;
   BasicResult<Space> out = std::move(planned.out);

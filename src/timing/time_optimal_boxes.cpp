@@ -6,6 +6,7 @@
 // peak search where a parabola through those peaks inside. The solver is declared in
 // time_optimal_solver.h.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -215,6 +216,56 @@ std::pair<double, bool> TimeOptimalSolver::checkBoxes(double tighten_margin)
     tightened = true;
   }
   return { worst, tightened };
+}
+
+void TimeOptimalSolver::boxFigures()
+{
+  profile_.boxes = boxes_;
+  profile_.box_peaks.assign(box_count_, BoxPeak());
+  if (box_count_ == 0)
+    return;
+  // The whole motion, a start's recovery included: the figures say what the motion does.
+  for (std::size_t i = 0; i + 1 < profile_.s.size(); ++i)
+  {
+    checkDeadlineEvery(i, kIntervalsPerSearchDeadlineCheck, kPhase);
+    const std::array<const double*, 3> jets{ boxJet(i, false), &box_middle_[2 * box_count_ * i], boxJet(i + 1, true) };
+    for (std::size_t k = 0; k < box_count_; ++k)
+      raiseBoxPeaks(i, k, jets);
+  }
+}
+
+void TimeOptimalSolver::raiseBoxPeaks(std::size_t i, std::size_t k, const std::array<const double*, 3>& jets)
+{
+  const std::size_t m = box_count_;
+  const double u = profile_.u[i];
+  // x = ṡ² is linear in s on an interval (constant s̈): its middle is the mean of its ends.
+  const auto x_at = [this, i](double lambda) { return profile_.x[i] + lambda * (profile_.x[i + 1] - profile_.x[i]); };
+  const auto rate = [k, m, u](const double* jet, double x, bool velocity) {
+    return velocity ? std::abs(jet[k]) * std::sqrt(std::max(0.0, x)) : std::abs(jet[k] * u + jet[m + k] * x);
+  };
+  BoxPeak& p = profile_.box_peaks[k];
+  for (const bool velocity : { true, false })
+  {
+    double& peak = velocity ? p.velocity : p.acceleration;
+    double& when = velocity ? p.velocity_time : p.acceleration_time;
+    const std::array<double, 3> f{ rate(jets[0], x_at(0.0), velocity), rate(jets[1], x_at(0.5), velocity),
+                                   rate(jets[2], x_at(1.0), velocity) };
+    double best = std::max({ f[0], f[1], f[2] });
+    if (detail::parabolaPeaksInside(f[0], f[1], f[2], peak * (1.0 - kBoxSearchMargin)))
+      best = std::max(best, detail::localMaxOf(
+                                [&](double lambda) {
+                                  std::array<double, 2 * kMaxBoxComponents> jet;
+                                  boxes_->jet(profile_.s[i] + lambda * delta(i), Side::kRight, jet.data(),
+                                              jet.data() + m);
+                                  return rate(jet.data(), x_at(lambda), velocity);
+                                },
+                                f[0], f[1], f[2]));
+    if (!(best > peak))
+      continue;
+    peak = best;
+    when = best == f[0] ? profile_.t[i] :
+                          (best == f[2] ? profile_.t[i + 1] : profile_.timeAt(profile_.s[i] + 0.5 * delta(i)));
+  }
 }
 
 }  // namespace time_optimal_detail

@@ -226,6 +226,7 @@ void TimeOptimalSolver::verifyAndStretch()
   const double k = std::max(1.0, worst);
   stretchUniformly(k);
   figures(peak, k, energy);
+  boxFigures();
 }
 
 void TimeOptimalSolver::stretchUniformly(double k)
@@ -287,6 +288,7 @@ void TimeOptimalSolver::verifyFixedStart()
                              "acceleration bounds");
   profile_.stretch = 1.0;
   figures(searched, 1.0, std::nullopt);
+  boxFigures();
 }
 
 std::array<double, 4> TimeOptimalSolver::magnitudes(const PathJet& j, double x, double u)

@@ -376,6 +376,11 @@ private:
   /// components exceeding 1 + kFixedStartTolerance at an interval's middle or searched peak are
   /// tightened at its ends. Returns the worst level and whether anything was tightened.
   std::pair<double, bool> checkBoxes(double tighten_margin);
+  /// TimingProfile::boxes and box_peaks of the final profile (after the stretch).
+  void boxFigures();
+  /// Raises the peaks of component k on interval i from its values at the ends and middle (and a
+  /// search where their parabola peaks inside near the peak so far).
+  void raiseBoxPeaks(std::size_t i, std::size_t k, const std::array<const double*, 3>& jets);
 
   /// Each channel's acceleration energy ∫|a|² dt (TimingProfile::acceleration_energy).
   using Energy = std::array<double, 2>;

@@ -29,6 +29,7 @@
 // of at most kMaxArmJoints columns); a chain with more movable joints is refused.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -52,6 +53,16 @@ using ArmJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6,
 
 /// Joint positions, velocities, ...: any Eigen column vector of doubles (VectorXd, Matrix<double, 7, 1>).
 using JointVectorRef = Eigen::Ref<const Eigen::VectorXd>;
+
+/// The chain's frames at joint positions q (one FK pass, ArmModel::frames): the tip's pose and
+/// each movable joint's axis z_i and origin o_i in the base frame, from which (J) and (J̇) follow
+/// without another pass. On the stack (kMaxArmJoints entries, the first n used).
+struct ArmFrames
+{
+  Eigen::Isometry3d base_T_tip = Eigen::Isometry3d::Identity();
+  std::array<Eigen::Vector3d, kMaxArmJoints> z;
+  std::array<Eigen::Vector3d, kMaxArmJoints> o;
+};
 
 /// A movable joint's kind (URDF's continuous: revolute without position limits).
 enum class JointType
@@ -125,6 +136,12 @@ public:
   /// only when jacobian_derivative is given).
   void kinematics(const JointVectorRef& q, const JointVectorRef& qd, Eigen::Isometry3d* base_T_tip,
                   ArmJacobian* jacobian, ArmJacobian* jacobian_derivative) const;
+  /// The frames at q (FK with the joints' axes and origins). Throws as base_T_tip.
+  void frames(const JointVectorRef& q, ArmFrames* frames) const;
+  /// (J) from frames at q.
+  ArmJacobian jacobian(const ArmFrames& frames) const;
+  /// (J̇) from frames at q and J at q, along joint velocities qd (n entries, unchecked).
+  ArmJacobian jacobianDerivative(const ArmFrames& frames, const ArmJacobian& jacobian, const JointVectorRef& qd) const;
 
   /// Throws ArmModelError ("<field>: 5 entries, the chain 'base_link' → 'tool0' has 6 joints",
   /// "<field>[2] (joint 'elbow_joint'): not finite (nan)") unless v has n finite entries.

@@ -45,7 +45,8 @@
 //
 // Refusals (JointPathError, an InvalidInputError, naming what and where): the seed's length or
 // finiteness; a pose out of reach ("at t = 1.5 s (position (0.9, 0, 0.3) m)"); a singular
-// configuration on the path (σ_min(J_r) < 1e-8 σ_max(J_r) at a tracked point, det J_r changing
+// configuration on the path (J_r's reciprocal condition number below 1e-8 at a tracked point: the
+// LU's L1 estimate, within a factor 6 of σ_min(J_r) / σ_max(J_r); det J_r changing
 // sign over a step, or the step halved below 1e-9 of the motion's span); a joint passing its position limit (every tracked point and
 // every at()). A path near a singularity is followed (its joint rates are large).
 #pragma once
@@ -97,8 +98,21 @@ struct TrackedPoint
   Eigen::VectorXd q, qd, qdd;
 };
 
+/// The arm's joints moving on a time axis: q, q̇, q̈ at t (JointPath: tracked on a pose motion;
+/// RetimedJointPath, arm/joint_timing.h: a joint path on a timing's clock).
+class JointMotion
+{
+public:
+  virtual ~JointMotion() = default;
+  /// q, q̇, q̈ at t in [start, end] (one-sided at breakpoints). Throws JointPathError.
+  virtual JointState at(double t, Side side = Side::kRight) const = 0;
+  virtual const ArmModel& arm() const = 0;
+  virtual double start() const = 0;
+  virtual double end() const = 0;
+};
+
 /// The joint path of a pose motion (header comment: method and refusals).
-class JointPath
+class JointPath final : public JointMotion
 {
 public:
   /// Tracks `motion` on [breakpoints.front(), breakpoints.back()], analytic between `breakpoints`
@@ -110,13 +124,13 @@ public:
   /// q, q̇, q̈ at t in [start, end] (one-sided at breakpoints); never leaves the tracked branch.
   /// Throws JointPathError for t outside [start, end] or not finite, a joint past its limit, or an
   /// evaluation that would leave the branch.
-  JointState at(double t, Side side = Side::kRight) const;
+  JointState at(double t, Side side = Side::kRight) const override;
   /// q̇ = J_r⁻¹V, q̈ = J_r⁻¹(A − J̇q̇) at known joint positions q (the held joints' rates 0).
   JointState rates(const Eigen::VectorXd& q, const Kinematics& k) const;
 
-  const ArmModel& arm() const { return *arm_; }
-  double start() const { return breakpoints_.front(); }
-  double end() const { return breakpoints_.back(); }
+  const ArmModel& arm() const override { return *arm_; }
+  double start() const override { return breakpoints_.front(); }
+  double end() const override { return breakpoints_.back(); }
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   /// The joints held at the seed's value, ascending.
   const std::vector<int>& heldJoints() const { return held_; }
@@ -125,14 +139,25 @@ public:
   const std::vector<std::vector<TrackedPoint>>& trackedPoints() const { return pieces_; }
 
 private:
+  /// det J_r and its reciprocal condition estimate at a point (from the LU of its rates).
+  struct FreeJacobian
+  {
+    double determinant = 0.0;
+    double rcond = 0.0;
+  };
+
   void chooseHeldJoints(const Eigen::VectorXd& seed, const JointPathOptions& options);
   void trackPiece(std::size_t k, TrackedPoint& point);
-  TrackedPoint trackedPoint(double t, const Eigen::VectorXd& q, const Kinematics& k) const;
+  TrackedPoint trackedPoint(double t, const Eigen::VectorXd& q, const ArmFrames& f, const Kinematics& k,
+                            FreeJacobian* free_jacobian) const;
+  /// rates() from the frames f at q; J_r's determinant and condition into free_jacobian if given.
+  JointState ratesAt(const Eigen::VectorXd& q, const ArmFrames& f, const Kinematics& k,
+                     FreeJacobian* free_jacobian) const;
   /// Newton on the free joints from q to `target` (at most max_iterations); the iterations used,
-  /// or −1 if it did not converge.
-  int newton(const Pose<double>& target, Eigen::VectorXd& q, int max_iterations) const;
+  /// or −1 if it did not converge. On convergence, *frames (if given) are the frames at q.
+  int newton(const Pose<double>& target, Eigen::VectorXd& q, int max_iterations, ArmFrames* frames = nullptr) const;
   Eigen::VectorXd solveFromSeed(const Eigen::VectorXd& seed, const Pose<double>& target, double t) const;
-  void checkPoint(const TrackedPoint& point) const;
+  void checkPoint(const TrackedPoint& point, const FreeJacobian& free_jacobian) const;
   void checkLimits(double t, const Eigen::VectorXd& q) const;
   /// The limit refusal at t for q, which has a joint past its limits.
   JointPathError limitError(double t, const Eigen::VectorXd& q) const;

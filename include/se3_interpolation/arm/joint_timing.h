@@ -7,21 +7,28 @@
 // V = max_velocity, A = max_acceleration (JointBoxes): linear in (x = ṡ², u = s̈), held by the
 // time-optimal passes together with the Cartesian norm bounds.
 //
-// Every timing's motion is then checked on the timed motion itself (checkJointRates): the joint
-// velocities and accelerations q̇ = J⁻¹V, q̈ = J⁻¹(A − J̇q̇) (J on the joints that move) at the
-// ends and middle of every interval between the motion's breakpoints, each analytic piece cut
-// into at least kJointCheckIntervals intervals, and, where a parabola through a joint's three
-// values peaks inside, at its peak found by successive parabolic interpolation on the exact rates
-// (timing/peak_search.h). A motion from rest that exceeds a limit is stretched uniformly by
-// k = max(1, v/V, √(a/A)) over every joint (velocities scale by 1/k, accelerations by 1/k²);
-// where a stretch would change the motion's start (a moving start) the excess is refused.
+// A timing runs the path on its clock s(t), so the arm's timed motion is the path's joint path on
+// that clock (RetimedJointPath): q(t) = q(s(t)), q̇ = q′ ṡ, q̈ = q′ s̈ + q″ ṡ², no second inverse
+// kinematics along the timed motion. The time-optimal timing holds and checks the boxes itself
+// (its final check's peaks per joint: TimingProfile::box_peaks, turned into a JointRatesCheck by
+// jointRatesOf); every other timing's motion is checked on the timed motion (checkJointRates):
+// the joint velocities and accelerations at the ends and middle of every interval between the
+// motion's breakpoints, each analytic piece cut into at least kJointCheckIntervals intervals, and,
+// where a parabola through a joint's three values peaks inside, at its peak found by successive
+// parabolic interpolation on the exact rates (timing/peak_search.h). A motion from rest that
+// exceeds a limit is stretched uniformly by k = max(1, v/V, √(a/A)) over every joint (velocities
+// scale by 1/k, accelerations by 1/k²: stretchJointRates); where a stretch would change the
+// motion's start (a moving start) the excess is refused.
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "se3_interpolation/arm/joint_path.h"
+#include "se3_interpolation/math/jet.h"
 #include "se3_interpolation/timing/time_optimal.h"
 
 namespace se3_interpolation
@@ -43,20 +50,38 @@ public:
   double velocityLimit(std::size_t k) const override;
   double accelerationLimit(std::size_t k) const override;
   void jet(double s, Side side, double* w, double* a) const override;
-  const JointPath& path() const { return path_; }
+  /// The joint path whose rates the boxes are.
+  const std::shared_ptr<const JointPath>& path() const { return path_; }
 
 private:
-  JointPath path_;
+  std::shared_ptr<const JointPath> path_;
 };
 
-/// One joint's peak rates over a timed motion, and when they occur (s).
-struct JointPeak
+/// A joint path run on a timing's clock: q(t) = P(s(t)), q̇ = P′(s) ṡ, q̈ = P′(s) s̈ + P″(s) ṡ²
+/// (the chain rule), P′ and P″ the path's rates on its own time axis s.
+class RetimedJointPath final : public JointMotion
 {
-  double velocity = 0.0;      ///< max |q̇| (rad/s or m/s)
-  double acceleration = 0.0;  ///< max |q̈| (rad/s² or m/s²)
-  double velocity_time = 0.0;
-  double acceleration_time = 0.0;
+public:
+  /// s(t) as a 2-jet in t, and the side of s the path is evaluated from (given t's side).
+  using Clock = std::function<Jet<2>(double t, Side side, Side* path_side)>;
+  /// @param path the joint path on the path's time axis
+  /// @param clock s(t) on [start, end] into [path->start(), path->end()]
+  RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end);
+  JointState at(double t, Side side = Side::kRight) const override;
+  const ArmModel& arm() const override { return path_->arm(); }
+  double start() const override { return start_; }
+  double end() const override { return end_; }
+  const JointPath& path() const { return *path_; }
+
+private:
+  std::shared_ptr<const JointPath> path_;
+  Clock clock_;
+  double start_, end_;
 };
+
+/// One joint's peak rates over a timed motion (max |q̇|, rad/s or m/s; max |q̈|, rad/s² or m/s²),
+/// and when they occur (s): a box component's peaks.
+using JointPeak = timing::BoxPeak;
 
 /// The joint rates of a timed motion against the arm's limits.
 struct JointRatesCheck
@@ -74,7 +99,15 @@ struct JointRatesCheck
 
 /// Checks the timed motion `motion` (arm/joint_path.h: the arm following the timed pose motion;
 /// header comment for the points it evaluates).
-JointRatesCheck checkJointRates(const JointPath& motion, const std::vector<double>& breakpoints);
+JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<double>& breakpoints);
+
+/// The check of measured peaks (one per joint, chain order): their ratios to the arm's limits,
+/// the binding joint and the stretch.
+JointRatesCheck jointRatesOf(const ArmModel& arm, std::vector<JointPeak> peaks);
+
+/// The check of the same motion stretched uniformly by k ≥ 1 from its start t0: velocities by
+/// 1/k, accelerations by 1/k², the peaks' times t0 + (t − t0) k.
+JointRatesCheck stretchJointRates(const ArmModel& arm, const JointRatesCheck& check, double k, double t0);
 
 /// The message that names the joint, its limit and the time where `check` exceeds a limit (for a
 /// motion that cannot be stretched), e.g. "joint 'elbow_joint': velocity 3.4 rad/s at t = 1.2 s,

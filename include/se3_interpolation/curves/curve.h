@@ -248,6 +248,11 @@ public:
 
   /// @return the curve this one runs on another clock
   const Curve<G>& base() const { return *base_; }
+  /// @return the same, shared
+  const std::shared_ptr<const Curve<G>>& sharedBase() const { return base_; }
+  /// The clock: s(t) for a jet of this curve's time t (the composition with an outer clock's jet),
+  /// and in *base_side the side of s the base curve is evaluated from (`side` on entry).
+  Jet<2> clock(const Jet<2>& t, Side side, Side* base_side) const { return baseTime(t, side, base_side); }
 
 protected:
   /// @param base the curve run on the new clock

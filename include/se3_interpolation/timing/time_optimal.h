@@ -205,6 +205,16 @@ struct TimeOptimalOptions
   std::shared_ptr<const BoxConstraint> boxes;
 };
 
+/// One component's peak rates over a timed motion (an arm joint's: rad/s, rad/s² or m/s, m/s²)
+/// and the times at which they occur (s, the middle of the interval holding a searched peak).
+struct BoxPeak
+{
+  double velocity = 0.0;      ///< max |w| ṡ
+  double acceleration = 0.0;  ///< max |w s̈ + a ṡ²|
+  double velocity_time = 0.0;
+  double acceleration_time = 0.0;
+};
+
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].
 struct TimingProfile
 {
@@ -227,6 +237,11 @@ struct TimingProfile
   std::array<double, 2> max_speed{};
   std::array<double, 2> max_acceleration{};
   std::array<double, 2> acceleration_energy{};
+  /// The box constraint the timing held (TimeOptimalOptions::boxes; null: none), and each
+  /// component's peaks from the final check (ends and middles of every interval after the
+  /// recovery, and the searched maxima where a parabola through them peaks inside).
+  std::shared_ptr<const BoxConstraint> boxes;
+  std::vector<BoxPeak> box_peaks;
 
   double duration() const { return t.back() - t.front(); }
 

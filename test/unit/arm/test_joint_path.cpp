@@ -127,7 +127,7 @@ std::string messageOf(const std::function<void()>& f)
 
 /// The pose motion of the joint motion q(t) = a + (b − a)(3t² − 2t³) on [0, 1] (FK; V = J q̇,
 /// A = J q̈ + J̇ q̇), and that joint motion.
-struct JointMotion
+struct JointSweep
 {
   Eigen::VectorXd a, b;
   JointState at(double t) const
@@ -179,7 +179,7 @@ TEST(JointPath, Ur5eRecoversTheJointMotionOfAPoseMotion)
   // The UR5e's IK is locally unique, so the path of FK(q(t)) from q(0) is q(t) itself, with its
   // rates: q to the pose tolerance through J_r⁻¹ (1e-9), q̇ and q̈ to the rounding of the solves.
   const ArmModel arm = ur5e();
-  const JointMotion joint{ kUrA, kUrC };
+  const JointSweep joint{ kUrA, kUrC };
   const JointPath path(arm, joint.motion(arm), { 0.0, 1.0 }, kUrA);
   for (int i = 0; i <= 100; ++i)
   {
@@ -341,7 +341,7 @@ TEST(JointPathRefusals, MotionThroughTheWristSingularity)
   const ArmModel arm = ur5e();
   Eigen::VectorXd a = kUrA, b = kUrA;
   a[4] = -0.4, b[4] = 0.4;
-  const JointMotion joint{ a, b };
+  const JointSweep joint{ a, b };
   const std::string m = messageOf([&] { JointPath(arm, joint.motion(arm), { 0.0, 1.0 }, a); });
   const std::string expected = "the arm passes a singular configuration at t = ";
   ASSERT_NE(m.find(expected), std::string::npos) << m;
