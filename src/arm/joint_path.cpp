@@ -379,7 +379,8 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
 JointState JointPath::at(double t, Side side) const
 {
   // A time past an end by the rounding of a time computed from the ends (a sample's) is that end.
-  const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * std::max({ 1.0, std::abs(start()), std::abs(end()) });
+  const double rounding =
+      4.0 * std::numeric_limits<double>::epsilon() * std::max({ 1.0, std::abs(start()), std::abs(end()) });
   if (t > end() && t <= end() + rounding)
     t = end();
   if (t < start() && t >= start() - rounding)
@@ -401,8 +402,9 @@ JointState JointPath::at(double t, Side side) const
   // At the motion's first and last time on the side asked for (the first sample, from the left, is
   // the state the motion starts from, as the pose sample's); at a breakpoint inside, on its piece's.
   const bool motion_end = t == start() || t == end();
-  const Side motion_side =
-      motion_end ? side : t == breakpoints_[k] ? Side::kRight : (t == breakpoints_[k + 1] ? Side::kLeft : side);
+  const Side motion_side = motion_end           ? side :
+                           t == breakpoints_[k] ? Side::kRight :
+                                                  (t == breakpoints_[k + 1] ? Side::kLeft : side);
   const Kinematics kin = motion_(t, motion_side);
   Eigen::VectorXd q = predicted;
   for (int i : held_)
