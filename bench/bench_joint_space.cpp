@@ -20,7 +20,6 @@
 #include <vector>
 
 #include "../test/unit/arm/arm_test_utils.h"
-#include "se3_interpolation/arm/joint_limits.h"
 #include "se3_interpolation/arm/joint_path.h"
 #include "se3_interpolation/planner/planner.h"
 
@@ -30,13 +29,10 @@ using namespace se3_interpolation;
 
 std::shared_ptr<const arm::ArmModel> ur5e()
 {
-  auto model = std::make_shared<arm::ArmModel>(
-      arm::ArmModel::fromUrdfFile(test::robotFile("ur5e.urdf"), "base_link", "tool0"));
-  model->applyLimits(arm::readJointLimitsFile(test::robotFile("ur5e_joint_limits.yaml")));
-  return model;
+  return test::loadArm("ur5e");
 }
 
-const std::vector<double> kHome = { 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 };
+const std::vector<double> kHome = test::armHome("ur5e");
 
 TrajectoryRequest walk(const arm::ArmModel& model, std::size_t n)
 {
@@ -140,8 +136,7 @@ void timeOptimal(benchmark::State& state, bool with_arm)
   TrajectoryRequest without = with;
   without.joint_seed.clear();
   // (The work estimate does not count the arm yet: a limit that lets the largest request finish.)
-  PlannerLimits limits;
-  limits.max_work_seconds = 100.0;
+  const PlannerLimits limits = test::armLimits();
   double duration = 0.0;
   for (auto _ : state)
     duration = (with_arm ? generate(with, limits, model) : generate(without, limits)).duration;

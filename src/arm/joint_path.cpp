@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -397,6 +398,13 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
 
 JointState JointPath::at(double t, Side side) const
 {
+  // A time past an end by the rounding of a time computed from the ends (a sample's) is that end.
+  const double rounding =
+      4.0 * std::numeric_limits<double>::epsilon() * std::max({ 1.0, std::abs(start()), std::abs(end()) });
+  if (t > end() && t <= end() + rounding)
+    t = end();
+  if (t < start() && t >= start() - rounding)
+    t = start();
   if (!(t >= start() && t <= end()))
     throw JointPathError("joint path: t = " + formatNumber(t) + " s is outside [" + formatNumber(start()) + ", " +
                          formatNumber(end()) + "] s");
@@ -411,7 +419,12 @@ JointState JointPath::at(double t, Side side) const
   const double s2 = s * s, s3 = s2 * s;
   const Eigen::VectorXd predicted =
       (2 * s3 - 3 * s2 + 1) * p0.q + (s3 - 2 * s2 + s) * h * p0.qd + (-2 * s3 + 3 * s2) * p1.q + (s3 - s2) * h * p1.qd;
-  const Side motion_side = t == breakpoints_[k] ? Side::kRight : (t == breakpoints_[k + 1] ? Side::kLeft : side);
+  // At the motion's first and last time on the side asked for (the first sample, from the left, is
+  // the state the motion starts from, as the pose sample's); at a breakpoint inside, on its piece's.
+  const bool motion_end = t == start() || t == end();
+  const Side motion_side = motion_end           ? side :
+                           t == breakpoints_[k] ? Side::kRight :
+                                                  (t == breakpoints_[k + 1] ? Side::kLeft : side);
   const Kinematics kin = motion_(t, motion_side);
   Eigen::VectorXd q = predicted;
   for (int i : held_)

@@ -1,11 +1,12 @@
 // The arm tests' independent references: the vendors' DH products written out (standard DH for the
 // UR5e, modified DH for the Panda), a KDL chain built from a urdfdom model, finite differences of
-// the model's kinematics.
+// the model's kinematics; and the robots of config/robots/ as the tests and benchmarks load them.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,6 +20,8 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "se3_interpolation/arm/arm_model.h"
+#include "se3_interpolation/arm/joint_limits.h"
+#include "se3_interpolation/planner/request.h"
 
 namespace se3_interpolation
 {
@@ -29,6 +32,43 @@ inline std::string robotFile(const std::string& name)
 {
   const std::string here = __FILE__;
   return here.substr(0, here.rfind("/test/unit/arm/")) + "/config/robots/" + name;
+}
+
+/// The work limit of the arm's requests: the work estimate does not count the arm's inverse
+/// kinematics (docs/joint_space.md), which under the sanitizers takes seconds.
+inline PlannerLimits armLimits()
+{
+  PlannerLimits limits;
+  limits.max_work_seconds = 600.0;
+  return limits;
+}
+
+/// The robot `name` of config/robots/ ("ur5e": base_link → tool0; "panda": base_link →
+/// panda_link8, the flange) with the limits of its joint_limits.yaml, every joint's velocity limit
+/// scaled by `velocity_scale` and acceleration limit by `acceleration_scale`.
+inline std::shared_ptr<arm::ArmModel> loadArm(const std::string& name, double velocity_scale = 1.0,
+                                              double acceleration_scale = 1.0)
+{
+  auto model = std::make_shared<arm::ArmModel>(
+      arm::ArmModel::fromUrdfFile(robotFile(name + ".urdf"), "base_link", name == "panda" ? "panda_link8" : "tool0"));
+  arm::JointLimitsFile limits = arm::readJointLimitsFile(robotFile(name + "_joint_limits.yaml"));
+  for (auto& entry : limits.joints)
+  {
+    if (entry.second.max_velocity)
+      entry.second.max_velocity = *entry.second.max_velocity * velocity_scale;
+    if (entry.second.max_acceleration)
+      entry.second.max_acceleration = *entry.second.max_acceleration * acceleration_scale;
+  }
+  model->applyLimits(limits);
+  return model;
+}
+
+/// A working configuration of the robot `name` of loadArm (rad): the UR5e's elbow up with the tool
+/// pointing down, the Panda's ready pose with its wrist turned; far from singular configurations.
+inline std::vector<double> armHome(const std::string& name)
+{
+  return name == "panda" ? std::vector<double>{ 0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8 } :
+                           std::vector<double>{ 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 };
 }
 
 inline std::string readText(const std::string& path)

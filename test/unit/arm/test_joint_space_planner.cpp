@@ -13,36 +13,17 @@
 
 #include "arm_test_utils.h"
 #include "se3_interpolation/arm/arm_model.h"
-#include "se3_interpolation/arm/joint_limits.h"
 #include "se3_interpolation/planner/planner.h"
 
 using namespace se3_interpolation;
-using se3_interpolation::test::robotFile;
+using se3_interpolation::test::armLimits;
 
 namespace
 {
-/// The work limit of these requests: the estimate does not count the arm's inverse kinematics
-/// (docs/joint_space.md), which under the sanitizers takes seconds.
-PlannerLimits armLimits()
-{
-  PlannerLimits limits;
-  limits.max_work_seconds = 600.0;
-  return limits;
-}
-
-/// The UR5e with the limits of its file, velocities and accelerations scaled by `scale`.
+/// The UR5e with the limits of its file, velocities and accelerations scaled.
 std::shared_ptr<const arm::ArmModel> ur5e(double velocity_scale = 1.0, double acceleration_scale = 1.0)
 {
-  auto model =
-      std::make_shared<arm::ArmModel>(arm::ArmModel::fromUrdfFile(robotFile("ur5e.urdf"), "base_link", "tool0"));
-  arm::JointLimitsFile limits = arm::readJointLimitsFile(robotFile("ur5e_joint_limits.yaml"));
-  for (auto& entry : limits.joints)
-  {
-    entry.second.max_velocity = *entry.second.max_velocity * velocity_scale;
-    entry.second.max_acceleration = *entry.second.max_acceleration * acceleration_scale;
-  }
-  model->applyLimits(limits);
-  return model;
+  return test::loadArm("ur5e", velocity_scale, acceleration_scale);
 }
 
 const std::vector<std::vector<double>> kConfigurations = {

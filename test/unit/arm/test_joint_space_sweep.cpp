@@ -16,23 +16,13 @@
 
 #include "arm_test_utils.h"
 #include "se3_interpolation/arm/arm_model.h"
-#include "se3_interpolation/arm/joint_limits.h"
 #include "se3_interpolation/planner/planner.h"
 
 using namespace se3_interpolation;
-using se3_interpolation::test::robotFile;
+using se3_interpolation::test::armLimits;
 
 namespace
 {
-/// The work limit of these requests: the estimate does not count the arm's inverse kinematics
-/// (docs/joint_space.md), which under the sanitizers takes seconds.
-PlannerLimits armLimits()
-{
-  PlannerLimits limits;
-  limits.max_work_seconds = 600.0;
-  return limits;
-}
-
 struct Arm
 {
   std::shared_ptr<arm::ArmModel> model;
@@ -41,22 +31,7 @@ struct Arm
 
 Arm makeArm(const std::string& name, double limit_scale)
 {
-  Arm a;
-  const bool panda = name == "panda";
-  a.model = std::make_shared<arm::ArmModel>(
-      arm::ArmModel::fromUrdfFile(robotFile(name + ".urdf"), "base_link", panda ? "panda_link8" : "tool0"));
-  arm::JointLimitsFile limits = arm::readJointLimitsFile(robotFile(name + "_joint_limits.yaml"));
-  for (auto& entry : limits.joints)
-  {
-    if (entry.second.max_velocity)
-      entry.second.max_velocity = *entry.second.max_velocity * limit_scale;
-    if (entry.second.max_acceleration)
-      entry.second.max_acceleration = *entry.second.max_acceleration * limit_scale;
-  }
-  a.model->applyLimits(limits);
-  a.home = panda ? std::vector<double>{ 0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8 } :
-                   std::vector<double>{ 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 };
-  return a;
+  return { test::loadArm(name, limit_scale, limit_scale), test::armHome(name) };
 }
 
 /// The invariants of a served motion; failures are reported with `label`.

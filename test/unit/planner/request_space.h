@@ -7,7 +7,9 @@
 // whose message names a request field. A served motion, executed as an action goal (its samples as
 // the node's toMsg writes them, execution/goal_trajectory.h), replays its samples, ends at rest
 // exactly when its last sample does, and keeps its bounds wherever the node's check accepts it
-// (checkGoal). Shared by test_request_space.cpp (the grid and the random sweep of the request space).
+// (checkGoal). With an arm (the request's joint_seed, generate()'s arm) the samples' joints also hold
+// the joint invariants of joint_invariants.h. Shared by test_request_space.cpp (the grid and the
+// random sweep of the request space).
 #pragma once
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -23,6 +26,8 @@
 #include <utility>
 #include <vector>
 
+#include "invariant_basics.h"
+#include "joint_invariants.h"
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/execution/goal_trajectory.h"
 #include "se3_interpolation/math/lie_groups.h"
@@ -64,7 +69,7 @@ inline const std::vector<std::string>& requestFieldNames()
     "max_angular_jerk",  "timing",          "speed",
     "sample_times",      "sample_period",   "sample_count",   "sample_tolerance", "blend_radius",
     "start_state",       "from_current",    "outputs",        "control_period",
-    "smoothing",         "loss",            "loss_scale",
+    "smoothing",         "loss",            "loss_scale",     "joint_seed",
   };
   return kNames;
 }
@@ -141,15 +146,6 @@ double recoveryTime(const R& result)
     return 0.0;
 }
 
-/// One broken invariant: what (a short kind, for grouping), how much (the ratio or error that
-/// broke it) and where.
-struct Violation
-{
-  std::string kind;
-  double magnitude = 0.0;
-  std::string detail;
-};
-
 /// Which waypoints the curve of a request passes, at result.waypoint_times: `fit` approximates
 /// them and passes none (not even the last: the motion ends where the fitted curve does).
 enum class PassedWaypoints
@@ -170,22 +166,6 @@ inline PassedWaypoints passedWaypoints(const TrajectoryRequest& r)
     return PassedWaypoints::kAll;
   return PassedWaypoints::kFirstAndLast;
 }
-
-/// Options of the checker: the dense evaluation's size and the finite-difference points.
-struct CheckOptions
-{
-  std::size_t dense_points = 3000;
-  std::size_t difference_points = 24;
-  std::uint32_t seed = 1;
-  /// The goal check (checkGoal): run at all, up to how many samples (its cost grows with them:
-  /// ~5 ms for 64; every grid case has 64, the sweep's sample_period reaches 4000, of which the
-  /// 1000 keeps the sweep's cost), and the brute-force evaluations per segment of the goal's
-  /// motion. Measured on the full test (a shared machine): 370 s before the goal check, 416 s
-  /// and 364 s with it.
-  bool goal = true;
-  std::size_t goal_max_samples = 1000;
-  std::size_t goal_evaluations_per_segment = 16;
-};
 
 /// Peak rates measured on the dense evaluation (|ṗ|, |ω|, |p̈|, |ω̇|).
 struct MeasuredPeaks
@@ -225,13 +205,6 @@ inline double figureOf(const CurveFigures& f, int j)
   const double v[4] = { f.max_linear_speed, f.max_angular_speed, f.max_linear_acceleration,
                         f.max_angular_acceleration };
   return v[j];
-}
-
-inline std::string num(double x)
-{
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
 }
 
 inline bool finitePose(const Pose<double>& x)
@@ -1240,21 +1213,46 @@ struct Outcome
   bool closed_form = false;  ///< served by the closed-form timing of geodesic chains (checkClosedForm)
 };
 
-/// Runs one request through generate(), the checker and, when served, the goal check. A refusal
-/// must be a std::invalid_argument (the core's InterpolationError family) whose message names a
-/// request field; any other exception is a violation.
+/// Whether a refusal of a request with an arm names where the arm cannot follow: a joint
+/// ("joint 'elbow_joint' would pass its position limit ...") or a time along the motion ("the pose
+/// at t = 1.5 s (position ...) is out of the arm's reach").
+inline bool namesJointOrTime(const std::string& message)
+{
+  return message.find("joint '") != std::string::npos || message.find("t = ") != std::string::npos;
+}
+
+/// Runs one request through generate() (with the arm when one is given), the checker (with an arm
+/// also checkJointInvariants) and, when served, the goal check. A refusal must be a
+/// std::invalid_argument (the core's InterpolationError family) whose message names a request
+/// field, or with an arm a joint or a time (namesJointOrTime); any other exception is a violation.
+/// With an arm the brake-and-go bound (checkNoDetour: the Cartesian motion's, which the joint
+/// limits may lengthen) and the closed form (checkClosedFormOf: the planner times an arm's motion
+/// with its joint limits in the general timing) are not checked; without one the samples carry no
+/// joints.
 inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits& limits,
-                           const CheckOptions& options = CheckOptions())
+                           const CheckOptions& options = CheckOptions(),
+                           const std::shared_ptr<const arm::ArmModel>& arm = nullptr)
 {
   Outcome out;
   try
   {
-    const TrajectoryResult result = generate(request, limits);
+    const TrajectoryResult result = arm ? generate(request, limits, arm) : generate(request, limits);
     out.served = true;
     out.recovery_time = result.recovery_time;
     out.violations = checkInvariants(request, result, options);
-    checkNoDetour(request, result, limits, out.violations);
-    out.closed_form = checkClosedFormOf(request, result, limits, out.violations);
+    if (arm)
+      checkJointInvariants(result, *arm, options, out.violations);
+    else
+    {
+      checkNoDetour(request, result, limits, out.violations);
+      out.closed_form = checkClosedFormOf(request, result, limits, out.violations);
+      for (const TrajectorySample& s : result.samples)
+        if (s.joint_position.size() + s.joint_velocity.size() + s.joint_acceleration.size() > 0)
+        {
+          out.violations.push_back({ "joints without an arm", 0.0, "a sample carries joint vectors" });
+          break;
+        }
+    }
     try
     {
       out.goal = checkGoal(request, result, options, out.violations);
@@ -1267,7 +1265,7 @@ inline Outcome runAndCheck(const TrajectoryRequest& request, const PlannerLimits
   catch (const std::invalid_argument& e)
   {
     out.message = e.what();
-    if (namedFields(out.message).empty())
+    if (namedFields(out.message).empty() && !(arm && namesJointOrTime(out.message)))
       out.violations.push_back({ "refusal names no field", 0.0, out.message });
   }
   catch (const std::exception& e)

@@ -1,10 +1,13 @@
 // A property test of the whole request space: every curve (and end condition) x geometry x timing
-// x bounds x waypoint count x times x start state x blend radius x outputs is either served with
-// every invariant of request_space.h holding, or refused with a std::invalid_argument naming a
-// request field; and a combination that the table "What each curve accepts" of docs/curves.md
-// calls valid is refused only for the data-dependent reasons that table lists. A seeded random sweep over every
-// field, invalid values included, runs through the same checker. It runs in the optimised build
-// only (test/sanitize/ leaves it out: fuzz_generate sends whole requests through the sanitized planner).
+// x bounds x waypoint count x times x start state x blend radius x outputs x arm is either served
+// with every invariant of request_space.h holding, or refused with a std::invalid_argument naming a
+// request field (with an arm, or a joint or a time); and a combination that the table "What each
+// curve accepts" of docs/curves.md calls valid is refused only for the data-dependent reasons that
+// table lists (with an arm, or the arm's: arm_requests.h). The arm (none, the UR5e, the Panda) takes
+// a subset of the other dimensions' combinations (armGridCases). A seeded random sweep over every
+// field, invalid values and arms included, runs through the same checker. It runs in the optimised
+// build only (test/sanitize/ leaves it out: fuzz_generate sends whole requests through the
+// sanitized planner).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +21,7 @@
 #include <set>
 #include <sstream>
 
+#include "arm_requests.h"
 #include "request_space.h"
 #include "se3_interpolation/planner/names.h"
 #include "spline_test_utils.h"
@@ -918,6 +922,13 @@ std::string requestYaml(const TrajectoryRequest& r)
   y << "\nstart_acceleration: ";
   twist(r.start_acceleration);
   y << "\n";
+  if (!r.joint_seed.empty())
+  {
+    y << "joint_seed: [";
+    for (std::size_t i = 0; i < r.joint_seed.size(); ++i)
+      y << (i ? ", " : "") << r.joint_seed[i];
+    y << "]\n";
+  }
   if (r.start_state)
   {
     y << "start_state: {pose: ";
@@ -931,41 +942,9 @@ std::string requestYaml(const TrajectoryRequest& r)
   return y.str();
 }
 
-/// With SE3_REQUEST_SPACE_FILTER set, only the grid cases whose description contains it run (to
-/// look at one combination: e.g. "hermite double_geodesic time_optimal/aa N=2 times=even").
-bool caseSelected(const std::string& description)
+/// The grid's cases without an arm, in their fixed order (each case's index seeds its data).
+std::vector<GridCase> gridCases()
 {
-  const char* filter = std::getenv("SE3_REQUEST_SPACE_FILTER");
-  return filter == nullptr || description.find(filter) != std::string::npos;
-}
-}  // namespace
-
-TEST(RequestSpace, ReadmeTableOfAcceptedRequestsParses)
-{
-  std::string error;
-  const std::vector<AcceptRow> table = readAcceptTable(&error);
-  ASSERT_TRUE(error.empty()) << error;
-  for (const CurveVariant& v : curveVariants())
-  {
-    bool found = false;
-    for (const AcceptRow& row : table)
-      found = found || (row.curve == v.curve && (row.end_condition.empty() || row.end_condition == v.end_condition));
-    EXPECT_TRUE(found) << v.curve << " " << v.end_condition << " has no row in docs/curves.md's table";
-  }
-  for (const AcceptRow& row : table)
-  {
-    EXPECT_GE(row.min_waypoints, 1) << row.curve;
-    EXPECT_GE(row.min_waypoints_with_start, 1) << row.curve;
-    EXPECT_FALSE(row.timings.empty()) << row.curve;
-  }
-}
-
-TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingAField)
-{
-  std::string error;
-  const std::vector<AcceptRow> table = readAcceptTable(&error);
-  ASSERT_TRUE(error.empty()) << error;
-
   std::vector<GridCase> cases;
   auto enumerate = [&cases](std::size_t first_variant, std::size_t end_variant, std::size_t first_timing,
                             std::size_t end_timing) {
@@ -1005,7 +984,90 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
   enumerate(0, fit, kTimingsWithoutJerk, timingVariants().size());
   enumerate(fit, fit + 1, 0, timingVariants().size());
   blendRefusals(fit, fit + 1, TimesKind::kEven);
+  return cases;
+}
 
+/// The values a grid case takes in each dimension but the arm, as "dimension=value" words.
+std::vector<std::string> dimensionValues(const GridCase& c)
+{
+  return { "curve=" + std::to_string(c.variant), std::string("geometry=") + (c.screw ? "screw" : "double_geodesic"),
+           "timing=" + timingVariants()[c.timing].label(), "N=" + std::to_string(c.count),
+           std::string("times=") + timesName(c.times), std::string("start=") + startName(c.start),
+           std::string("blend=") + (c.blend ? "r>0" : "0") };
+}
+
+/// One case of the grid's arm dimension: the index of an arm-less case (its request, mapped into
+/// the arm's workspace) and the arm.
+struct ArmGridCase
+{
+  std::size_t index;
+  ArmKind arm;
+};
+
+/// Every kArmStride-th arm-less case takes each arm.
+constexpr std::size_t kArmStride = 157;
+
+/// The grid's cases with an arm: per arm, every kArmStride-th case of gridCases() (from an offset
+/// of its own, so that the two arms see different cases), and besides those each case that brings
+/// a dimension's value (dimensionValues) that the arm has not taken yet, so that each arm takes
+/// every value of every other dimension at least once.
+std::vector<ArmGridCase> armGridCases(const std::vector<GridCase>& cases)
+{
+  std::vector<ArmGridCase> out;
+  for (ArmKind arm : { ArmKind::kUr5e, ArmKind::kPanda })
+  {
+    const std::size_t offset = arm == ArmKind::kUr5e ? 0 : kArmStride / 2;
+    std::set<std::string> taken;
+    for (std::size_t index = 0; index < cases.size(); ++index)
+    {
+      const std::vector<std::string> values = dimensionValues(cases[index]);
+      const bool brings_new = std::any_of(values.begin(), values.end(),
+                                          [&taken](const std::string& v) { return taken.count(v) == 0; });
+      if (!brings_new && (index + offset) % kArmStride != 0)
+        continue;
+      taken.insert(values.begin(), values.end());
+      out.push_back({ index, arm });
+    }
+  }
+  return out;
+}
+
+/// With SE3_REQUEST_SPACE_FILTER set, only the grid cases whose description contains it run (to
+/// look at one combination: e.g. "hermite double_geodesic time_optimal/aa N=2 times=even").
+bool caseSelected(const std::string& description)
+{
+  const char* filter = std::getenv("SE3_REQUEST_SPACE_FILTER");
+  return filter == nullptr || description.find(filter) != std::string::npos;
+}
+}  // namespace
+
+TEST(RequestSpace, ReadmeTableOfAcceptedRequestsParses)
+{
+  std::string error;
+  const std::vector<AcceptRow> table = readAcceptTable(&error);
+  ASSERT_TRUE(error.empty()) << error;
+  for (const CurveVariant& v : curveVariants())
+  {
+    bool found = false;
+    for (const AcceptRow& row : table)
+      found = found || (row.curve == v.curve && (row.end_condition.empty() || row.end_condition == v.end_condition));
+    EXPECT_TRUE(found) << v.curve << " " << v.end_condition << " has no row in docs/curves.md's table";
+  }
+  for (const AcceptRow& row : table)
+  {
+    EXPECT_GE(row.min_waypoints, 1) << row.curve;
+    EXPECT_GE(row.min_waypoints_with_start, 1) << row.curve;
+    EXPECT_FALSE(row.timings.empty()) << row.curve;
+  }
+}
+
+TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingAField)
+{
+  std::string error;
+  const std::vector<AcceptRow> table = readAcceptTable(&error);
+  ASSERT_TRUE(error.empty()) << error;
+
+  const std::vector<GridCase> cases = gridCases();
   FailureTable refused, failures, unexpected_refusals;
   GoalTable goals;
   std::size_t run = 0, served = 0, closed_form = 0;
@@ -1103,6 +1165,90 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
   EXPECT_EQ(unexpectedFailures(unexpected_refusals, false) + unexpectedFailures(failures, false), 0u)
       << "see the tables printed above";
   EXPECT_GT(closed_form, 0u) << "no grid request took the closed-form timing (checkClosedForm)";
+}
+
+/// The arm dimension of the grid (armGridCases; arm_requests.h): each case's request mapped into the
+/// arm's workspace is served with the invariants of request_space.h and the joint invariants of
+/// joint_invariants.h, or refused naming a field, a joint or a time; docs/curves.md's invalid
+/// combinations are refused naming their field as without an arm, and a valid one only for the
+/// table's reasons or the arm's (armRefusalClass). Of the requests no field refuses, most are
+/// served (the others are where the arm cannot follow: reach, limits, singularities).
+TEST(RequestSpace, EveryGridCombinationWithAnArmIsServedWithItsJointInvariantsOrRefusedNamingWhere)
+{
+  std::string error;
+  const std::vector<AcceptRow> table = readAcceptTable(&error);
+  ASSERT_TRUE(error.empty()) << error;
+  const std::vector<GridCase> cases = gridCases();
+  const std::vector<ArmGridCase> arm_cases = armGridCases(cases);
+  FailureTable refused, failures;
+  std::map<std::string, std::set<std::string>> coverage;
+  std::size_t run = 0, served = 0, valid = 0, valid_served = 0, arm_refused = 0;
+  const auto begin = std::chrono::steady_clock::now();
+  for (const ArmGridCase& a : arm_cases)
+  {
+    const GridCase& c = cases[a.index];
+    const std::string name = describeCase(c) + " arm=" + armName(a.arm);
+    const std::vector<std::string> values = dimensionValues(c);
+    coverage[armName(a.arm)].insert(values.begin(), values.end());
+    if (!caseSelected(name))
+      continue;
+    TrajectoryRequest request = buildRequest(c, a.index);
+    const GridArm& arm = gridArm(a.arm);
+    mapIntoArmWorkspace(arm, &request);
+    if (std::getenv("SE3_REQUEST_SPACE_DUMP") != nullptr)
+      std::cout << "# case " << a.index << ": " << name << "\n" << requestYaml(request);
+    if (traceCases())
+      std::cout << "arm case " << a.index << ": " << name << std::endl;
+    CheckOptions options;
+    options.seed = static_cast<std::uint32_t>(a.index);
+    options.dense_points = c.count >= 50 ? 4000 : 1500;
+    options.difference_points = 16;
+    const Outcome out = runAndCheck(request, armLimits(), options, arm.model);
+    ++run;
+    const Expectation e = expectationOf(c, table);
+    valid += e.valid ? 1 : 0;
+    const std::string key = std::string(armName(a.arm)) + " " + curveVariants()[c.variant].curve + " " +
+                            timingVariants()[c.timing].label() + " start=" + startName(c.start);
+    for (const Violation& v : out.violations)
+      failures.add(v.kind + " | " + key, v.magnitude, name + ": " + v.detail);
+    if (out.served)
+    {
+      ++served;
+      valid_served += e.valid ? 1 : 0;
+      if (!e.valid)
+        failures.add("served although the table of docs/curves.md refuses it (" + e.field + ")", 0.0, name);
+      continue;
+    }
+    arm_refused += isArmRefusal(out.message) ? 1 : 0;
+    refused.add(std::string(armName(a.arm)) + " :: " + armRefusalClass(out.message, firstNamedField(out.message)),
+                0.0, name + ": " + out.message.substr(0, 300));
+    const std::vector<std::string> named = namedFields(out.message);
+    if (!e.valid && std::find(named.begin(), named.end(), e.field) == named.end())
+      failures.add("refusal of an invalid combination does not name " + e.field + " | " + key, 0.0,
+                   name + ": " + out.message);
+    if (e.valid && !refusalAllowed(c, e, out.message) && !isArmRefusal(out.message))
+      failures.add("refusal of a valid combination for neither the table's reasons nor the arm's | " + key + " :: " +
+                       messageShape(out.message),
+                   0.0, name);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  std::cout << "[request space] grid with an arm: " << run << " of " << arm_cases.size() << " cases run, " << served
+            << " served, " << run - served << " refused (" << arm_refused << " where the arm cannot follow); of the "
+            << valid << " combinations docs/curves.md calls valid " << valid_served << " served; " << seconds << " s\n";
+  refused.print("refused grid combinations with an arm (arm :: class)");
+  failures.print("invariant failures with an arm");
+  EXPECT_EQ(failures.total(), 0u) << "see the tables printed above";
+  // The requests that no field refuses are mostly served: the mapping keeps them within reach.
+  EXPECT_GT(served, arm_refused) << "most requests with an arm are out of its reach: the mapping is wrong";
+  // Each arm takes every value of every other dimension (armGridCases).
+  std::set<std::string> all;
+  for (const GridCase& c : cases)
+  {
+    const std::vector<std::string> values = dimensionValues(c);
+    all.insert(values.begin(), values.end());
+  }
+  for (ArmKind arm : { ArmKind::kUr5e, ArmKind::kPanda })
+    EXPECT_EQ(coverage[armName(arm)], all) << armName(arm) << " does not take every value of the other dimensions";
 }
 
 // ---- The random sweep ---------------------------------------------------------------------
@@ -1434,6 +1580,36 @@ void randomFit(std::size_t i, TrajectoryRequest* r)
     r->loss_scale = 1e-12;
 }
 
+/// The arm of sweep request i, from its own generator as the jerk bounds: one request in 40 is
+/// mapped into the workspace of the UR5e or of the Panda (arm_requests.h), and one in eight of
+/// those then has a joint_seed that is empty, one entry short, or not finite (refused naming it);
+/// one other request in 200 has a joint_seed without an arm (refused naming it).
+ArmKind randomArm(std::size_t i, TrajectoryRequest* r)
+{
+  std::mt19937 rng(99000 + static_cast<std::uint32_t>(i));
+  if (!std::bernoulli_distribution(1.0 / 40.0)(rng))
+  {
+    if (std::bernoulli_distribution(1.0 / 200.0)(rng))
+      r->joint_seed = armHome("ur5e");
+    return ArmKind::kNone;
+  }
+  const ArmKind arm = std::bernoulli_distribution(0.5)(rng) ? ArmKind::kUr5e : ArmKind::kPanda;
+  mapIntoArmWorkspace(gridArm(arm), r);
+  if (std::bernoulli_distribution(1.0 / 8.0)(rng))
+    switch (std::uniform_int_distribution<int>(0, 2)(rng))
+    {
+      case 0:
+        r->joint_seed.clear();
+        break;
+      case 1:
+        r->joint_seed.pop_back();
+        break;
+      default:
+        r->joint_seed[1] = std::numeric_limits<double>::quiet_NaN();
+    }
+  return arm;
+}
+
 /// Whether a request sets a field of curve fit.
 bool hasFitField(const TrajectoryRequest& r)
 {
@@ -1447,9 +1623,12 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
   std::mt19937 rng(20240611);
   PlannerLimits limits;
   limits.max_samples = 4000;
-  FailureTable failures, refusals;
+  PlannerLimits arm_limits = armLimits();
+  arm_limits.max_samples = limits.max_samples;
+  FailureTable failures, refusals, arm_failures, arm_refusals;
   GoalTable goals;
-  std::size_t served = 0;
+  std::size_t served = 0, arm_run = 0, arm_served = 0;
+  double arm_seconds = 0.0;
   const auto begin = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < count; ++i)
   {
@@ -1465,12 +1644,30 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
                 << (request.start_state && request.waypoints.size() > 0 &&
                     (request.start_state->pose.p - request.waypoints[0].p).norm() < 1e-9)
                 << std::endl;
+    const ArmKind arm = randomArm(i, &request);
     CheckOptions options;
     options.seed = static_cast<std::uint32_t>(i);
     options.dense_points = 600;
     options.difference_points = 6;
-    const Outcome out = runAndCheck(request, limits, options);
+    const auto arm_begin = std::chrono::steady_clock::now();
+    const Outcome out = arm == ArmKind::kNone ? runAndCheck(request, limits, options) :
+                                                runAndCheck(request, arm_limits, options, gridArm(arm).model);
     served += out.served ? 1 : 0;
+    if (arm != ArmKind::kNone)
+    {
+      arm_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - arm_begin).count();
+      const std::string name = "sweep #" + std::to_string(i) + " arm=" + armName(arm) + " (" +
+                               (request.curve.empty() ? "default" : request.curve) + ", " +
+                               (request.timing.empty() ? "default" : request.timing) + ")";
+      ++arm_run;
+      arm_served += out.served ? 1 : 0;
+      if (!out.served)
+        arm_refusals.add(std::string(armName(arm)) + " :: " + armRefusalClass(out.message, firstNamedField(out.message)),
+                         0.0, name + ": " + out.message.substr(0, 200));
+      for (const Violation& v : out.violations)
+        arm_failures.add(v.kind + " | " + armName(arm), v.magnitude, name + ": " + v.detail);
+      continue;
+    }
     if (out.served && request.curve != "fit" && hasFitField(request))
       failures.add("fit field served | " + (request.curve.empty() ? std::string("default") : request.curve), 0.0,
                    "sweep #" + std::to_string(i) + ": a field of curve fit is served with another curve");
@@ -1497,8 +1694,13 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   std::cout << "[request space] sweep: " << count << " requests, " << served << " served, " << count - served
             << " refused, " << seconds << " s\n";
+  std::cout << "[request space] sweep with an arm: " << arm_run << " requests, " << arm_served << " served, "
+            << arm_run - arm_served << " refused, " << arm_seconds << " s\n";
   goals.print("served sweep motions executed as goals (request_space.h, checkGoal)");
   refusals.print("sweep refusals by the first field named");
+  arm_refusals.print("sweep refusals with an arm (arm :: class)");
   failures.print("sweep invariant failures");
+  arm_failures.print("sweep invariant failures with an arm");
   EXPECT_EQ(unexpectedFailures(failures, true), 0u) << "see the tables printed above";
+  EXPECT_EQ(arm_failures.total(), 0u) << "see the tables printed above";
 }
