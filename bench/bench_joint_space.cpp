@@ -5,9 +5,8 @@
 //    spline; and the tracking that JointPath's construction does once per motion, per sample;
 //  - the time-optimal timing with the joint limits against the Cartesian bounds alone, through
 //    generate() (interpolating spline, 100 samples), N = 100 and 1000 waypoints.
-// Waypoints: the UR5e's forward kinematics of a random walk in joint space from a working
-// configuration (steps of ±0.05 rad per joint, a fixed seed), so that every pose is reachable on
-// one branch. Bounds: 0.5 m/s, 1 rad/s, 2 m/s², 4 rad/s²; the limits file's joint limits.
+// Waypoints and bounds: the UR5e's random walk in joint space of ur5e_walk.h (shared with
+// bench_toppra_joints); the limits file's joint limits.
 #include <benchmark/benchmark.h>
 
 #include <kdl/chain.hpp>
@@ -16,45 +15,20 @@
 #include <kdl/jntarray.hpp>
 
 #include <memory>
-#include <random>
 #include <vector>
 
 #include "../test/unit/arm/arm_test_utils.h"
 #include "se3_interpolation/arm/joint_path.h"
 #include "se3_interpolation/planner/planner.h"
+#include "ur5e_walk.h"
 
 namespace
 {
 using namespace se3_interpolation;
 
-std::shared_ptr<const arm::ArmModel> ur5e()
-{
-  return test::loadArm("ur5e");
-}
+using se3_bench::ur5e;
 
-const std::vector<double> kHome = test::armHome("ur5e");
-
-TrajectoryRequest walk(const arm::ArmModel& model, std::size_t n)
-{
-  std::mt19937 rng(54);
-  std::uniform_real_distribution<double> step(-0.05, 0.05);
-  Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(kHome.data(), 6);
-  TrajectoryRequest r;
-  r.joint_seed = kHome;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    r.waypoints.push_back(model.basePoseOfTip(q));
-    for (Eigen::Index k = 0; k < 6; ++k)
-      q[k] += step(rng);
-  }
-  r.curve = "interpolating";
-  r.timing = "time_optimal";
-  r.max_linear_velocity = 0.5;
-  r.max_angular_velocity = 1.0;
-  r.max_linear_acceleration = 2.0;
-  r.max_angular_acceleration = 4.0;
-  return r;
-}
+const std::vector<double>& kHome = se3_bench::ur5eHome();
 
 /// The motion of a 50-waypoint walk sampled 1000 times, as poses and as the samples' times.
 struct Samples
@@ -63,7 +37,7 @@ struct Samples
   TrajectoryResult motion;
   Samples()
   {
-    TrajectoryRequest r = walk(*model, 50);
+    TrajectoryRequest r = se3_bench::ur5eWalk(*model, 50);
     r.sample_count = 1000;
     motion = generate(r, PlannerLimits(), model);
   }
@@ -132,7 +106,7 @@ void kdlLmaPerSample(benchmark::State& state)
 void timeOptimal(benchmark::State& state, bool with_arm)
 {
   const auto model = ur5e();
-  const TrajectoryRequest with = walk(*model, static_cast<std::size_t>(state.range(0)));
+  const TrajectoryRequest with = se3_bench::ur5eWalk(*model, static_cast<std::size_t>(state.range(0)));
   TrajectoryRequest without = with;
   without.joint_seed.clear();
   // (The work estimate does not count the arm yet: a limit that lets the largest request finish.)

@@ -8,8 +8,9 @@
 #     planner, and Ruckig when SE3_BENCH_RUCKIG_DIR is given);
 #     bench_cli_output (se3_interpolate's CSV of 10⁵ samples against iostreams, and the planner
 #     on that request);
-#     bench_toppra (the time-optimal timing against TOPP-RA, N = 10 … 10⁴) when
-#     SE3_BENCH_TOPPRA_DIR is given;
+#     bench_toppra (the time-optimal timing against TOPP-RA, N = 10 … 10⁴) and bench_toppra_joints
+#     (the UR5e's joint-limited timing against the Cartesian-only one and TOPP-RA with joint
+#     boxes on the same joint path, N = 100 and 1000) when SE3_BENCH_TOPPRA_DIR is given;
 #  2. scripts/instruction_counts.sh --check: instructions per operation (callgrind) against
 #     the committed bench/instruction_counts.txt.
 # The benchmarks are built without catkin with g++ into $SE3_WS/bench.
@@ -24,9 +25,10 @@
 #                                   se3_bench_peer_setup); unset: left out, nothing else changes
 #              SE3_BENCH_RUCKIG_DIR  a local Ruckig checkout built with its own CMake into build/
 #                                   (bench/bench_lin.cpp); unset: bench_lin runs without it
-#              SE3_BENCH_TOPPRA_DIR  a local TOPP-RA checkout (bench/bench_toppra.cpp): its C++
-#                                   library (cpp/) is built once into $SE3_WS/bench/toppra with
-#                                   Eigen only; unset: bench_toppra is left out
+#              SE3_BENCH_TOPPRA_DIR  a local TOPP-RA checkout (bench/bench_toppra.cpp,
+#                                   bench/bench_toppra_joints.cpp): its C++ library (cpp/) is built
+#                                   once into $SE3_WS/bench/toppra with Eigen only; unset: both
+#                                   are left out
 # Timings are noisy on a loaded machine; the instruction counts are not.
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -126,6 +128,12 @@ if [ -n "${SE3_BENCH_TOPPRA_DIR:-}" ]; then
   build bench_toppra -isystem "$toppra_prefix/include" "$toppra_prefix/lib/libtoppra.a"
   "$OUT/bench_toppra" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
     --benchmark_display_aggregates_only=true
+  build bench_toppra_joints "$SE3_ROOT/src/arm/arm_model.cpp" "$SE3_ROOT/src/arm/joint_limits.cpp" \
+    -lurdfdom_model -lyaml-cpp -lorocos-kdl -isystem "$toppra_prefix/include" "$toppra_prefix/lib/libtoppra.a"
+  echo
+  echo "== bench_toppra_joints (load average: $(cut -d ' ' -f 1-3 /proc/loadavg))"
+  "$OUT/bench_toppra_joints" --benchmark_repetitions="$REPETITIONS" --benchmark_min_time="$MIN_TIME" \
+    --benchmark_display_aggregates_only=true --benchmark_counters_tabular=true
 fi
 
 echo
