@@ -97,6 +97,21 @@ double smallestSingularValue(const Eigen::MatrixXd& m)
 }
 }  // namespace
 
+double timeWithin(double t, double start, double end)
+{
+  // A time past an end by the rounding of a time computed from the ends (a sample's) is that end.
+  const double rounding =
+      4.0 * std::numeric_limits<double>::epsilon() * std::max({ 1.0, std::abs(start), std::abs(end) });
+  if (t > end && t <= end + rounding)
+    return end;
+  if (t < start && t >= start - rounding)
+    return start;
+  if (!(t >= start && t <= end))
+    throw JointPathError("joint motion: t = " + formatNumber(t) + " s is outside [" + formatNumber(start) + ", " +
+                         formatNumber(end) + "] s");
+  return t;
+}
+
 JointPath::JointPath(const ArmModel& arm, PoseMotion motion, std::vector<double> breakpoints,
                      const Eigen::VectorXd& seed, const JointPathOptions& options)
   : arm_(std::make_shared<const ArmModel>(arm)), motion_(std::move(motion)), breakpoints_(std::move(breakpoints))
@@ -127,6 +142,16 @@ JointPath::JointPath(const ArmModel& arm, PoseMotion motion, std::vector<double>
   pieces_.resize(breakpoints_.size() - 1);
   for (std::size_t k = 0; k + 1 < breakpoints_.size(); ++k)
     trackPiece(k, point);
+  for (const std::vector<TrackedPoint>& piece : pieces_)
+    for (const TrackedPoint& p : piece)
+      tracked_times_.push_back(p.t);
+}
+
+std::size_t JointPath::trackedPointsWithin(double t0, double t1) const
+{
+  const auto first = std::upper_bound(tracked_times_.begin(), tracked_times_.end(), t0);
+  const auto last = std::lower_bound(first, tracked_times_.end(), t1);
+  return static_cast<std::size_t>(last - first);
 }
 
 void JointPath::chooseHeldJoints(const Eigen::VectorXd& seed, const JointPathOptions& options)
@@ -398,16 +423,7 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
 
 JointState JointPath::at(double t, Side side) const
 {
-  // A time past an end by the rounding of a time computed from the ends (a sample's) is that end.
-  const double rounding =
-      4.0 * std::numeric_limits<double>::epsilon() * std::max({ 1.0, std::abs(start()), std::abs(end()) });
-  if (t > end() && t <= end() + rounding)
-    t = end();
-  if (t < start() && t >= start() - rounding)
-    t = start();
-  if (!(t >= start() && t <= end()))
-    throw JointPathError("joint path: t = " + formatNumber(t) + " s is outside [" + formatNumber(start()) + ", " +
-                         formatNumber(end()) + "] s");
+  t = timeWithin(t, start(), end());
   const std::size_t k = findInterval(breakpoints_, t, side);
   const std::vector<TrackedPoint>& piece = pieces_[k];
   auto upper =

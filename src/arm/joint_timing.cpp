@@ -23,8 +23,10 @@ namespace
 constexpr std::size_t kJointCheckDensePieces = 2048;
 constexpr std::size_t kJointCheckMinIntervals = 512;
 /// Intervals whose parabola through ends and middle peaks inside within this fraction of the
-/// joint's peak so far are searched.
-constexpr double kJointSearchMargin = 1e-3;
+/// joint's peak so far are searched (a parabola underestimates a sharp peak by more than 1e-3).
+constexpr double kJointSearchMargin = 1e-2;
+/// Intervals of the check per tracked point of the joint path inside one of its intervals.
+constexpr std::size_t kJointCheckPartsPerTrackedPoint = 4;
 /// Evaluations between two checks of the request's deadline.
 constexpr std::size_t kEvaluationsPerDeadlineCheck = 256;
 
@@ -38,6 +40,18 @@ class PeakTracker
 {
 public:
   PeakTracker(const JointMotion& motion, JointRatesCheck* check) : motion_(motion), check_(*check) {}
+
+  /// One state at time t (the motion's start from the left: the state it starts from).
+  void point(double t, const JointState& q)
+  {
+    for (std::size_t k = 0; k < check_.peaks.size(); ++k)
+    {
+      JointPeak& p = check_.peaks[k];
+      const Eigen::Index i = static_cast<Eigen::Index>(k);
+      record(&p.velocity, &p.velocity_time, { std::abs(q.velocity[i]), 0.0, 0.0 }, t, 0.0);
+      record(&p.acceleration, &p.acceleration_time, { std::abs(q.acceleration[i]), 0.0, 0.0 }, t, 0.0);
+    }
+  }
 
   /// Interval [t0, t1] with its ends' states (a, b): the middle, and the searched peaks.
   void interval(double t0, double t1, const JointState& a, const JointState& b)
@@ -163,17 +177,22 @@ RetimedJointPath::RetimedJointPath(std::shared_ptr<const JointPath> path, Clock 
 
 JointState RetimedJointPath::at(double t, Side side) const
 {
-  if (!(t >= start_ && t <= end_))
-    throw JointPathError("joint motion: t = " + formatNumber(t) + " s is outside [" + formatNumber(start_) + ", " +
-                         formatNumber(end_) + "] s");
   Side path_side = side;
-  const Jet<2> s = clock_(t, side, &path_side);
+  const Jet<2> s = clock_(timeWithin(t, start_, end_), side, &path_side);
   // (The clock maps the ends onto the path's ends up to rounding.)
   JointState q = path_->at(std::clamp(s.value(), path_->start(), path_->end()), path_side);
   const double sd = s.derivative(1), sdd = s.derivative(2);
   q.acceleration = q.acceleration * (sd * sd) + q.velocity * sdd;
   q.velocity *= sd;
   return q;
+}
+
+std::size_t RetimedJointPath::trackedPointsWithin(double t0, double t1) const
+{
+  Side side = Side::kRight;
+  const double s0 = clock_(timeWithin(t0, start_, end_), Side::kRight, &side).value();
+  const double s1 = clock_(timeWithin(t1, start_, end_), Side::kLeft, &side).value();
+  return path_->trackedPointsWithin(s0, s1);
 }
 
 JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<double>& breakpoints)
@@ -184,6 +203,7 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
   const std::size_t count = b.size() - 1;
   const double span = b.back() - b.front();
   PeakTracker tracker(motion, &check);
+  tracker.point(b.front(), motion.at(b.front(), Side::kLeft));
   for (std::size_t j = 0; j < count; ++j)
   {
     const double length = b[j + 1] - b[j];
@@ -196,9 +216,18 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
       const double t0 = b[j] + length * static_cast<double>(i) / static_cast<double>(m);
       const bool last = i + 1 == m;
       const double t1 = last ? b[j + 1] : b[j] + length * static_cast<double>(i + 1) / static_cast<double>(m);
-      JointState e = motion.at(t1, last ? Side::kLeft : Side::kRight);
-      tracker.interval(t0, t1, a, e);
-      a = std::move(e);
+      const std::size_t parts =
+          std::max<std::size_t>(1, kJointCheckPartsPerTrackedPoint * motion.trackedPointsWithin(t0, t1));
+      for (std::size_t p = 0; p < parts; ++p)
+      {
+        const bool end = last && p + 1 == parts;
+        const double u0 = t0 + (t1 - t0) * static_cast<double>(p) / static_cast<double>(parts);
+        const double u1 =
+            p + 1 == parts ? t1 : t0 + (t1 - t0) * static_cast<double>(p + 1) / static_cast<double>(parts);
+        JointState e = motion.at(u1, end ? Side::kLeft : Side::kRight);
+        tracker.interval(u0, u1, a, e);
+        a = std::move(e);
+      }
     }
   }
   rate(motion.arm(), &check);

@@ -109,7 +109,7 @@ std::shared_ptr<const Curve<G>> pathUnder(const std::shared_ptr<const Curve<G>>&
 /// timing's own, which its boxes tracked, or tracked here) on the composed clocks down to it.
 template <class G>
 std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<const Curve<G>>& curve,
-                                                     std::shared_ptr<const arm::JointPath> path)
+                                                      std::shared_ptr<const arm::JointPath> path)
 {
   arm::RetimedJointPath::Clock clock = [curve](double t, Side side, Side* path_side) {
     Jet<2> s = Jet<2>::variable(t);
@@ -128,8 +128,8 @@ std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<cons
 
 /// The joint path a time-optimal timing held as its boxes, with its check; none for other curves.
 template <class G>
-std::optional<std::pair<std::shared_ptr<const arm::JointPath>, arm::JointRatesCheck>>
-heldByTiming(const arm::ArmModel& model, const Curve<G>& curve)
+std::optional<std::pair<std::shared_ptr<const arm::JointPath>, arm::JointRatesCheck>> heldByTiming(
+    const arm::ArmModel& model, const Curve<G>& curve)
 {
   const auto* timed = dynamic_cast<const timing::TimeOptimalCurve<G>*>(&curve);
   const auto boxes = timed ? std::dynamic_pointer_cast<const arm::JointBoxes>(timed->profile().boxes) : nullptr;
@@ -201,9 +201,9 @@ template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<SphereSpace, 
     const ValidatedSphereRequest&, const std::shared_ptr<const Curve<Sphere>>&);
 template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, DoubleGeodesicSe3>(
     const ValidatedRequest&, PlannedMotion<PoseSpace, DoubleGeodesicSe3>*);
-template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, ScrewSe3>(const ValidatedRequest&,
-                                                                                  PlannedMotion<PoseSpace, ScrewSe3>*);
-template std::shared_ptr<const arm::JointMotion> followWithArm<SphereSpace, Sphere>(const ValidatedSphereRequest&,
-                                                                                  PlannedMotion<SphereSpace, Sphere>*);
+template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, ScrewSe3>(
+    const ValidatedRequest&, PlannedMotion<PoseSpace, ScrewSe3>*);
+template std::shared_ptr<const arm::JointMotion> followWithArm<SphereSpace, Sphere>(
+    const ValidatedSphereRequest&, PlannedMotion<SphereSpace, Sphere>*);
 }  // namespace planner_detail
 }  // namespace se3_interpolation

@@ -26,12 +26,15 @@ template <class Space, class G>
 std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
                                                           const std::shared_ptr<const Curve<G>>& curve);
 
-/// The arm following the timed motion m (null without an arm): the motion stretched uniformly
-/// where a joint exceeds its limits (its figures, time_scale and waypoint times with it), refused
-/// naming the joint and time where the motion starts moving or keeps a constant speed; sets
-/// m's joint names and figures.
+/// The arm following the timed motion m (null without an arm): the joint path of the path under
+/// m's clocks (the time-optimal timing's boxes', or tracked here) run on those clocks, checked by
+/// the time-optimal timing's box check or else by arm::checkJointRates; the motion stretched
+/// uniformly where a joint exceeds its limits (its figures, time_scale and waypoint times with it),
+/// refused naming the joint and time where the motion starts moving or keeps a constant speed;
+/// sets m's joint names and figures.
 template <class Space, class G>
-std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m);
+std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r,
+                                                      PlannedMotion<Space, G>* m);
 
 /// The sample's joints from the arm's motion (its time, from `side` at a breakpoint).
 void fillJoints(const arm::JointMotion& joints, TrajectorySample* s, Side side);

@@ -67,9 +67,6 @@ constexpr int kJoinLongest = 12;
 /// The most the curve's clock after the joint is scaled by (either way) to enter it at the start
 /// state's speed.
 constexpr double kMaxEntryScale = 1e3;
-/// The relative excess over a bound that breaks it: every bound holds to 1e-6 relative on the
-/// motion's dense evaluation (docs/timing.md, the request-space test's invariant check).
-constexpr double kBoundTolerance = 1e-6;
 /// The curve after the joint is entered with at most 1 / kEntryHeadroom of its acceleration bounds
 /// when the clock that matches the start's speed would enter it faster (chooseJoin): room for the
 /// joining segment's own bend.
@@ -182,20 +179,20 @@ std::shared_ptr<const timing::TimeOptimalCurve<G>> timeOptimalFromStart(const Va
   options.boxes = jointBoxesOf(r, path);
   auto timed = timing::makeTimeOptimalCurve<G>(path, rateBounds(r), options);
   const double excess = timed->profile().recovery_excess;
-  if (excess > 1.0 + kBoundTolerance)
+  if (excess > 1.0 + timing::kRecoveryExcessTolerance)
   {
     if (native)
       throw InvalidInputError(
           "end_condition: 'start' continues the start state's motion on a spline that bends too "
           "sharply to brake from it within the acceleration bounds (braking would take " +
           formatNumber(excess) +
-          " times a bound); use end_condition 'natural' or 'clamped', "
+          " times a bound or an arm joint's acceleration limit); use end_condition 'natural' or 'clamped', "
           "whose joining segment is chosen for the bounds");
     throw InvalidInputError(
         "start_state: the motion starts too fast for the curve it joins: braking along it would "
         "take " +
         formatNumber(excess) +
-        " times an acceleration bound; start more slowly or "
+        " times an acceleration bound or an arm joint's acceleration limit; start more slowly or "
         "farther from the first waypoint, or raise the acceleration bounds");
   }
   return timed;

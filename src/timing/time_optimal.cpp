@@ -347,6 +347,7 @@ void TimeOptimalSolver::evaluateGrid(const TimeOptimalOptions& options)
   const Rates start = needs(right_[0].raw, start_x_, 0.0);
   for (int q = 0; q < 4; ++q)
     start_exceeds_ = start_exceeds_ || (start_x_ > 0.0 && start[q] > 1.0 + kRoundingExcess && (q < 2 || hold_start_));
+  start_exceeds_ = start_exceeds_ || startExceedsBoxes();
 }
 
 void TimeOptimalSolver::prepare(PointData* p, double s) const

@@ -27,6 +27,9 @@ namespace
 /// Intervals whose parabola through ends and middle peaks inside within this fraction of the
 /// worst level seen are searched for their maximum (as the norm bounds' check does).
 constexpr double kBoxSearchMargin = 1e-3;
+/// The same for each component's figures (boxFigures), which the check's worst level does not
+/// bound: a parabola underestimates a sharp peak by more than 1e-3.
+constexpr double kBoxFigureSearchMargin = 1e-2;
 }  // namespace
 
 void TimeOptimalSolver::evaluateBoxJets()
@@ -52,6 +55,19 @@ void TimeOptimalSolver::evaluateBoxJets()
       boxes_->jet(profile_.s[i] + 0.5 * delta(i), Side::kRight, c, c + m);
     }
   }
+}
+
+bool TimeOptimalSolver::startExceedsBoxes() const
+{
+  if (box_count_ == 0 || !(start_x_ > 0.0))
+    return false;
+  // As the norm bounds' test: the velocities always, the accelerations (a x at u = 0) with hold_start.
+  std::array<double, 2 * kMaxBoxComponents> per;
+  boxLevel(boxJet(0, false), start_x_, 0.0, per.data());
+  for (std::size_t q = 0; q < (hold_start_ ? 2 : 1) * box_count_; ++q)
+    if (per[q] > 1.0 + kRoundingExcess)
+      return true;
+  return false;
 }
 
 bool TimeOptimalSolver::boxesBoundTheMotion() const
@@ -111,16 +127,33 @@ void TimeOptimalSolver::addBoxBands(std::size_t i, ControlConstants* c) const
   }
 }
 
-double TimeOptimalSolver::boxLeastControl(std::size_t i, double x) const
+double TimeOptimalSolver::boxLeastControl(std::size_t i, double x, double lo) const
 {
-  // The control that makes each band's acceleration w u + a x zero where w ≠ 0; the least of them.
+  // The control in [lo, 0] of the least largest ratio |w u + a x| / A over the components at point
+  // i: a maximum of absolute values of affine functions of u, convex, so a ternary search finds it
+  // (to 2^-60 of the range: 100 steps of 2/3).
   const std::size_t m = box_count_;
   const double* j = boxJet(i, false);
-  double u = 0.0;
-  for (std::size_t k = 0; k < m; ++k)
-    if (boxes_->accelerationLimit(k) > 0.0 && j[k] != 0.0)
-      u = std::min(u, -x * j[m + k] / j[k]);
-  return u;
+  const auto worst = [&](double u) {
+    double r = 0.0;
+    for (std::size_t k = 0; k < m; ++k)
+    {
+      const double limit = boxes_->accelerationLimit(k);
+      if (limit > 0.0)
+        r = std::max(r, std::abs(j[k] * u + j[m + k] * x) / limit);
+    }
+    return r;
+  };
+  double a = std::min(lo, 0.0), b = 0.0;
+  for (int step = 0; step < 100 && b - a > 0.0; ++step)
+  {
+    const double l = a + (b - a) / 3.0, r = b - (b - a) / 3.0;
+    if (worst(l) <= worst(r))
+      b = r;
+    else
+      a = l;
+  }
+  return 0.5 * (a + b);
 }
 
 double TimeOptimalSolver::boxLevel(const double* jet, double x, double u, double* per) const
@@ -251,15 +284,15 @@ void TimeOptimalSolver::raiseBoxPeaks(std::size_t i, std::size_t k, const std::a
     const std::array<double, 3> f{ rate(jets[0], x_at(0.0), velocity), rate(jets[1], x_at(0.5), velocity),
                                    rate(jets[2], x_at(1.0), velocity) };
     double best = std::max({ f[0], f[1], f[2] });
-    if (detail::parabolaPeaksInside(f[0], f[1], f[2], peak * (1.0 - kBoxSearchMargin)))
-      best = std::max(best, detail::localMaxOf(
-                                [&](double lambda) {
-                                  std::array<double, 2 * kMaxBoxComponents> jet;
-                                  boxes_->jet(profile_.s[i] + lambda * delta(i), Side::kRight, jet.data(),
-                                              jet.data() + m);
-                                  return rate(jet.data(), x_at(lambda), velocity);
-                                },
-                                f[0], f[1], f[2]));
+    if (detail::parabolaPeaksInside(f[0], f[1], f[2], peak * (1.0 - kBoxFigureSearchMargin)))
+      best =
+          std::max(best, detail::localMaxOf(
+                             [&](double lambda) {
+                               std::array<double, 2 * kMaxBoxComponents> jet;
+                               boxes_->jet(profile_.s[i] + lambda * delta(i), Side::kRight, jet.data(), jet.data() + m);
+                               return rate(jet.data(), x_at(lambda), velocity);
+                             },
+                             f[0], f[1], f[2]));
     if (!(best > peak))
       continue;
     peak = best;

@@ -281,7 +281,9 @@ void TimeOptimalSolver::verifyFixedStart()
 {
   Rates searched{};
   const double worst = std::max(checkAfterRecovery(-1.0, &searched).first, checkBoxes(-1.0).first);
-  if (worst > 1.0 + kFixedStartTolerance)
+  // A recovery that itself had to exceed an acceleration bound (recovery_excess) is the caller's to
+  // refuse or accept: what follows it exceeds because the recovery did.
+  if (worst > 1.0 + kFixedStartTolerance && !(profile_.recovery_excess > 1.0 + kRecoveryExcessTolerance))
     throw InterpolationError("timing: the time-optimal motion from the start state exceeds a bound by " +
                              formatNumber(worst - 1.0) + " (relative) after " + std::to_string(kFixedStartPasses) +
                              " corrections; start more slowly or farther from the first waypoint, or raise the "

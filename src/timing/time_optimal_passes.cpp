@@ -2,6 +2,7 @@
 // of its file comment, on the constraints (2), (3)): the pointwise caps, the admissible controls,
 // the backward pass and the greedy forward pass. The solver is declared in time_optimal_solver.h.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -300,6 +301,11 @@ void TimeOptimalSolver::forward()
     x[i + 1] = following;
     u[i] = (x[i + 1] - x[i]) / (2.0 * d);
     const double rate = std::sqrt(x[i]) + std::sqrt(x[i + 1]);
+    if (!(rate > 0.0) && start_x_ > 0.0 && box_count_ > 0)
+      throw InvalidInputError(
+          "start_state: the motion starts too fast for the curve it joins: braking along it "
+          "within an arm joint's acceleration limit brings it to rest at path time " +
+          formatNumber(profile_.s[i]) + " s; start more slowly or farther from the first waypoint");
     if (!(rate > 0.0))
       throw InterpolationError("timing: the time-optimal profile stalls at path time " + formatNumber(profile_.s[i]) +
                                " s (the bounds are too tight for the path)");
@@ -330,6 +336,14 @@ double TimeOptimalSolver::recoveryControl(std::size_t i, double x, double next, 
     const Rates r = needs(right_[i].raw, x, chosen);
     for (int c = 2; c < 4; ++c)
       profile_.recovery_excess = std::max(profile_.recovery_excess, r[c] * r[c]);
+    if (box_count_ > 0)
+    {
+      // The boxes' acceleration levels are square roots of their ratios (boxLevel).
+      std::array<double, 2 * kMaxBoxComponents> per;
+      boxLevel(boxJet(i, false), x, chosen, per.data());
+      for (std::size_t q = box_count_; q < 2 * box_count_; ++q)
+        profile_.recovery_excess = std::max(profile_.recovery_excess, per[q] * per[q]);
+    }
   }
   else
   {
@@ -348,7 +362,7 @@ double TimeOptimalSolver::leastAccelerationControl(std::size_t i, double x, doub
       u = std::min(u, -x * j.ab / j.bb);
   }
   if (box_count_ > 0)
-    u = std::min(u, boxLeastControl(i, x));
+    u = std::min(u, boxLeastControl(i, x, -x / (2.0 * d)));
   return std::max(u, -x / (2.0 * d));
 }
 

@@ -359,8 +359,9 @@ private:
   double boxCap(const double* jet, std::size_t i) const;
   /// Appends the bands (5) at both ends of interval i to k's ellipses.
   void addBoxBands(std::size_t i, ControlConstants* k) const;
-  /// The least-acceleration control's lower end from the bands at point i (leastAccelerationControl).
-  double boxLeastControl(std::size_t i, double x) const;
+  /// The control in [lo, 0] of the least largest band ratio |w u + a x| / A at point i
+  /// (leastAccelerationControl).
+  double boxLeastControl(std::size_t i, double x, double lo) const;
   /// The largest level of any component at a point: |w|√x / V, √(|w u + a x| / A); with `per`,
   /// each component's velocity level into per[k] and acceleration level into per[m + k].
   double boxLevel(const double* jet, double x, double u, double* per = nullptr) const;
@@ -376,6 +377,9 @@ private:
   /// components exceeding 1 + kFixedStartTolerance at an interval's middle or searched peak are
   /// tightened at its ends. Returns the worst level and whether anything was tightened.
   std::pair<double, bool> checkBoxes(double tighten_margin);
+  /// Whether the start (x = start speed², u = 0) exceeds a box: its velocities, and with
+  /// hold_start its accelerations (as start_exceeds_ for the norm bounds).
+  bool startExceedsBoxes() const;
   /// TimingProfile::boxes and box_peaks of the final profile (after the stretch).
   void boxFigures();
   /// Raises the peaks of component k on interval i from its values at the ends and middle (and a

@@ -98,6 +98,11 @@ struct TrackedPoint
   Eigen::VectorXd q, qd, qdd;
 };
 
+/// t, or the end of [start, end] that t is past by the rounding of a time computed from the ends
+/// (4 ulp of the larger end's magnitude, at least of 1 s). Throws JointPathError for a t farther
+/// outside or not finite.
+double timeWithin(double t, double start, double end);
+
 /// The arm's joints moving on a time axis: q, q̇, q̈ at t (JointPath: tracked on a pose motion;
 /// RetimedJointPath, arm/joint_timing.h: a joint path on a timing's clock).
 class JointMotion
@@ -109,6 +114,9 @@ public:
   virtual const ArmModel& arm() const = 0;
   virtual double start() const = 0;
   virtual double end() const = 0;
+  /// The number of tracked points (JointPath::trackedPoints) strictly inside (t0, t1), t0 ≤ t1:
+  /// where the tracking took small steps the joints vary fast, and a check samples as densely.
+  virtual std::size_t trackedPointsWithin(double t0, double t1) const = 0;
 };
 
 /// The joint path of a pose motion (header comment: method and refusals).
@@ -131,6 +139,7 @@ public:
   const ArmModel& arm() const override { return *arm_; }
   double start() const override { return breakpoints_.front(); }
   double end() const override { return breakpoints_.back(); }
+  std::size_t trackedPointsWithin(double t0, double t1) const override;
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   /// The joints held at the seed's value, ascending.
   const std::vector<int>& heldJoints() const { return held_; }
@@ -176,6 +185,7 @@ private:
   std::vector<int> held_;
   std::vector<int> free_;
   std::vector<std::vector<TrackedPoint>> pieces_;
+  std::vector<double> tracked_times_;  ///< every tracked point's time, ascending
 };
 
 /// The joint path of a pose curve on its own time axis: its breakpoints (with its start and end

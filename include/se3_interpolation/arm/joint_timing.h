@@ -13,7 +13,9 @@
 // (its final check's peaks per joint: TimingProfile::box_peaks, turned into a JointRatesCheck by
 // jointRatesOf); every other timing's motion is checked on the timed motion (checkJointRates):
 // the joint velocities and accelerations at the ends and middle of every interval between the
-// motion's breakpoints, each analytic piece cut into at least kJointCheckIntervals intervals, and,
+// motion's breakpoints, each analytic piece cut into at least kJointCheckIntervals intervals and
+// each interval into four times as many as the joint path's tracked points inside it (the tracking's
+// steps shrink where the joints vary fast: near a singular configuration, a sliver of a piece), and,
 // where a parabola through a joint's three values peaks inside, at its peak found by successive
 // parabolic interpolation on the exact rates (timing/peak_search.h). A motion from rest that
 // exceeds a limit is stretched uniformly by k = max(1, v/V, √(a/A)) over every joint (velocities
@@ -71,6 +73,7 @@ public:
   const ArmModel& arm() const override { return path_->arm(); }
   double start() const override { return start_; }
   double end() const override { return end_; }
+  std::size_t trackedPointsWithin(double t0, double t1) const override;
   const JointPath& path() const { return *path_; }
 
 private:

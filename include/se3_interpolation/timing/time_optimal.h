@@ -215,6 +215,9 @@ struct BoxPeak
   double acceleration_time = 0.0;
 };
 
+/// The relative excess of TimingProfile::recovery_excess over 1 that a caller refuses.
+constexpr double kRecoveryExcessTolerance = 1e-6;
+
 /// The timing s(t): piecewise quadratic in t with constant s̈ = u_i on [t_i, t_{i+1}].
 struct TimingProfile
 {
@@ -226,9 +229,10 @@ struct TimingProfile
   /// The time from which every bound holds: t[0], unless the start is one the bounds cannot hold
   /// (TimeOptimalOptions::start_speed), then the end of its recovery.
   double recovery_end = 0.0;
-  /// The largest ratio of an acceleration to its bound that braking out of such a start takes
-  /// where the path bends too sharply for its speed (no braking keeps within the bounds there);
-  /// 0 when the recovery keeps within them.
+  /// The largest ratio of an acceleration to its bound (a box's too) that braking out of such a
+  /// start takes where the path bends too sharply for its speed (no braking keeps within the
+  /// bounds there); 0 when the recovery keeps within them. Above 1 + kRecoveryExcessTolerance the
+  /// motion is the caller's to refuse, and the final check leaves the refusal to it.
   double recovery_excess = 0.0;
   /// Figures of the timed motion per channel (kLinear, kAngular), from the final check: the peak
   /// speed |C′|ṡ and acceleration |C″ṡ² + C′s̈| over the ends and middles of all intervals (and

@@ -141,6 +141,14 @@ TEST(JointInvariants, AServedMotionPassesAndEachMutationBreaksItsCheck)
             }).count("joint step"),
             1u);
 
+  // A figure 1e-3 below the peak of its joint (ten times the figures' tolerance).
+  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->joint_figures.peaks[2].velocity *= 1.0 - 1e-3; })
+                .count("joint figure velocity"),
+            1u);
+  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->joint_figures.peaks[2].acceleration *= 1.0 - 1e-3; })
+                .count("joint figure acceleration"),
+            1u);
+
   // Limits below the peaks: the figures, the samples and between them.
   const auto slow = ur5eWith([&](const std::string& name, arm::JointLimitsEntry* e) {
     if (name == "elbow_joint")

@@ -207,6 +207,10 @@ inline std::string armRefusalClass(const std::string& message, const std::string
     return "joint rate (no stretch of a moving start or constant_speed)";
   if (message.find("tracked branch") != std::string::npos)
     return "branch change";
+  // The Cartesian brake to rest does not know the joints: such a start is refused naming start_state.
+  if (message.find("start_state") != std::string::npos &&
+      message.find("arm joint's acceleration limit") != std::string::npos)
+    return "a moving start the joints cannot brake from along the path";
   return "field " + first_field;
 }
 

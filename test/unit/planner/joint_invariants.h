@@ -39,6 +39,10 @@ namespace test
 constexpr double kJointPoseTolerance = 1e-9;
 /// A joint rate against its limit, relative: the planner's own checks' (planner/joint_space.cpp).
 constexpr double kJointRateTolerance = 1e-6;
+/// A joint figure below the largest rate found (relative): the figures are the checks' peaks at
+/// their points and searched maxima, which docs/joint_space.md says may lie below the true peak
+/// by up to 1e-4 (the grid's worst: 9e-5, from a moving start).
+constexpr double kJointFigureTolerance = 1e-4;
 /// J q̇ against the twist, relative to |V| + ‖J‖ |q̇|, plus kJacobianFloor (m/s, rad/s: the rounding
 /// of a rate at rest); the same for J q̈ + J̇ q̇ against the acceleration.
 constexpr double kJacobianTolerance = 1e-9;
@@ -375,10 +379,10 @@ inline void checkJointsBetweenSamples(const TrajectoryResult& result, const arm:
   {
     const arm::JointPeak& f = result.joint_figures.peaks[static_cast<std::size_t>(k)];
     const std::string joint = "joint '" + model.joints()[static_cast<std::size_t>(k)].name + "'";
-    if (f.velocity < peak_velocity[k] * (1.0 - kJointRateTolerance) - 1e-12)
+    if (f.velocity < peak_velocity[k] * (1.0 - kJointFigureTolerance) - 1e-12)
       v.push_back({ "joint figure velocity", peak_velocity[k] / f.velocity,
                     joint + ": figure " + num(f.velocity) + " below the rate found, " + num(peak_velocity[k]) });
-    if (f.acceleration < peak_acceleration[k] * (1.0 - kJointRateTolerance) - 1e-12)
+    if (f.acceleration < peak_acceleration[k] * (1.0 - kJointFigureTolerance) - 1e-12)
       v.push_back({ "joint figure acceleration", peak_acceleration[k] / f.acceleration,
                     joint + ": figure " + num(f.acceleration) + " below the rate found, " + num(peak_acceleration[k]) });
   }
