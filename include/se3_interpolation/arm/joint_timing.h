@@ -68,6 +68,8 @@ public:
   using Clock = std::function<Jet<2>(double t, Side side, Side* path_side)>;
   /// @param path the joint path on the path's time axis
   /// @param clock s(t) on [start, end] into [path->start(), path->end()]
+  /// @param start the first time of the timed motion (s)
+  /// @param end its last time (s)
   RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end);
   JointState at(double t, Side side = Side::kRight) const override;
   const ArmModel& arm() const override { return path_->arm(); }
