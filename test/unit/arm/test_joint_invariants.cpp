@@ -111,14 +111,18 @@ TEST(JointInvariants, AServedMotionPassesAndEachMutationBreaksItsCheck)
     return brokenKinds(r, *model);
   };
   // One sample's q off by 1e-7 rad: its FK misses the pose.
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_position[2] += 1e-7; }).count("joint FK position"), 1u);
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_position[5] += 1e-7; }).count("joint FK rotation"), 1u);
-  // q̇ and q̈ off by a part in 1e6 of one joint's.
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_velocity[1] *= 1.0 + 1e-6; })
-                .count("joint J q' vs twist"),
+  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_position[2] += 1e-7; }).count("joint FK position"),
             1u);
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_acceleration[1] += 1e-6; })
-                .count("joint J q'' + J' q' vs acceleration"),
+  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->samples[10].joint_position[5] += 1e-7; }).count("joint FK rotation"),
+            1u);
+  // q̇ and q̈ off by a part in 1e6 of one joint's.
+  EXPECT_EQ(mutated([](TrajectoryResult* r) {
+              r->samples[10].joint_velocity[1] *= 1.0 + 1e-6;
+            }).count("joint J q' vs twist"),
+            1u);
+  EXPECT_EQ(mutated([](TrajectoryResult* r) {
+              r->samples[10].joint_acceleration[1] += 1e-6;
+            }).count("joint J q'' + J' q' vs acceleration"),
             1u);
   // The motion between the samples 1e-6 m off theirs from sample 40 on: the joints carried from
   // sample 39 arrive off sample 40's.
@@ -142,11 +146,13 @@ TEST(JointInvariants, AServedMotionPassesAndEachMutationBreaksItsCheck)
             1u);
 
   // A figure 1e-3 below the peak of its joint (ten times the figures' tolerance).
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->joint_figures.peaks[2].velocity *= 1.0 - 1e-3; })
-                .count("joint figure velocity"),
+  EXPECT_EQ(mutated([](TrajectoryResult* r) {
+              r->joint_figures.peaks[2].velocity *= 1.0 - 1e-3;
+            }).count("joint figure velocity"),
             1u);
-  EXPECT_EQ(mutated([](TrajectoryResult* r) { r->joint_figures.peaks[2].acceleration *= 1.0 - 1e-3; })
-                .count("joint figure acceleration"),
+  EXPECT_EQ(mutated([](TrajectoryResult* r) {
+              r->joint_figures.peaks[2].acceleration *= 1.0 - 1e-3;
+            }).count("joint figure acceleration"),
             1u);
 
   // Limits below the peaks: the figures, the samples and between them.
@@ -158,9 +164,9 @@ TEST(JointInvariants, AServedMotionPassesAndEachMutationBreaksItsCheck)
     }
   });
   const std::set<std::string> over = brokenKinds(served, *slow);
-  for (const char* kind : { "joint velocity limit", "joint acceleration limit", "joint step",
-                            "joint velocity limit between samples", "joint acceleration limit between samples",
-                            "joint figures above the limits" })
+  for (const char* kind :
+       { "joint velocity limit", "joint acceleration limit", "joint step", "joint velocity limit between samples",
+         "joint acceleration limit between samples", "joint figures above the limits" })
     EXPECT_EQ(over.count(kind), 1u) << kind;
   const auto narrow = ur5eWith([&](const std::string& name, arm::JointLimitsEntry* e) {
     if (name == "shoulder_pan_joint")

@@ -143,7 +143,8 @@ public:
   }
 
   /// A pose mapped; `previous` (original and mapped) gives the sign relation to keep.
-  Pose<double> operator()(const Pose<double>& x, const Pose<double>* previous, const Pose<double>* previous_mapped) const
+  Pose<double> operator()(const Pose<double>& x, const Pose<double>* previous,
+                          const Pose<double>* previous_mapped) const
   {
     Pose<double> m = x;
     m.p = home_.p + scale_ * (x.p - centre_);
@@ -181,12 +182,14 @@ inline void mapIntoArmWorkspace(const GridArm& arm, TrajectoryRequest* r)
   if (r->start_state)
   {
     const bool with_first = !r->waypoints.empty();
-    r->start_state->pose = map(r->start_state->pose, with_first ? &r->waypoints[0] : nullptr,
-                               with_first ? &mapped[0] : nullptr);
+    r->start_state->pose =
+        map(r->start_state->pose, with_first ? &r->waypoints[0] : nullptr, with_first ? &mapped[0] : nullptr);
   }
   r->waypoints = mapped;
   Eigen::VectorXd seed = arm.home;
-  const Pose<double>* first = r->start_state ? &r->start_state->pose : r->waypoints.empty() ? nullptr : &r->waypoints[0];
+  const Pose<double>* first = r->start_state       ? &r->start_state->pose :
+                              r->waypoints.empty() ? nullptr :
+                                                     &r->waypoints[0];
   if (first == nullptr || !solveSeed(*arm.model, *first, &seed))
     seed = arm.home;
   r->joint_seed.assign(seed.data(), seed.data() + seed.size());

@@ -29,8 +29,7 @@ struct CheckOptions
   /// The goal check (checkGoal): run at all, up to how many samples (its cost grows with them:
   /// ~5 ms for 64; every grid case has 64, the sweep's sample_period reaches 4000, of which the
   /// 1000 keeps the sweep's cost), and the brute-force evaluations per segment of the goal's
-  /// motion. Measured on the full test (a shared machine): 370 s before the goal check, 416 s
-  /// and 364 s with it.
+  /// motion.
   bool goal = true;
   std::size_t goal_max_samples = 1000;
   std::size_t goal_evaluations_per_segment = 16;

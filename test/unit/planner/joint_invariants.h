@@ -81,8 +81,8 @@ inline std::vector<int> heldJoints(const TrajectoryResult& result, int n)
   {
     bool still = true;
     for (const TrajectorySample& s : result.samples)
-      still = still && s.joint_position[k] == result.samples.front().joint_position[k] &&
-              s.joint_velocity[k] == 0.0 && s.joint_acceleration[k] == 0.0;
+      still = still && s.joint_position[k] == result.samples.front().joint_position[k] && s.joint_velocity[k] == 0.0 &&
+              s.joint_acceleration[k] == 0.0;
     if (still)
       held.push_back(k);
   }
@@ -184,8 +184,8 @@ inline bool carryJoints(const arm::ArmModel& model, const std::vector<int>& movi
 struct JointLimitWorst
 {
   WorstOf velocity, acceleration, position;
-  void see(const arm::ArmModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-           const Eigen::VectorXd& qdd, double t, const char* where)
+  void see(const arm::ArmModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+           double t, const char* where)
   {
     for (int k = 0; k < model.dof(); ++k)
     {
@@ -229,8 +229,9 @@ inline bool checkJointSamples(const TrajectoryResult& result, const arm::ArmMode
     if (s.joint_position.size() != n || s.joint_velocity.size() != n || s.joint_acceleration.size() != n ||
         !s.joint_position.allFinite() || !s.joint_velocity.allFinite() || !s.joint_acceleration.allFinite())
     {
-      v.push_back({ "joint vectors", 0.0, "samples[" + std::to_string(i) + "]: joint vectors not of " +
-                                              std::to_string(n) + " finite entries" });
+      v.push_back(
+          { "joint vectors", 0.0,
+            "samples[" + std::to_string(i) + "]: joint vectors not of " + std::to_string(n) + " finite entries" });
       return false;
     }
   }
@@ -244,7 +245,8 @@ inline bool checkJointSamples(const TrajectoryResult& result, const arm::ArmMode
     arm::ArmJacobian j, jd;
     model.kinematics(s.joint_position, s.joint_velocity, &x, &j, &jd);
     const Eigen::Vector3d dp = x.translation() - s.pose.p;
-    const double angle = rotationAngle(Quaternion<double>(Quaternion<double>(x.linear()).conjugate() * s.pose.q.normalized()));
+    const double angle =
+        rotationAngle(Quaternion<double>(Quaternion<double>(x.linear()).conjugate() * s.pose.q.normalized()));
     position.see(dp.norm(), [&] { return where + ": FK is " + num(dp.norm()) + " m from the pose"; });
     rotation.see(angle, [&] { return where + ": FK is " + num(angle) + " rad from the pose"; });
     Eigen::Matrix<double, 6, 1> vel, acc;
@@ -258,7 +260,8 @@ inline bool checkJointSamples(const TrajectoryResult& result, const arm::ArmMode
     const double ea =
         da / (kJacobianTolerance * (acc.norm() + jn * s.joint_acceleration.norm() + jdn * s.joint_velocity.norm()) +
               kJacobianFloor);
-    acceleration.see(ea, [&] { return where + ": |J q'' + J' q' - A| = " + num(da) + " with |A| = " + num(acc.norm()); });
+    acceleration.see(ea,
+                     [&] { return where + ": |J q'' + J' q' - A| = " + num(da) + " with |A| = " + num(acc.norm()); });
     limits.see(model, s.joint_position, s.joint_velocity, s.joint_acceleration, s.time, "(a sample)");
     if (i == 0)
       continue;
@@ -333,15 +336,18 @@ inline void checkJointsBetweenSamples(const TrajectoryResult& result, const arm:
       continue;
     JointJet jet{ a.time, a.joint_position, a.joint_velocity, a.joint_acceleration };
     reach(jet);
-    const std::size_t inside = std::max<std::size_t>(
-        2, static_cast<std::size_t>(std::ceil(static_cast<double>(options.dense_points) * (b.time - a.time) / span)));
+    const std::size_t inside =
+        std::max<std::size_t>(2, static_cast<std::size_t>(
+                                     std::ceil(static_cast<double>(options.dense_points) * (b.time - a.time) / span)));
     for (std::size_t k = 1; k <= inside + 1; ++k)
     {
-      const double t = k <= inside ? a.time + (b.time - a.time) * static_cast<double>(k) / static_cast<double>(inside + 1) : b.time;
+      const double t =
+          k <= inside ? a.time + (b.time - a.time) * static_cast<double>(k) / static_cast<double>(inside + 1) : b.time;
       if (!carryJoints(model, moving, result, jet, t, &jet))
       {
-        v.push_back({ "joint continuity", 1.0, "the joints of samples[" + std::to_string(i) +
-                                                   "] cannot be carried along the motion to t = " + num(t) });
+        v.push_back(
+            { "joint continuity", 1.0,
+              "the joints of samples[" + std::to_string(i) + "] cannot be carried along the motion to t = " + num(t) });
         return;
       }
       if (k <= inside)
@@ -383,8 +389,9 @@ inline void checkJointsBetweenSamples(const TrajectoryResult& result, const arm:
       v.push_back({ "joint figure velocity", peak_velocity[k] / f.velocity,
                     joint + ": figure " + num(f.velocity) + " below the rate found, " + num(peak_velocity[k]) });
     if (f.acceleration < peak_acceleration[k] * (1.0 - kJointFigureTolerance) - 1e-12)
-      v.push_back({ "joint figure acceleration", peak_acceleration[k] / f.acceleration,
-                    joint + ": figure " + num(f.acceleration) + " below the rate found, " + num(peak_acceleration[k]) });
+      v.push_back(
+          { "joint figure acceleration", peak_acceleration[k] / f.acceleration,
+            joint + ": figure " + num(f.acceleration) + " below the rate found, " + num(peak_acceleration[k]) });
   }
 }
 

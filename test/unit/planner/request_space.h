@@ -61,15 +61,42 @@ constexpr bool kSanitized = false;
 inline const std::vector<std::string>& requestFieldNames()
 {
   static const std::vector<std::string> kNames = {
-    "waypoints",         "times",           "curve",          "geometry",
-    "degree",            "knots",           "continuity",     "end_condition",
-    "start_velocity",    "end_velocity",    "start_acceleration", "velocities",
-    "parameterization",  "rotation_scale",  "duration",       "max_linear_velocity",
-    "max_angular_velocity", "max_linear_acceleration", "max_angular_acceleration", "max_linear_jerk",
-    "max_angular_jerk",  "timing",          "speed",
-    "sample_times",      "sample_period",   "sample_count",   "sample_tolerance", "blend_radius",
-    "start_state",       "from_current",    "outputs",        "control_period",
-    "smoothing",         "loss",            "loss_scale",     "joint_seed",
+    "waypoints",
+    "times",
+    "curve",
+    "geometry",
+    "degree",
+    "knots",
+    "continuity",
+    "end_condition",
+    "start_velocity",
+    "end_velocity",
+    "start_acceleration",
+    "velocities",
+    "parameterization",
+    "rotation_scale",
+    "duration",
+    "max_linear_velocity",
+    "max_angular_velocity",
+    "max_linear_acceleration",
+    "max_angular_acceleration",
+    "max_linear_jerk",
+    "max_angular_jerk",
+    "timing",
+    "speed",
+    "sample_times",
+    "sample_period",
+    "sample_count",
+    "sample_tolerance",
+    "blend_radius",
+    "start_state",
+    "from_current",
+    "outputs",
+    "control_period",
+    "smoothing",
+    "loss",
+    "loss_scale",
+    "joint_seed",
   };
   return kNames;
 }
@@ -264,8 +291,8 @@ inline void checkFitOutputs(const TrajectoryRequest& request, const TrajectoryRe
   const std::size_t need = 2 * static_cast<std::size_t>(std::max(m, 0) + 1);
   if (m < 1 || u.size() < need)
   {
-    fail(std::to_string(u.size()) + " knots for degree " + std::to_string(m) + " (at least " +
-         std::to_string(need) + ")");
+    fail(std::to_string(u.size()) + " knots for degree " + std::to_string(m) + " (at least " + std::to_string(need) +
+         ")");
     return;
   }
   if (result.control_points.size() + static_cast<std::size_t>(m) + 1 != u.size())
@@ -279,16 +306,16 @@ inline void checkFitOutputs(const TrajectoryRequest& request, const TrajectoryRe
   for (std::size_t i = 0; i <= static_cast<std::size_t>(m); ++i)
     if (std::abs(u[i] - first) > tol || std::abs(u[k - 1 - i] - last) > tol)
     {
-      fail("knots not clamped to [" + num(first) + ", " + num(last) + "]: knots[" + std::to_string(i) + "] = " +
-           num(u[i]) + ", knots[" + std::to_string(k - 1 - i) + "] = " + num(u[k - 1 - i]));
+      fail("knots not clamped to [" + num(first) + ", " + num(last) + "]: knots[" + std::to_string(i) +
+           "] = " + num(u[i]) + ", knots[" + std::to_string(k - 1 - i) + "] = " + num(u[k - 1 - i]));
       return;
     }
   const double step = (last - first) / static_cast<double>(k - 2 * static_cast<std::size_t>(m) - 1);
   for (std::size_t i = static_cast<std::size_t>(m) + 1; i + static_cast<std::size_t>(m) < k; ++i)
     if (std::abs(u[i] - u[i - 1] - step) > tol)
     {
-      fail("knots not uniform: knots[" + std::to_string(i) + "] - knots[" + std::to_string(i - 1) + "] = " +
-           num(u[i] - u[i - 1]) + ", the uniform step " + num(step));
+      fail("knots not uniform: knots[" + std::to_string(i) + "] - knots[" + std::to_string(i - 1) +
+           "] = " + num(u[i] - u[i - 1]) + ", the uniform step " + num(step));
       return;
     }
 }
@@ -329,14 +356,14 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
       return v;
     }
     if (s.time < t0 - time_tol || s.time > t1 + time_tol)
-      fail("sample time", s.time, "samples[" + std::to_string(i) + "].time " + num(s.time) + " outside [" + num(t0) +
-                                      ", " + num(t1) + "]");
+      fail("sample time", s.time,
+           "samples[" + std::to_string(i) + "].time " + num(s.time) + " outside [" + num(t0) + ", " + num(t1) + "]");
     if (i > 0)
     {
       const double prev = result.samples[i - 1].time;
       if (explicit_sample_times ? s.time < prev : !(s.time > prev))
-        fail("sample order", s.time - prev, "samples[" + std::to_string(i) + "].time " + num(s.time) +
-                                                " not after " + num(prev));
+        fail("sample order", s.time - prev,
+             "samples[" + std::to_string(i) + "].time " + num(s.time) + " not after " + num(prev));
       const double dot = s.pose.q.coeffs().dot(result.samples[i - 1].pose.q.coeffs());
       if (dot < 0.0)
         fail("quaternion sign", dot, "samples[" + std::to_string(i) + "]: dot with the previous " + num(dot));
@@ -350,13 +377,17 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
   if (!explicit_sample_times && !result.samples.empty())
   {
     if (std::abs(result.samples.front().time - t0) > time_tol || std::abs(result.samples.back().time - t1) > time_tol)
-      fail("sample ends", 0.0, "samples span [" + num(result.samples.front().time) + ", " +
-                                   num(result.samples.back().time) + "], trajectory [" + num(t0) + ", " + num(t1) +
-                                   "]");
+      fail("sample ends", 0.0,
+           "samples span [" + num(result.samples.front().time) + ", " + num(result.samples.back().time) +
+               "], trajectory [" + num(t0) + ", " + num(t1) + "]");
   }
-  const double figures[] = { result.figures.length, result.figures.rotation_length, result.figures.energy,
-                             result.figures.max_linear_speed, result.figures.max_angular_speed,
-                             result.figures.max_linear_acceleration, result.figures.max_angular_acceleration,
+  const double figures[] = { result.figures.length,
+                             result.figures.rotation_length,
+                             result.figures.energy,
+                             result.figures.max_linear_speed,
+                             result.figures.max_angular_speed,
+                             result.figures.max_linear_acceleration,
+                             result.figures.max_angular_acceleration,
                              result.time_scale };
   for (double f : figures)
     if (!std::isfinite(f) || f < 0.0)
@@ -503,9 +534,8 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
   {
     if (worst[j] > 0.0)
       fail(std::string("bound ") + kBoundFields[j], worst[j],
-           std::string(kBoundFields[j]) + " " + num(boundOf(request, j)) + " exceeded " + num(worst[j]) +
-               "x at t = " + num(worst_t[j]) + " of [" + num(t0) + ", " + num(t1) + "] (recovery_time " +
-               num(recovery) + ")");
+           std::string(kBoundFields[j]) + " " + num(boundOf(request, j)) + " exceeded " + num(worst[j]) + "x at t = " +
+               num(worst_t[j]) + " of [" + num(t0) + ", " + num(t1) + "] (recovery_time " + num(recovery) + ")");
     if (worst_increase[j] > 0.0)
       fail(std::string("recovery ") + kBoundFields[j], worst_increase[j],
            std::string(kBoundFields[j]) + " exceeded at the start grows by " + num(worst_increase[j]) +
@@ -514,8 +544,7 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
 
   // Figures equal the dense peaks (the dense evaluation may miss a peak slightly).
   // Below 1e-12 of the largest rate a peak is rounding noise.
-  const double noise =
-      1e-12 * std::max({ 1.0, peaks.value[0], peaks.value[1], peaks.value[2], peaks.value[3] });
+  const double noise = 1e-12 * std::max({ 1.0, peaks.value[0], peaks.value[1], peaks.value[2], peaks.value[3] });
   for (int j = 0; j < 4; ++j)
   {
     const double f = figureOf(result.figures, j);
@@ -620,7 +649,8 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
       }
       if (worst > 1e-6)
         fail("constant speed", worst,
-             "the chord speed is off " + num(request.speed) + " by " + num(worst) + " (relative) at t = " + num(worst_t) + " (by the reported velocity: " + num(worst_reported) + ")");
+             "the chord speed is off " + num(request.speed) + " by " + num(worst) +
+                 " (relative) at t = " + num(worst_t) + " (by the reported velocity: " + num(worst_reported) + ")");
     }
   }
 
@@ -661,8 +691,8 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
       const double slack = 1e-9 * std::max(1.0, std::abs(t)) * (s.velocity.linear.norm() + s.velocity.angular.norm());
       const double gap = poseGap(s.pose, normalisedWaypoint(request, i));
       if (gap > 1e-8 + slack)
-        fail("waypoint passed", gap, "waypoints[" + std::to_string(i) + "] missed by " + num(gap) + " at t = " +
-                                         num(t));
+        fail("waypoint passed", gap,
+             "waypoints[" + std::to_string(i) + "] missed by " + num(gap) + " at t = " + num(t));
     }
     // With a start state, curves that pass only their ends end at the last waypoint and start at
     // the start state (checked above).
@@ -770,10 +800,10 @@ inline std::vector<Violation> checkInvariants(const TrajectoryRequest& request, 
 /// What the goal check found of one served request (checkGoal).
 struct GoalCheck
 {
-  bool checked = false;       ///< the goal was built (the check ran and construction succeeded)
-  bool ends_at_rest = false;  ///< the last sample's speeds are within kRestLinear and kRestAngular
-  bool accepted = false;      ///< checkLimits(the request's bounds, kGoalLimitTolerance) accepted it
-  std::string refusal;        ///< checkLimits' message where it refused
+  bool checked = false;         ///< the goal was built (the check ran and construction succeeded)
+  bool ends_at_rest = false;    ///< the last sample's speeds are within kRestLinear and kRestAngular
+  bool accepted = false;        ///< checkLimits(the request's bounds, kGoalLimitTolerance) accepted it
+  std::string refusal;          ///< checkLimits' message where it refused
   bool repeated_times = false;  ///< two samples at one time (explicit sample_times): not a goal
 };
 
@@ -848,7 +878,8 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
       catch (const std::exception& e)
       {
         if (std::string(e.what()).find("time_from_start") == std::string::npos)
-          fail("goal construction", 0.0, std::string("a repeated time_from_start refused naming another field: ") + e.what());
+          fail("goal construction", 0.0,
+               std::string("a repeated time_from_start refused naming another field: ") + e.what());
       }
       return g;
     }
@@ -893,8 +924,9 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
     if (gap > 1e-9 && gap > worst)
     {
       worst = gap;
-      worst_at = "the goal at trajectory.points[" + std::to_string(i) + "] (t = " + num(x.time) + ") is off the sample: pose " +
-                 num(gaps[0]) + ", velocity " + num(gaps[1]) + ", acceleration " + num(gaps[2]);
+      worst_at = "the goal at trajectory.points[" + std::to_string(i) + "] (t = " + num(x.time) +
+                 ") is off the sample: pose " + num(gaps[0]) + ", velocity " + num(gaps[1]) + ", acceleration " +
+                 num(gaps[2]);
     }
   }
   if (worst > 0.0)
@@ -925,7 +957,8 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
       fail("goal rest", std::max(end_linear, end_angular),
            std::string("requireEndsAtRest refuses a motion whose last sample is at rest: ") + e.what());
     else if (std::string(e.what()).find(last_point) == std::string::npos)
-      fail("goal rest message", 0.0, std::string("requireEndsAtRest's refusal does not name ") + last_point + ": " + e.what());
+      fail("goal rest message", 0.0,
+           std::string("requireEndsAtRest's refusal does not name ") + last_point + ": " + e.what());
   }
 
   // (e) With sample_tolerance, the goal follows the motion: its pose within the tolerance (× 1.5: the
@@ -969,7 +1002,8 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
   {
     g.refusal = e.what();
     if (g.refusal.find("~max_") == std::string::npos || g.refusal.find("trajectory.points[") == std::string::npos)
-      fail("goal limits message", 0.0, "checkLimits' refusal names no ~max_ bound or no trajectory.points[: " + g.refusal);
+      fail("goal limits message", 0.0,
+           "checkLimits' refusal names no ~max_ bound or no trajectory.points[: " + g.refusal);
     return g;
   }
   const double bound[6] = { limits.max_linear_velocity,     limits.max_angular_velocity,
@@ -1010,8 +1044,8 @@ inline GoalCheck checkGoal(const TrajectoryRequest& request, const TrajectoryRes
     if (ratio[j] > 0.0)
       fail(std::string("goal bound ") + kGoalBounds[j], ratio[j],
            std::string("checkLimits accepts the goal, but ") + (j >= 4 ? "the mean jerk of a segment" : "its motion") +
-               " reaches " + num(ratio[j]) + " x " + kGoalBounds[j] + " = " + num(bound[j]) + " at t = " +
-               num(ratio_t[j]) + " (" + std::to_string(n) + " points)");
+               " reaches " + num(ratio[j]) + " x " + kGoalBounds[j] + " = " + num(bound[j]) +
+               " at t = " + num(ratio_t[j]) + " (" + std::to_string(n) + " points)");
   return g;
 }
 

@@ -115,9 +115,10 @@ enum Column
 /// Where each Column is in a header row; false with `*error` set when a heading is missing.
 bool findColumns(const std::vector<std::string>& header, std::size_t (&at)[kColumnCount], std::string* error)
 {
-  static const char* const kHeadings[kColumnCount] = { "`curve`",  "`end_condition`", "waypoints",
-                                                       "waypoints with `start_state`", "`times`",
-                                                       "`blend_radius`", "`timing`", "refused only when (naming)" };
+  static const char* const kHeadings[kColumnCount] = { "`curve`",   "`end_condition`",
+                                                       "waypoints", "waypoints with `start_state`",
+                                                       "`times`",   "`blend_radius`",
+                                                       "`timing`",  "refused only when (naming)" };
   for (int c = 0; c < kColumnCount; ++c)
   {
     const auto it = std::find(header.begin(), header.end(), kHeadings[c]);
@@ -217,9 +218,15 @@ struct CurveVariant
 const std::vector<CurveVariant>& curveVariants()
 {
   static const std::vector<CurveVariant> kVariants = {
-    { "piecewise_geodesic", "", false }, { "piecewise_geodesic", "", true }, { "bezier", "", false },
-    { "bspline", "", false },            { "interpolating", "natural", false }, { "interpolating", "clamped", false },
-    { "interpolating", "start", false }, { "hermite", "", false },             { "blended", "", false },
+    { "piecewise_geodesic", "", false },
+    { "piecewise_geodesic", "", true },
+    { "bezier", "", false },
+    { "bspline", "", false },
+    { "interpolating", "natural", false },
+    { "interpolating", "clamped", false },
+    { "interpolating", "start", false },
+    { "hermite", "", false },
+    { "blended", "", false },
     { "fit", "", false },
   };
   return kVariants;
@@ -254,14 +261,24 @@ struct TimingVariant
 const std::vector<TimingVariant>& timingVariants()
 {
   static const std::vector<TimingVariant> kTimings = {
-    { "", 0 },           { "stretch", 1 },      { "stretch", 2 },      { "stretch", 4 },
-    { "stretch", 8 },    { "stretch", 15 },     { "time_optimal", 1 }, { "time_optimal", 2 },
-    { "time_optimal", 4 }, { "time_optimal", 8 }, { "time_optimal", 15 },
+    { "", 0 },
+    { "stretch", 1 },
+    { "stretch", 2 },
+    { "stretch", 4 },
+    { "stretch", 8 },
+    { "stretch", 15 },
+    { "time_optimal", 1 },
+    { "time_optimal", 2 },
+    { "time_optimal", 4 },
+    { "time_optimal", 8 },
+    { "time_optimal", 15 },
     // The jerk bounds (enumerated after the others, so that the earlier cases keep their index
     // and with it their data): alone under stretch, with all four others under time_optimal.
-    { "stretch", 48 },   { "time_optimal", 63 },
+    { "stretch", 48 },
+    { "time_optimal", 63 },
     // constant_speed (after those again): with the ramps' acceleration bound alone, with all six.
-    { "constant_speed", 4 }, { "constant_speed", 63 },
+    { "constant_speed", 4 },
+    { "constant_speed", 63 },
   };
   return kTimings;
 }
@@ -393,8 +410,8 @@ TrajectoryRequest buildRequest(const GridCase& c, std::size_t index)
   r.timing = tv.timing;
   if (std::string(tv.timing) == "constant_speed")
     r.speed = kConstantSpeed;
-  double* bound_fields[6] = { &r.max_linear_velocity,     &r.max_angular_velocity, &r.max_linear_acceleration,
-                              &r.max_angular_acceleration, &r.max_linear_jerk,     &r.max_angular_jerk };
+  double* bound_fields[6] = { &r.max_linear_velocity,      &r.max_angular_velocity, &r.max_linear_acceleration,
+                              &r.max_angular_acceleration, &r.max_linear_jerk,      &r.max_angular_jerk };
   for (int j = 0; j < 6; ++j)
     if (tv.bounds & (1 << j))
       *bound_fields[j] = kBounds[j];
@@ -420,7 +437,8 @@ TrajectoryRequest buildRequest(const GridCase& c, std::size_t index)
     start_on_first = c.start == StartKind::kResting && c.count >= 2 && c.times != TimesKind::kUneven;
     s.pose = r.waypoints.front();
     if (!start_on_first)
-      s.pose = s.pose * Pose<double>(so3Exp<double>(Eigen::Vector3d(0.1, -0.25, 0.15)), Eigen::Vector3d(-0.3, 0.2, 0.1));
+      s.pose =
+          s.pose * Pose<double>(so3Exp<double>(Eigen::Vector3d(0.1, -0.25, 0.15)), Eigen::Vector3d(-0.3, 0.2, 0.1));
     if (c.start == StartKind::kMoving)
     {
       s.velocity.linear = Eigen::Vector3d(0.12, -0.05, 0.04);
@@ -551,9 +569,9 @@ bool refusalAllowed(const GridCase& c, const Expectation& e, const std::string& 
       if (f == "speed" && (message.find("stands still") != std::string::npos ||
                            message.find("ramps") != std::string::npos || message.find("ramp to") != std::string::npos))
         return true;
-      if (f.rfind("max_", 0) == 0 && (message.find("holding the chord speed") != std::string::npos ||
-                                      message.find("corner") != std::string::npos ||
-                                      message.find("acceleration jumps") != std::string::npos))
+      if (f.rfind("max_", 0) == 0 &&
+          (message.find("holding the chord speed") != std::string::npos ||
+           message.find("corner") != std::string::npos || message.find("acceleration jumps") != std::string::npos))
         return true;
     }
     // fit: a control period that gives more control poses than fitted points, leaves one
@@ -658,16 +676,18 @@ struct GoalTable
       ++r.refused;
       const std::size_t at = g.refusal.find("~max_");
       std::size_t end = at;
-      while (end != std::string::npos && end < g.refusal.size() && (g.refusal[end] == '~' || isIdentifierChar(g.refusal[end])))
+      while (end != std::string::npos && end < g.refusal.size() &&
+             (g.refusal[end] == '~' || isIdentifierChar(g.refusal[end])))
         ++end;
       ++r.refused_by[at == std::string::npos ? std::string("(no bound)") : g.refusal.substr(at + 1, end - at - 1)];
     }
   }
   void print(const std::string& title) const
   {
-    std::cout << "\n=== " << title << " ===\n"
-              << "timing: ending at rest, accepted / refused by checkLimits [by the bound named]; ending moving; not checked;\n"
-                 "repeated sample times (not a goal)\n";
+    std::cout
+        << "\n=== " << title << " ===\n"
+        << "timing: ending at rest, accepted / refused by checkLimits [by the bound named]; ending moving; not checked;\n"
+           "repeated sample times (not a goal)\n";
     for (const auto& e : rows)
     {
       const Row& r = e.second;
@@ -770,14 +790,15 @@ const OpenClass kOpenClasses[] = {
 /// the goal made of them, not about the motion they are taken from.
 bool isSampleOrGoalCheck(const std::string& kind)
 {
-  static const char* const kSampleKinds[] = { "samples",       "finite",      "sample time", "sample order",
+  static const char* const kSampleKinds[] = { "samples",         "finite",          "sample time", "sample order",
                                               "quaternion sign", "unit quaternion", "sample ends", "start state" };
   return kind.rfind("goal ", 0) == 0 ||
          std::find(std::begin(kSampleKinds), std::end(kSampleKinds), kind) != std::end(kSampleKinds);
 }
 
 /// The key of the goal class's failures (grid only), and the class's index.
-const char* const kGoalRefusedJerkLimited = "goal refused: jerk-limited (time_optimal or constant_speed with both jerk bounds)";
+const char* const kGoalRefusedJerkLimited =
+    "goal refused: jerk-limited (time_optimal or constant_speed with both jerk bounds)";
 /// The sample_tolerance of the grid's re-run of a goal refused as 64 samples (m; the grid's
 /// motions span metres).
 constexpr double kGridSampleTolerance = 1e-3;
@@ -820,17 +841,15 @@ int openClassOfOthers(const std::string& key, double magnitude)
   if (jerk && key.find("time_optimal") != std::string::npos &&
       (key.find("start=moving") != std::string::npos || key.find("start=over_bound") != std::string::npos ||
        key.find("time_optimal start") != std::string::npos || key.rfind("velocity vs", 0) == 0 ||
-       (key.rfind("waypoint passed", 0) == 0 && magnitude < 1e-6) ||
-       key.rfind("acceleration vs", 0) == 0 || ((key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0) &&
-                                                magnitude <= 1.3)))
+       (key.rfind("waypoint passed", 0) == 0 && magnitude < 1e-6) || key.rfind("acceleration vs", 0) == 0 ||
+       ((key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0) && magnitude <= 1.3)))
     return 2;
-  if (key.find("constant_speed") != std::string::npos &&
-      (key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0))
+  if (key.find("constant_speed") != std::string::npos && (key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0))
     return 3;
   const bool time_optimal = key.find("time_optimal") != std::string::npos;
-  if (time_optimal && (key.find("start=moving") != std::string::npos ||
-                       key.find("start=over_bound") != std::string::npos ||
-                       key.find("time_optimal start") != std::string::npos))
+  if (time_optimal &&
+      (key.find("start=moving") != std::string::npos || key.find("start=over_bound") != std::string::npos ||
+       key.find("time_optimal start") != std::string::npos))
     return 0;
   if ((key.rfind("bound ", 0) == 0 || key.rfind("figure ", 0) == 0) && magnitude <= 1.3)
     return 1;
@@ -912,7 +931,8 @@ std::string requestYaml(const TrajectoryRequest& r)
   if (r.continuity)
     y << "continuity: " << r.continuity << "\n";
   y << "timing: " << r.timing << "\nspeed: " << r.speed << "\nmax_linear_velocity: " << r.max_linear_velocity
-    << "\nmax_angular_velocity: " << r.max_angular_velocity << "\nmax_linear_acceleration: " << r.max_linear_acceleration
+    << "\nmax_angular_velocity: " << r.max_angular_velocity
+    << "\nmax_linear_acceleration: " << r.max_linear_acceleration
     << "\nmax_angular_acceleration: " << r.max_angular_acceleration << "\nmax_linear_jerk: " << r.max_linear_jerk
     << "\nmax_angular_jerk: " << r.max_angular_jerk << "\nblend_radius: " << r.blend_radius
     << "\nsample_count: " << r.sample_count << "\nstart_velocity: ";
@@ -961,8 +981,8 @@ std::vector<GridCase> gridCases()
                 // (the screw geometry's 51 poses with a start state run 1.5 s into max_work_seconds,
                 // open class kFitWorkClass), and the timings see nothing there that 5 waypoints
                 // do not show; the test's run time stays within 15 % of what it was without fit.
-                if (std::string(curveVariants()[variant].curve) == "fit" && count == 50 && timing != 0 &&
-                    timing != 5 && timing != 10)
+                if (std::string(curveVariants()[variant].curve) == "fit" && count == 50 && timing != 0 && timing != 5 &&
+                    timing != 10)
                   continue;
                 const bool blend = curveVariants()[variant].blend;
                 cases.push_back({ variant, screw, timing, count, times, start, blend });
@@ -990,10 +1010,12 @@ std::vector<GridCase> gridCases()
 /// The values a grid case takes in each dimension but the arm, as "dimension=value" words.
 std::vector<std::string> dimensionValues(const GridCase& c)
 {
-  return { "curve=" + std::to_string(c.variant), std::string("geometry=") + (c.screw ? "screw" : "double_geodesic"),
-           "timing=" + timingVariants()[c.timing].label(), "N=" + std::to_string(c.count),
-           std::string("times=") + timesName(c.times), std::string("start=") + startName(c.start),
-           std::string("blend=") + (c.blend ? "r>0" : "0") };
+  return {
+    "curve=" + std::to_string(c.variant),           std::string("geometry=") + (c.screw ? "screw" : "double_geodesic"),
+    "timing=" + timingVariants()[c.timing].label(), "N=" + std::to_string(c.count),
+    std::string("times=") + timesName(c.times),     std::string("start=") + startName(c.start),
+    std::string("blend=") + (c.blend ? "r>0" : "0")
+  };
 }
 
 /// One case of the grid's arm dimension: the index of an arm-less case (its request, mapped into
@@ -1021,8 +1043,8 @@ std::vector<ArmGridCase> armGridCases(const std::vector<GridCase>& cases)
     for (std::size_t index = 0; index < cases.size(); ++index)
     {
       const std::vector<std::string> values = dimensionValues(cases[index]);
-      const bool brings_new = std::any_of(values.begin(), values.end(),
-                                          [&taken](const std::string& v) { return taken.count(v) == 0; });
+      const bool brings_new =
+          std::any_of(values.begin(), values.end(), [&taken](const std::string& v) { return taken.count(v) == 0; });
       if (!brings_new && (index + offset) % kArmStride != 0)
         continue;
       taken.insert(values.begin(), values.end());
@@ -1086,8 +1108,8 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
     (void)outputs;
     CheckOptions options;
     options.seed = static_cast<std::uint32_t>(index);
-    options.dense_points = c.count >= 50 ? (std::string(curveVariants()[c.variant].curve) == "bezier" ? 1500 : 4000)
-                                         : 1500;
+    options.dense_points =
+        c.count >= 50 ? (std::string(curveVariants()[c.variant].curve) == "bezier" ? 1500 : 4000) : 1500;
     options.difference_points = 16;
     const Outcome out = runAndCheck(request, PlannerLimits(), options);
     ++run;
@@ -1131,9 +1153,9 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
       for (const Violation& v : out.violations)
       {
         const CurveVariant& cv = curveVariants()[c.variant];
-        const std::string key = v.kind + " | " + cv.curve + (cv.end_condition[0] ? std::string("/") + cv.end_condition : "") +
-                                (c.blend ? "+blend" : "") + " " + timingVariants()[c.timing].label() +
-                                " start=" + startName(c.start);
+        const std::string key =
+            v.kind + " | " + cv.curve + (cv.end_condition[0] ? std::string("/") + cv.end_condition : "") +
+            (c.blend ? "+blend" : "") + " " + timingVariants()[c.timing].label() + " start=" + startName(c.start);
         failures.add(key, v.magnitude, name + ": " + v.detail);
       }
     }
@@ -1143,9 +1165,9 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
       for (const Violation& v : out.violations)
         failures.add(fit ? v.kind + " | fit :: " + messageShape(out.message) : v.kind, 0.0, name + ": " + v.detail);
       const CurveVariant& cv = curveVariants()[c.variant];
-      const std::string combo = std::string(cv.curve) + (cv.end_condition[0] ? std::string("/") + cv.end_condition : "") +
-                                (c.blend ? "+blend" : "") + " " + timingVariants()[c.timing].label() +
-                                " start=" + startName(c.start);
+      const std::string combo =
+          std::string(cv.curve) + (cv.end_condition[0] ? std::string("/") + cv.end_condition : "") +
+          (c.blend ? "+blend" : "") + " " + timingVariants()[c.timing].label() + " start=" + startName(c.start);
       refused.add(combo + " :: " + messageShape(out.message), 0.0, name + ": " + out.message.substr(0, 300));
       if (e.valid && !refusalAllowed(c, e, out.message))
         unexpected_refusals.add(combo + " :: " + messageShape(out.message), 0.0, name);
@@ -1155,9 +1177,9 @@ TEST(RequestSpace, EveryGridCombinationIsServedWithItsInvariantsOrRefusedNamingA
     }
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  std::cout << "[request space] grid: " << run << " of " << cases.size() << " cases run, "
-            << served << " served (" << closed_form << " by the closed-form timing of geodesic chains), "
-            << run - served << " refused, " << seconds << " s\n";
+  std::cout << "[request space] grid: " << run << " of " << cases.size() << " cases run, " << served << " served ("
+            << closed_form << " by the closed-form timing of geodesic chains), " << run - served << " refused, "
+            << seconds << " s\n";
   goals.print("served grid motions executed as goals (request_space.h, checkGoal)");
   refused.print("refused grid combinations (combination :: message)");
   unexpected_refusals.print("refusals of combinations the table of docs/curves.md calls valid");
@@ -1220,15 +1242,15 @@ TEST(RequestSpace, EveryGridCombinationWithAnArmIsServedWithItsJointInvariantsOr
       continue;
     }
     arm_refused += isArmRefusal(out.message) ? 1 : 0;
-    refused.add(std::string(armName(a.arm)) + " :: " + armRefusalClass(out.message, firstNamedField(out.message)),
-                0.0, name + ": " + out.message.substr(0, 300));
+    refused.add(std::string(armName(a.arm)) + " :: " + armRefusalClass(out.message, firstNamedField(out.message)), 0.0,
+                name + ": " + out.message.substr(0, 300));
     const std::vector<std::string> named = namedFields(out.message);
     if (!e.valid && std::find(named.begin(), named.end(), e.field) == named.end())
       failures.add("refusal of an invalid combination does not name " + e.field + " | " + key, 0.0,
                    name + ": " + out.message);
     if (e.valid && !refusalAllowed(c, e, out.message) && !isArmRefusal(out.message))
-      failures.add("refusal of a valid combination for neither the table's reasons nor the arm's | " + key + " :: " +
-                       messageShape(out.message),
+      failures.add("refusal of a valid combination for neither the table's reasons nor the arm's | " + key +
+                       " :: " + messageShape(out.message),
                    0.0, name);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
@@ -1346,12 +1368,13 @@ std::vector<double> randomTimesField(std::mt19937& rng, std::size_t n, bool from
 
 TrajectoryRequest randomRequest(std::mt19937& rng)
 {
-  static const std::vector<const char*> kCurves = { "piecewise_geodesic", "bezier", "bspline",
+  static const std::vector<const char*> kCurves = { "piecewise_geodesic", "bezier",  "bspline",
                                                     "interpolating",      "hermite", "blended" };
   TrajectoryRequest r;
   const int count_pick = std::uniform_int_distribution<int>(0, 19)(rng);
-  const std::size_t n = count_pick == 0 ? 0 : count_pick < 18 ? std::uniform_int_distribution<std::size_t>(1, 6)(rng)
-                                                              : std::uniform_int_distribution<std::size_t>(7, 24)(rng);
+  const std::size_t n = count_pick == 0 ? 0 :
+                        count_pick < 18 ? std::uniform_int_distribution<std::size_t>(1, 6)(rng) :
+                                          std::uniform_int_distribution<std::size_t>(7, 24)(rng);
   r.waypoints = hardWaypoints(n, static_cast<std::uint32_t>(rng()));
   // Shuffle in random rotation steps and, rarely, invalid numbers.
   for (Pose<double>& x : r.waypoints)
@@ -1372,9 +1395,9 @@ TrajectoryRequest randomRequest(std::mt19937& rng)
   r.parameterization = randomName(rng, { "chord", "uniform", "centripetal" });
   r.timing = randomName(rng, { "stretch", "time_optimal" });
   const int degree_pick = std::uniform_int_distribution<int>(0, 9)(rng);
-  r.degree = degree_pick < 6 ? 0 : degree_pick == 9 && std::bernoulli_distribution(0.3)(rng)
-                                       ? -1
-                                       : std::uniform_int_distribution<int>(1, 3)(rng);
+  r.degree = degree_pick < 6                                           ? 0 :
+             degree_pick == 9 && std::bernoulli_distribution(0.3)(rng) ? -1 :
+                                                                         std::uniform_int_distribution<int>(1, 3)(rng);
   if (std::bernoulli_distribution(0.1)(rng) && n >= 2)
   {
     const int m = r.degree > 0 ? r.degree : std::min<int>(3, static_cast<int>(n) - 1);
@@ -1386,9 +1409,10 @@ TrajectoryRequest randomRequest(std::mt19937& rng)
       r.knots.pop_back();
   }
   const int continuity_pick = std::uniform_int_distribution<int>(0, 9)(rng);
-  r.continuity = continuity_pick < 6 ? 0 : continuity_pick == 9 && std::bernoulli_distribution(0.3)(rng)
-                                               ? 12
-                                               : std::uniform_int_distribution<int>(1, 4)(rng);
+  r.continuity = continuity_pick < 6 ? 0 :
+                 continuity_pick == 9 && std::bernoulli_distribution(0.3)(rng) ?
+                                       12 :
+                                       std::uniform_int_distribution<int>(1, 4)(rng);
   r.start_velocity = randomTwistField(rng);
   r.end_velocity = randomTwistField(rng);
   r.start_acceleration = randomTwistField(rng);
@@ -1662,7 +1686,8 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
       ++arm_run;
       arm_served += out.served ? 1 : 0;
       if (!out.served)
-        arm_refusals.add(std::string(armName(arm)) + " :: " + armRefusalClass(out.message, firstNamedField(out.message)),
+        arm_refusals.add(std::string(armName(arm)) +
+                             " :: " + armRefusalClass(out.message, firstNamedField(out.message)),
                          0.0, name + ": " + out.message.substr(0, 200));
       for (const Violation& v : out.violations)
         arm_failures.add(v.kind + " | " + armName(arm), v.magnitude, name + ": " + v.detail);
@@ -1676,17 +1701,18 @@ TEST(RequestSpace, RandomRequestsAreServedWithTheirInvariantsOrRefusedNamingAFie
                     (request.max_linear_jerk > 0.0 || request.max_angular_jerk > 0.0 ? " jerk" : "") +
                     (request.sample_tolerance > 0.0 ? " sample_tolerance" : ""),
                 out.goal);
-    const std::string name = "sweep #" + std::to_string(i) + " (" + (request.curve.empty() ? "default" : request.curve) +
-                             ", " + (request.timing.empty() ? "default" : request.timing) + ", N=" +
-                             std::to_string(request.waypoints.size()) + (request.start_state ? ", start state" : "") + ")";
+    const std::string name =
+        "sweep #" + std::to_string(i) + " (" + (request.curve.empty() ? "default" : request.curve) + ", " +
+        (request.timing.empty() ? "default" : request.timing) + ", N=" + std::to_string(request.waypoints.size()) +
+        (request.start_state ? ", start state" : "") + ")";
     if (!out.served)
     {
       refusals.add(firstNamedField(out.message), 0.0, name + ": " + out.message.substr(0, 200));
     }
     for (const Violation& v : out.violations)
       failures.add(v.kind + " | " + (request.curve.empty() ? "default" : request.curve) + " " +
-                       (request.timing.empty() ? "stretch" : request.timing) +
-                       (request.start_state ? " start" : "") + (request.blend_radius > 0.0 ? " blend" : "") +
+                       (request.timing.empty() ? "stretch" : request.timing) + (request.start_state ? " start" : "") +
+                       (request.blend_radius > 0.0 ? " blend" : "") +
                        (request.max_linear_jerk != 0.0 || request.max_angular_jerk != 0.0 ? " jerk" : "") +
                        (!out.served && request.curve == "fit" ? " :: " + messageShape(out.message) : ""),
                    v.magnitude, name + ": " + v.detail);
