@@ -149,5 +149,61 @@ ArmJacobian ArmModel::jacobianDerivative(const ArmFrames& f, const ArmJacobian& 
   return jd;
 }
 
+namespace
+{
+/// The first three time derivatives of a vector d fixed on a link turning at ω, α = ω̇, ζ = ω̈
+/// but for a part that slides in the link at relative rates r1, r2, r3 (a prismatic joint's
+/// z q̇, z q̈, z q⃛; zero between two points of the link): a link-frame quantity X changes as
+/// Ẋ = ω × X + (its change in the link).
+struct MovingVector
+{
+  Eigen::Vector3d d1, d2, d3;
+
+  MovingVector(const Eigen::Vector3d& d, const Eigen::Vector3d& omega, const Eigen::Vector3d& alpha,
+               const Eigen::Vector3d& zeta, const Eigen::Vector3d& r1, const Eigen::Vector3d& r2,
+               const Eigen::Vector3d& r3)
+  {
+    const Eigen::Vector3d r1_dot = omega.cross(r1) + r2;  // d/dt r1
+    d1 = omega.cross(d) + r1;
+    d2 = alpha.cross(d) + omega.cross(d1) + r1_dot;
+    d3 = zeta.cross(d) + 2.0 * alpha.cross(d1) + omega.cross(d2) + alpha.cross(r1) + omega.cross(r1_dot) +
+         omega.cross(r2) + r3;
+  }
+};
+}  // namespace
+
+TipVector ArmModel::tipJerk(const ArmFrames& f, const JointVectorRef& qd, const JointVectorRef& qdd,
+                            const JointVectorRef& qddd) const
+{
+  // The current link's ω, α, ζ, and its joint origin's jerk: o_0 is fixed in the base, and the
+  // tip's jerk sums the jerks of the vectors o_{i+1} − o_i and p − o_{n−1}.
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  Eigen::Vector3d omega = zero, alpha = zero, zeta = zero, j = zero;
+  const int n = dof();
+  for (int i = 0; i < n; ++i)
+  {
+    const std::size_t k = static_cast<std::size_t>(i);
+    const Eigen::Vector3d& z = f.z[k];
+    const Eigen::Vector3d next = i + 1 < n ? f.o[k + 1] : f.base_T_tip.translation();
+    if (joints_[k].isPrismatic())
+    {
+      const MovingVector d(next - f.o[k], omega, alpha, zeta, z * qd[i], z * qdd[i], z * qddd[i]);
+      j += d.d3;
+      continue;
+    }
+    // About z, fixed on the parent link: ż = ω⁻ × z, z̈ = α⁻ × z + ω⁻ × ż.
+    const Eigen::Vector3d z1 = omega.cross(z);
+    const Eigen::Vector3d z2 = alpha.cross(z) + omega.cross(z1);
+    omega += z * qd[i];
+    alpha += z1 * qd[i] + z * qdd[i];
+    zeta += z2 * qd[i] + 2.0 * z1 * qdd[i] + z * qddd[i];
+    const MovingVector d(next - f.o[k], omega, alpha, zeta, zero, zero, zero);
+    j += d.d3;
+  }
+  TipVector out;
+  out << zeta, j;
+  return out;
+}
+
 }  // namespace arm
 }  // namespace se3_interpolation

@@ -24,6 +24,12 @@
 // parent link, ż_i = ω_i⁻ × z_i; ȯ_i the velocity of o_i (a point of that link) and ṗ = J_v q̇:
 //   revolute:  J̇_i = [ż_i; ż_i × (p − o_i) + z_i × (ṗ − ȯ_i)],   prismatic: J̇_i = [0; ż_i],   (J̇)
 //   ȯ_{i+1} = ȯ_i + ω_i⁺ × (o_{i+1} − o_i) (+ z_i q̇_i if joint i is prismatic), ω_i⁺ = ω_{i+1}⁻.
+// Tip jerk (ArmModel::tipJerk): [ω̈; p⃛] = J q⃛ + 2 J̇ q̈ + J̈ q̇, by the same forward recursion one
+// order higher: each link's ω, α = ω̇ and ζ = ω̈, and each joint origin's velocity, acceleration
+// and jerk. A revolute joint adds z q̇, ż q̇ + z q̈, z̈ q̇ + 2 ż q̈ + z q⃛ to the link's ω, α, ζ
+// (ż = ω⁻ × z, z̈ = α⁻ × z + ω⁻ × ż); a vector d between two points of one link moves as
+// ḋ = ω × d, d̈ = α × d + ω × ḋ, d⃛ = ζ × d + 2 α × ḋ + ω × d̈, plus, across a prismatic joint,
+// z q̇, ż q̇ + z q̈, z̈ q̇ + 2 ż q̈ + z q⃛ (the sliding origin's motion along the moving axis).
 //
 // Cost: the kinematics allocate nothing (q is an Eigen::Ref, the Jacobian a fixed-capacity matrix
 // of at most kMaxArmJoints columns); a chain with more movable joints is refused.
@@ -50,6 +56,9 @@ constexpr int kMaxArmJoints = 16;
 /// A Jacobian or its time derivative: 6 rows (ω then ṗ, header comment), one column per movable
 /// joint; fixed capacity, so returning one allocates nothing.
 using ArmJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6, kMaxArmJoints>;
+
+/// A rate of the tip in the Jacobian's row order: angular part (rad/s^k) then linear (m/s^k).
+using TipVector = Eigen::Matrix<double, 6, 1>;
 
 /// Joint positions, velocities, ...: any Eigen column vector of doubles (VectorXd, Matrix<double, 7, 1>).
 using JointVectorRef = Eigen::Ref<const Eigen::VectorXd>;
@@ -142,6 +151,11 @@ public:
   ArmJacobian jacobian(const ArmFrames& frames) const;
   /// (J̇) from frames at q and J at q, along joint velocities qd (n entries, unchecked).
   ArmJacobian jacobianDerivative(const ArmFrames& frames, const ArmJacobian& jacobian, const JointVectorRef& qd) const;
+  /// The tip's angular and linear jerk [ω̈; p⃛] (rad/s³, m/s³, base frame; header comment) from
+  /// frames at q along joint velocities qd, accelerations qdd and jerks qddd (n entries each,
+  /// unchecked). With qddd = 0 it is 2 J̇ q̈ + J̈ q̇, the bias a joint jerk solve subtracts.
+  TipVector tipJerk(const ArmFrames& frames, const JointVectorRef& qd, const JointVectorRef& qdd,
+                    const JointVectorRef& qddd) const;
 
   /// Throws ArmModelError ("<field>: 5 entries, the chain 'base_link' → 'tool0' has 6 joints",
   /// "<field>[2] (joint 'elbow_joint'): not finite (nan)") unless v has n finite entries.

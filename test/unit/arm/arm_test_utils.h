@@ -193,5 +193,34 @@ inline Eigen::MatrixXd finiteDifferenceJacobianRate(const arm::ArmModel& model, 
   return (model.jacobian(qp) - model.jacobian(qm)) / (2 * h);
 }
 
+/// q(t) = q + qd t + qdd t²/2 + qddd t³/6 and its first two derivatives at t.
+struct CubicJointMotion
+{
+  Eigen::VectorXd q, qd, qdd, qddd;
+
+  Eigen::VectorXd position(double t) const { return q + t * qd + t * t / 2 * qdd + t * t * t / 6 * qddd; }
+  Eigen::VectorXd velocity(double t) const { return qd + t * qdd + t * t / 2 * qddd; }
+  Eigen::VectorXd acceleration(double t) const { return qdd + t * qddd; }
+};
+
+/// The tip's [ω̈; p⃛] at t = 0 of m by central differences of its acceleration J q̈ + J̇ q̇ (step h).
+inline arm::TipVector finiteDifferenceTipJerk(const arm::ArmModel& model, const CubicJointMotion& m, double h)
+{
+  const auto tipAcceleration = [&](double t) {
+    arm::ArmJacobian j, jd;
+    model.kinematics(m.position(t), m.velocity(t), nullptr, &j, &jd);
+    return arm::TipVector(j * m.acceleration(t) + jd * m.velocity(t));
+  };
+  return (tipAcceleration(h) - tipAcceleration(-h)) / (2 * h);
+}
+
+/// The tip origin's p⃛ at t = 0 of m from forward kinematics alone (the five-point central
+/// difference of the positions, step h; error O(h²)).
+inline Eigen::Vector3d finiteDifferenceTipLinearJerk(const arm::ArmModel& model, const CubicJointMotion& m, double h)
+{
+  const auto p = [&](double t) { return Eigen::Vector3d(model.base_T_tip(m.position(t)).translation()); };
+  return (p(2 * h) - 2 * p(h) + 2 * p(-h) - p(-2 * h)) / (2 * h * h * h);
+}
+
 }  // namespace test
 }  // namespace se3_interpolation

@@ -1,8 +1,9 @@
 // arm/arm_model.h: the forward kinematics of config/robots/'s UR5e and Panda equal the vendors'
 // DH products (standard for the UR5e, modified for the Panda) and KDL's; the Jacobian equals KDL's
 // and the finite differences of the FK; J̇ equals the finite differences of J; a chain with a
-// prismatic, a continuous and fixed joints between them; the limits of the URDF and the limits
-// files; the kinematics allocate nothing.
+// prismatic, a continuous and fixed joints between them; the tip's jerk equals the differences of
+// its acceleration and of the FK; the limits of the URDF and the limits files; the kinematics
+// allocate nothing.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -89,8 +90,8 @@ std::vector<Eigen::VectorXd> ur5eSingular()
 /// (q4 = 0 is outside the limits, FK does not care).
 std::vector<Eigen::VectorXd> pandaSingular()
 {
-  return { vec({ 0.0, 0.0, M_PI / 2, -M_PI / 2, 0.0, M_PI / 2, 0.0 }), vec({ 0.7, 0.0, -M_PI / 2, -3.0, M_PI / 2, 2.0, -1.0 }),
-           vec({ 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }) };
+  return { vec({ 0.0, 0.0, M_PI / 2, -M_PI / 2, 0.0, M_PI / 2, 0.0 }),
+           vec({ 0.7, 0.0, -M_PI / 2, -3.0, M_PI / 2, 2.0, -1.0 }), vec({ 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }) };
 }
 
 /// The smallest of J's six singular values.
@@ -133,7 +134,7 @@ TEST(ArmModel, Ur5eChainAndLimitsFromTheUrdf)
   const ArmModel m = ur5e();
   EXPECT_EQ(m.dof(), 6);
   EXPECT_EQ(m.jointNames(), (std::vector<std::string>{ "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-                                                        "wrist_1_joint", "wrist_2_joint", "wrist_3_joint" }));
+                                                       "wrist_1_joint", "wrist_2_joint", "wrist_3_joint" }));
   for (const ArmJoint& j : m.joints())
   {
     EXPECT_EQ(j.type, JointType::kRevolute);
@@ -207,9 +208,10 @@ TEST(ArmModel, PandaLimitsFromTheUrdfAndTheLimitsFile)
     EXPECT_EQ(j.limits.max_acceleration, 5.0);
     EXPECT_FALSE(j.limits.hasJerkLimit());
   }
-  u.applyLimits(parseJointLimits("joint_limits: {elbow_joint: {has_velocity_limits: true, max_velocity: 1.5,"
-                                 " has_position_limits: true, min_position: -1, max_position: 2},"
-                                 " wrist_1_joint: {has_velocity_limits: false, max_velocity: 0.1}}"));
+  u.applyLimits(
+      parseJointLimits("joint_limits: {elbow_joint: {has_velocity_limits: true, max_velocity: 1.5,"
+                       " has_position_limits: true, min_position: -1, max_position: 2},"
+                       " wrist_1_joint: {has_velocity_limits: false, max_velocity: 0.1}}"));
   EXPECT_EQ(u.joints()[2].limits.max_velocity, 1.5);
   EXPECT_EQ(u.joints()[2].limits.min_position, -1.0);
   EXPECT_EQ(u.joints()[2].limits.max_position, 2.0);
@@ -237,6 +239,50 @@ TEST(ArmModel, Ur5eAndPandaAgreeWithKdlAndFiniteDifferences)
     qs.insert(qs.end(), set.begin(), set.end());
   for (const Eigen::VectorXd& q : qs)
     checkAgainstKdl(u, chain, q, "UR5e at " + ::testing::PrintToString(q));
+}
+
+/// tipJerk at q along random joint rates: against the central differences of the tip's acceleration
+/// (J q̈ + J̇ q̇, each checked above against KDL and differences) and, for p⃛, of FK alone; linear
+/// in q⃛ with J as its coefficient.
+void checkTipJerk(const ArmModel& model, const Eigen::VectorXd& q, unsigned seed, const std::string& what)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  const auto random = [&] {
+    Eigen::VectorXd v(q.size());
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      v[i] = u(rng);
+    return v;
+  };
+  const test::CubicJointMotion m{ q, random(), random(), random() };
+  ArmFrames f;
+  model.frames(q, &f);
+  const TipVector jerk = model.tipJerk(f, m.qd, m.qdd, m.qddd);
+  expectNear(jerk, test::finiteDifferenceTipJerk(model, m, 1e-5), 1e-6, what + " tip jerk vs differences of J q̈ + J̇ q̇");
+  expectNear(jerk.tail<3>(), test::finiteDifferenceTipLinearJerk(model, m, 5e-4), 2e-4,
+             what + " p⃛ vs differences of FK");
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(q.size());
+  expectNear(jerk - model.tipJerk(f, m.qd, m.qdd, zero), model.jacobian(f) * m.qddd, 1e-12, what + " linear in q⃛");
+}
+
+TEST(ArmModel, TipJerkIsTheDerivativeOfTheTipAcceleration)
+{
+  unsigned seed = 10;
+  for (const std::string tip : { "panda_link8", "panda_hand_tcp" })
+  {
+    const ArmModel m = panda(tip);
+    std::vector<Eigen::VectorXd> qs = randomPositions(m, 20, 6);
+    for (const auto& set : { limitPositions(m), pandaSingular() })
+      qs.insert(qs.end(), set.begin(), set.end());
+    for (const Eigen::VectorXd& q : qs)
+      checkTipJerk(m, q, ++seed, "Panda to " + tip + " at " + ::testing::PrintToString(q));
+  }
+  const ArmModel u = ur5e();
+  std::vector<Eigen::VectorXd> qs = randomPositions(u, 20, 7);
+  for (const auto& set : { limitPositions(u), ur5eSingular() })
+    qs.insert(qs.end(), set.begin(), set.end());
+  for (const Eigen::VectorXd& q : qs)
+    checkTipJerk(u, q, ++seed, "UR5e at " + ::testing::PrintToString(q));
 }
 
 TEST(ArmModel, OnePassKinematicsAndThePoseTypeAgree)

@@ -102,8 +102,9 @@ TEST(ArmModelInput, PrismaticContinuousAndFixedJointsInTheMiddle)
   const KDL::Chain chain = test::kdlChain(kMixedUrdf, "base_link", "tool");
   KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::ChainJntToJacSolver jac(chain);
-  for (const Eigen::VectorXd& q : { Eigen::VectorXd(Eigen::Vector3d(0, 0, 0)), Eigen::VectorXd(Eigen::Vector3d(0.7, 2.5, -0.4)),
-                                    Eigen::VectorXd(Eigen::Vector3d(-0.5, -3.0, 1.0)), Eigen::VectorXd(Eigen::Vector3d(1.5, 7.0, 0.3)) })
+  for (const Eigen::VectorXd& q :
+       { Eigen::VectorXd(Eigen::Vector3d(0, 0, 0)), Eigen::VectorXd(Eigen::Vector3d(0.7, 2.5, -0.4)),
+         Eigen::VectorXd(Eigen::Vector3d(-0.5, -3.0, 1.0)), Eigen::VectorXd(Eigen::Vector3d(1.5, 7.0, 0.3)) })
   {
     const std::string at = ::testing::PrintToString(q);
     EXPECT_LE((m.base_T_tip(q).matrix() - mixedFk(q).matrix()).cwiseAbs().maxCoeff(), 1e-15) << at;
@@ -164,38 +165,58 @@ TEST(ArmModelInput, PrismaticJointsBetweenRevoluteJoints)
     const Eigen::MatrixXd jd = m.jacobianDerivative(q, qd);
     EXPECT_GT(jd.col(1).norm(), 0.1);
     EXPECT_LE((jd - test::finiteDifferenceJacobianRate(m, q, qd, 1e-6)).cwiseAbs().maxCoeff(), 1e-8);
+    // The tip's jerk: the sliding joint's Coriolis terms (it slides along a turning axis).
+    const test::CubicJointMotion motion{ q, qd, Eigen::Vector3d(-0.9, 1.7, 0.5), Eigen::Vector3d(2.0, -1.2, 1.5) };
+    ArmFrames f;
+    m.frames(q, &f);
+    const TipVector jerk = m.tipJerk(f, motion.qd, motion.qdd, motion.qddd);
+    EXPECT_LE((jerk - test::finiteDifferenceTipJerk(m, motion, 1e-5)).cwiseAbs().maxCoeff(), 1e-6) << jerk;
+    EXPECT_LE((jerk.tail<3>() - test::finiteDifferenceTipLinearJerk(m, motion, 5e-4)).cwiseAbs().maxCoeff(), 2e-4);
   }
 }
 
 TEST(ArmModelInput, BadUrdfsAndLinksAreRefusedByName)
 {
-  expectRefused([] { ArmModel("<robot name='x'><link", "a", "b", "broken.urdf"); }, { "broken.urdf", "not a valid URDF" });
+  expectRefused([] { ArmModel("<robot name='x'><link", "a", "b", "broken.urdf"); },
+                { "broken.urdf", "not a valid URDF" });
   expectRefused([] { ArmModel("", "a", "b", "empty.urdf"); }, { "empty.urdf" });
-  expectRefused([] { ArmModel::fromUrdfFile("/nonexistent/robot.urdf", "a", "b"); }, { "/nonexistent/robot.urdf", "cannot be read" });
+  expectRefused([] { ArmModel::fromUrdfFile("/nonexistent/robot.urdf", "a", "b"); },
+                { "/nonexistent/robot.urdf", "cannot be read" });
   // A long path keeps its end, the file's name.
-  expectRefused([] { ArmModel::fromUrdfFile("/nonexistent/catkin_ws/src/my_robot_description/urdf/my_robot.urdf", "a", "b"); },
-                { "URDF file '.../my_robot_description/urdf/my_robot.urdf': cannot be read" });
-  expectRefused([] { ArmModel(kMixedUrdf, "base", "tool", "mixed.urdf"); }, { "mixed.urdf", "'base'", "not in the URDF" });
+  expectRefused(
+      [] { ArmModel::fromUrdfFile("/nonexistent/catkin_ws/src/my_robot_description/urdf/my_robot.urdf", "a", "b"); },
+      { "URDF file '.../my_robot_description/urdf/my_robot.urdf': cannot be read" });
+  expectRefused([] { ArmModel(kMixedUrdf, "base", "tool", "mixed.urdf"); },
+                { "mixed.urdf", "'base'", "not in the URDF" });
   expectRefused([] { ArmModel(kMixedUrdf, "base_link", "tool0", "mixed.urdf"); }, { "'tool0'", "not in the URDF" });
   expectRefused([] { ArmModel(kMixedUrdf, "tool", "base_link", "mixed.urdf"); },
                 { "'base_link'", "not a descendant of base link 'tool'" });
-  expectRefused([] { ArmModel(kMixedUrdf, "camera", "tool", "mixed.urdf"); }, { "'tool'", "not a descendant", "'camera'" });
+  expectRefused([] { ArmModel(kMixedUrdf, "camera", "tool", "mixed.urdf"); },
+                { "'tool'", "not a descendant", "'camera'" });
   expectRefused([] { ArmModel(kMixedUrdf, "tool", "tool", "mixed.urdf"); }, { "same link 'tool'" });
   expectRefused([] { ArmModel(kMixedUrdf, "carriage", "camera", "mixed.urdf"); }, { "no movable joint" });
   // Joints on the chain: a floating joint, a zero axis, lower > upper, a negative or zero velocity,
   // a mimic joint.
-  expectRefused([] { ArmModel(replaced(kMixedUrdf, "type=\"continuous\"", "type=\"floating\""), "base_link", "tool", "m.urdf"); },
-                { "m.urdf", "joint 'spin'", "floating" });
+  expectRefused(
+      [] { ArmModel(replaced(kMixedUrdf, "type=\"continuous\"", "type=\"floating\""), "base_link", "tool", "m.urdf"); },
+      { "m.urdf", "joint 'spin'", "floating" });
   expectRefused([] { ArmModel(replaced(kMixedUrdf, "xyz=\"0 2 0\"", "xyz=\"0 0 0\""), "base_link", "tool", "m.urdf"); },
                 { "joint 'tilt'", "<axis>" });
-  expectRefused([] { ArmModel(replaced(kMixedUrdf, "lower=\"-1\" upper=\"1\"", "lower=\"1\" upper=\"-1\""), "base_link", "tool"); },
-                { "joint 'tilt'", "lower 1 > upper -1" });
+  expectRefused(
+      [] {
+        ArmModel(replaced(kMixedUrdf, "lower=\"-1\" upper=\"1\"", "lower=\"1\" upper=\"-1\""), "base_link", "tool");
+      },
+      { "joint 'tilt'", "lower 1 > upper -1" });
   expectRefused([] { ArmModel(replaced(kMixedUrdf, "velocity=\"0.8\"", "velocity=\"-0.8\""), "base_link", "tool"); },
                 { "joint 'rail'", "velocity -0.80000000000000004", "positive" });
   expectRefused([] { ArmModel(replaced(kMixedUrdf, "velocity=\"2\"", "velocity=\"0\""), "base_link", "tool"); },
                 { "joint 'tilt'", "velocity 0" });
-  expectRefused([] { ArmModel(replaced(kMixedUrdf, "<axis xyz=\"0 2 0\"/>", "<axis xyz=\"0 2 0\"/><mimic joint=\"spin\"/>"), "base_link", "tool"); },
-                { "joint 'tilt'", "mimic" });
+  expectRefused(
+      [] {
+        ArmModel(replaced(kMixedUrdf, "<axis xyz=\"0 2 0\"/>", "<axis xyz=\"0 2 0\"/><mimic joint=\"spin\"/>"),
+                 "base_link", "tool");
+      },
+      { "joint 'tilt'", "mimic" });
   // Joints off the chain may be anything.
   EXPECT_EQ(ArmModel(replaced(kMixedUrdf, "type=\"fixed\"><parent link=\"carriage\"/><child link=\"camera\"/>",
                               "type=\"floating\"><parent link=\"carriage\"/><child link=\"camera\"/>"),
@@ -207,7 +228,8 @@ TEST(ArmModelInput, BadUrdfsAndLinksAreRefusedByName)
 TEST(ArmModelInput, BadJointVectorsAreRefusedByName)
 {
   const ArmModel m = ur5e();
-  expectRefused([&] { m.base_T_tip(Eigen::VectorXd::Zero(5)); }, { "q: 5 entries", "the chain 'base_link' → 'tool0' has 6 joints" });
+  expectRefused([&] { m.base_T_tip(Eigen::VectorXd::Zero(5)); },
+                { "q: 5 entries", "the chain 'base_link' → 'tool0' has 6 joints" });
   Eigen::VectorXd q = Eigen::VectorXd::Zero(6);
   q[2] = std::nan("");
   expectRefused([&] { m.jacobian(q); }, { "q[2] (joint 'elbow_joint'): not finite (nan)" });
@@ -219,11 +241,12 @@ TEST(ArmModelInput, BadJointVectorsAreRefusedByName)
   Eigen::VectorXd qd = Eigen::VectorXd::Zero(6);
   qd[0] = -INFINITY;
   EXPECT_NO_THROW(m.kinematics(q, qd, nullptr, nullptr, nullptr));  // qd is read for J̇ only
-  expectRefused([&] {
-    ArmJacobian jd;
-    m.kinematics(q, qd, nullptr, nullptr, &jd);
-  },
-                { "qd[0] (joint 'shoulder_pan_joint'): not finite (-inf)" });
+  expectRefused(
+      [&] {
+        ArmJacobian jd;
+        m.kinematics(q, qd, nullptr, nullptr, &jd);
+      },
+      { "qd[0] (joint 'shoulder_pan_joint'): not finite (-inf)" });
 }
 
 TEST(ArmModelInput, BadLimitsFilesAreRefusedByName)
@@ -251,10 +274,12 @@ TEST(ArmModelInput, BadLimitsFilesAreRefusedByName)
                 { "joint_limits.'j1'.'max_velocty': unknown key" });
   expectRefused([&] { parse("joint_limits: {j1: {has_position_limits: true, min_position: 2, max_position: 1}}"); },
                 { "joint_limits.'j1': min_position 2 > max_position 1" });
-  expectRefused([] { readJointLimitsFile("/nonexistent/joint_limits.yaml"); }, { "/nonexistent/joint_limits.yaml", "cannot be read" });
+  expectRefused([] { readJointLimitsFile("/nonexistent/joint_limits.yaml"); },
+                { "/nonexistent/joint_limits.yaml", "cannot be read" });
   // A value whose flag is false is not read (MoveIt's rule); MoveIt's top-level keys are ignored.
-  const JointLimitsFile ok = parse("default_velocity_scaling_factor: 0.1\n"
-                                   "joint_limits: {j1: {has_velocity_limits: false, max_velocity: -5}}");
+  const JointLimitsFile ok = parse(
+      "default_velocity_scaling_factor: 0.1\n"
+      "joint_limits: {j1: {has_velocity_limits: false, max_velocity: -5}}");
   EXPECT_FALSE(ok.joints.at("j1").max_velocity.has_value());
 
   // Against a model: a joint the URDF lacks is refused, and a position range on a continuous joint;
@@ -262,12 +287,16 @@ TEST(ArmModelInput, BadLimitsFilesAreRefusedByName)
   ArmModel m = mixed();
   expectRefused([&] { m.applyLimits(parse("joint_limits: {elbow: {has_velocity_limits: true, max_velocity: 1}}")); },
                 { "limits.yaml", "joint 'elbow' is not in the URDF 'mixed.urdf'" });
-  expectRefused([&] { m.applyLimits(parse("joint_limits: {spin: {has_position_limits: true, min_position: -1, max_position: 1}}")); },
-                { "limits.yaml", "joint 'spin'", "continuous joint has no position limits" });
+  expectRefused(
+      [&] {
+        m.applyLimits(parse("joint_limits: {spin: {has_position_limits: true, min_position: -1, max_position: 1}}"));
+      },
+      { "limits.yaml", "joint 'spin'", "continuous joint has no position limits" });
   expectRefused([&] { parse("joint_limits: {rail: {has_position_limits: true, min_position: 1.6}}"); },
                 { "joint_limits.'rail'.max_position: missing (has_position_limits is true)" });
-  m.applyLimits(parse("joint_limits: {camera_mount: {has_velocity_limits: true, max_velocity: 1},"
-                      " spin: {has_velocity_limits: true, max_velocity: 3, has_acceleration_limits: true, max_acceleration: 9}}"));
+  m.applyLimits(parse(
+      "joint_limits: {camera_mount: {has_velocity_limits: true, max_velocity: 1},"
+      " spin: {has_velocity_limits: true, max_velocity: 3, has_acceleration_limits: true, max_acceleration: 9}}"));
   EXPECT_EQ(m.joints()[1].limits.max_velocity, 3.0);
   EXPECT_EQ(m.joints()[1].limits.max_acceleration, 9.0);
   EXPECT_EQ(m.joints()[0].limits.max_velocity, 0.8);
