@@ -288,6 +288,19 @@ JointState JointPath::ratesAt(const Eigen::VectorXd& q, const ArmFrames& f, cons
   return s;
 }
 
+Eigen::VectorXd JointPath::jerk(const JointState& state, const TipVector& tip_jerk) const
+{
+  ArmFrames f;
+  arm_->frames(state.position, &f);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(arm_->dof());
+  const Vector6d bias = arm_->tipJerk(f, state.velocity, state.acceleration, none);
+  const Vector6d free = Eigen::PartialPivLU<Matrix6d>(freeColumns(arm_->jacobian(f), free_)).solve(tip_jerk - bias);
+  Eigen::VectorXd out = none;
+  for (int c = 0; c < 6; ++c)
+    out[free_[static_cast<std::size_t>(c)]] = free[c];
+  return out;
+}
+
 TrackedPoint JointPath::trackedPoint(double t, const Eigen::VectorXd& q, const ArmFrames& f, const Kinematics& k,
                                      FreeJacobian* free_jacobian) const
 {

@@ -50,6 +50,8 @@ public:
       const Eigen::Index i = static_cast<Eigen::Index>(k);
       record(&p.velocity, &p.velocity_time, { std::abs(q.velocity[i]), 0.0, 0.0 }, t, 0.0);
       record(&p.acceleration, &p.acceleration_time, { std::abs(q.acceleration[i]), 0.0, 0.0 }, t, 0.0);
+      if (q.jerk.size() > 0)
+        record(&p.jerk, &p.jerk_time, { std::abs(q.jerk[i]), 0.0, 0.0 }, t, 0.0);
     }
   }
 
@@ -76,10 +78,23 @@ public:
               timing::detail::localMaxOf(
                   [&](double l) { return std::abs(motion_.at(t0 + l * h, Side::kRight).acceleration[k]); }, aa, am,
                   ab));
+      if (m.jerk.size() > 0)
+        jerk(k, t0, h, { std::abs(a.jerk[k]), std::abs(m.jerk[k]), std::abs(b.jerk[k]) });
     }
   }
 
 private:
+  /// Joint k's jerk at the ends and middle j of the interval [t0, t0 + h], and its searched peak.
+  void jerk(int k, double t0, double h, const std::array<double, 3>& j)
+  {
+    JointPeak& p = check_.peaks[static_cast<std::size_t>(k)];
+    record(&p.jerk, &p.jerk_time, j, t0, h);
+    if (timing::detail::parabolaPeaksInside(j[0], j[1], j[2], p.jerk * (1.0 - kJointSearchMargin)))
+      raise(&p.jerk, &p.jerk_time, t0, h,
+            timing::detail::localMaxOf([&](double l) { return std::abs(motion_.at(t0 + l * h, Side::kRight).jerk[k]); },
+                                       j[0], j[1], j[2]));
+  }
+
   static void record(double* peak, double* when, const std::array<double, 3>& v, double t0, double h)
   {
     for (int j = 0; j < 3; ++j)
@@ -130,14 +145,14 @@ void rate(const ArmModel& arm, JointRatesCheck* c)
     const JointPeak& p = c->peaks[k];
     const double v = l.hasVelocityLimit() ? p.velocity / l.max_velocity : 0.0;
     const double a = l.hasAccelerationLimit() ? p.acceleration / l.max_acceleration : 0.0;
-    c->stretch = std::max({ c->stretch, v, std::sqrt(a) });
-    if (std::max(v, a) > c->binding_ratio || c->binding_joint < 0)
+    const double j = c->has_jerk && l.hasJerkLimit() ? p.jerk / l.max_jerk : 0.0;
+    c->stretch = std::max({ c->stretch, v, std::sqrt(a), std::cbrt(j) });
+    if (std::max({ v, a, j }) > c->binding_ratio || c->binding_joint < 0)
     {
-      const bool velocity = v >= a;
       c->binding_joint = static_cast<int>(k);
-      c->binding_quantity = velocity ? "velocity" : "acceleration";
-      c->binding_ratio = std::max(v, a);
-      c->binding_time = velocity ? p.velocity_time : p.acceleration_time;
+      c->binding_ratio = std::max({ v, a, j });
+      c->binding_quantity = v >= std::max(a, j) ? "velocity" : a >= j ? "acceleration" : "jerk";
+      c->binding_time = v >= std::max(a, j) ? p.velocity_time : a >= j ? p.acceleration_time : p.jerk_time;
     }
   }
 }
@@ -170,20 +185,24 @@ void JointBoxes::jet(double s, Side side, double* w, double* a) const
   }
 }
 
-RetimedJointPath::RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end)
-  : path_(std::move(path)), clock_(std::move(clock)), start_(start), end_(end)
+RetimedJointPath::RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end,
+                                   TipJerk tip_jerk)
+  : path_(std::move(path)), clock_(std::move(clock)), start_(start), end_(end), tip_jerk_(std::move(tip_jerk))
 {
 }
 
 JointState RetimedJointPath::at(double t, Side side) const
 {
   Side path_side = side;
-  const Jet<2> s = clock_(timeWithin(t, start_, end_), side, &path_side);
+  t = timeWithin(t, start_, end_);
+  const Jet<2> s = clock_(t, side, &path_side);
   // (The clock maps the ends onto the path's ends up to rounding.)
   JointState q = path_->at(std::clamp(s.value(), path_->start(), path_->end()), path_side);
   const double sd = s.derivative(1), sdd = s.derivative(2);
   q.acceleration = q.acceleration * (sd * sd) + q.velocity * sdd;
   q.velocity *= sd;
+  if (tip_jerk_)
+    q.jerk = path_->jerk(q, tip_jerk_(t, side));
   return q;
 }
 
@@ -199,6 +218,8 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
 {
   JointRatesCheck check;
   check.peaks.assign(static_cast<std::size_t>(motion.arm().dof()), JointPeak());
+  const auto* retimed = dynamic_cast<const RetimedJointPath*>(&motion);
+  check.has_jerk = retimed && retimed->hasJerk();
   const std::vector<double> b = pieces(breakpoints, motion.start(), motion.end());
   const std::size_t count = b.size() - 1;
   const double span = b.back() - b.front();
@@ -234,35 +255,69 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
   return check;
 }
 
-JointRatesCheck jointRatesOf(const ArmModel& arm, std::vector<JointPeak> peaks)
+bool hasJerkLimits(const ArmModel& arm)
+{
+  for (const ArmJoint& j : arm.joints())
+    if (j.limits.hasJerkLimit())
+      return true;
+  return false;
+}
+
+double jointJerkWindow(const ArmModel& arm)
+{
+  double window = 0.0;
+  for (const ArmJoint& j : arm.joints())
+  {
+    const JointLimits& l = j.limits;
+    if (!l.hasJerkLimit())
+      continue;
+    if (l.hasAccelerationLimit())
+      window = std::max(window, 2.0 * l.max_acceleration / l.max_jerk);
+    else if (l.hasVelocityLimit())
+      window = std::max(window, 2.0 * std::sqrt(l.max_velocity * l.max_jerk) / l.max_jerk);
+  }
+  return window;
+}
+
+JointRatesCheck jointRatesOf(const ArmModel& arm, const std::vector<timing::BoxPeak>& peaks)
 {
   JointRatesCheck check;
-  check.peaks = std::move(peaks);
+  for (const timing::BoxPeak& p : peaks)
+    check.peaks.push_back(JointPeak{ p });
   rate(arm, &check);
   return check;
 }
 
 JointRatesCheck stretchJointRates(const ArmModel& arm, const JointRatesCheck& check, double k, double t0)
 {
-  std::vector<JointPeak> peaks = check.peaks;
-  for (JointPeak& p : peaks)
+  JointRatesCheck out;
+  out.peaks = check.peaks;
+  out.has_jerk = check.has_jerk;
+  for (JointPeak& p : out.peaks)
   {
     p.velocity /= k;
     p.acceleration /= k * k;
+    p.jerk /= k * k * k;
     p.velocity_time = t0 + (p.velocity_time - t0) * k;
     p.acceleration_time = t0 + (p.acceleration_time - t0) * k;
+    p.jerk_time = t0 + (p.jerk_time - t0) * k;
   }
-  return jointRatesOf(arm, std::move(peaks));
+  rate(arm, &out);
+  return out;
 }
 
 std::string jointExcessMessage(const ArmModel& arm, const JointRatesCheck& check)
 {
   const std::size_t k = static_cast<std::size_t>(std::max(check.binding_joint, 0));
   const ArmJoint& joint = arm.joints()[k];
-  const bool velocity = check.binding_quantity == "velocity";
-  const char* unit = joint.isPrismatic() ? (velocity ? "m/s" : "m/s²") : (velocity ? "rad/s" : "rad/s²");
-  const double value = velocity ? check.peaks[k].velocity : check.peaks[k].acceleration;
-  const double limit = velocity ? joint.limits.max_velocity : joint.limits.max_acceleration;
+  const int order = check.binding_quantity == "velocity" ? 1 : check.binding_quantity == "acceleration" ? 2 : 3;
+  const std::string unit = std::string(joint.isPrismatic() ? "m/s" : "rad/s") + (order == 2 ? "²" :
+                                                                                 order == 3 ? "³" :
+                                                                                              "");
+  const JointPeak& p = check.peaks[k];
+  const double value = order == 1 ? p.velocity : order == 2 ? p.acceleration : p.jerk;
+  const JointLimits& l = joint.limits;
+  const double limit = order == 1 ? l.max_velocity : order == 2 ? l.max_acceleration : l.max_jerk;
   return "joint " + quotedText(joint.name) + ": " + check.binding_quantity + " " + formatNumber(value) + " " + unit +
          " at t = " + formatNumber(check.binding_time) + " s, above its limit " + formatNumber(limit) + " " + unit;
 }

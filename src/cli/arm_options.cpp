@@ -57,7 +57,10 @@ void printJointFigures(const TrajectoryResult& r, const arm::ArmModel& arm)
     const arm::JointLimits& l = arm.joints()[k].limits;
     std::cerr << "joint_" << r.joint_names[k] << ": max_velocity " << c.peaks[k].velocity << " (limit "
               << limit(l.max_velocity) << "), max_acceleration " << c.peaks[k].acceleration << " (limit "
-              << limit(l.max_acceleration) << ")\n";
+              << limit(l.max_acceleration) << ")";
+    if (c.has_jerk)
+      std::cerr << ", max_jerk " << c.peaks[k].jerk << " (limit " << limit(l.max_jerk) << ")";
+    std::cerr << "\n";
   }
   if (c.binding_joint >= 0)
     std::cerr << "joint_binding: " << r.joint_names[static_cast<std::size_t>(c.binding_joint)] << " "

@@ -10,6 +10,7 @@
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/validation.h"
+#include "se3_interpolation/timing/path_jet3.h"
 
 namespace se3_interpolation
 {
@@ -105,12 +106,39 @@ std::shared_ptr<const Curve<G>> pathUnder(const std::shared_ptr<const Curve<G>>&
   return c;
 }
 
+/// Whether `curve` and every curve down its chain of clocks give third-order jets (a timed motion
+/// with a finite jerk: the jerk-limited, constant-speed and closed-form timings and stretches of
+/// a C² curve; not the time-optimal timing, whose s̈ steps).
+template <class G>
+bool hasThirdOrderJets(const Curve<G>& curve)
+{
+  for (const Curve<G>* c = &curve;;)
+  {
+    if (!dynamic_cast<const ThirdOrderJets<G>*>(c))
+      return false;
+    const auto* retimed = dynamic_cast<const RetimedCurve<G>*>(c);
+    if (!retimed)
+      return true;
+    c = &retimed->base();
+  }
+}
+
 /// The arm's joints on `curve`'s time: the joint path of the path under it (the time-optimal
-/// timing's own, which its boxes tracked, or tracked here) on the composed clocks down to it.
+/// timing's own, which its boxes tracked, or tracked here) on the composed clocks down to it; with
+/// `with_jerk` also their jerk, from the curve's third-order jets (arm::JointPath::jerk).
 template <class G>
 std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<const Curve<G>>& curve,
-                                                      std::shared_ptr<const arm::JointPath> path)
+                                                      std::shared_ptr<const arm::JointPath> path,
+                                                      bool with_jerk = false)
 {
+  arm::RetimedJointPath::TipJerk tip_jerk;
+  if (with_jerk)
+    tip_jerk = [curve](double t, Side side) {
+      const timing::Kinematics3 k = timing::kinematics3FromJet(jet3Of(*curve, Jet<3>::variable(t), side));
+      arm::TipVector v;
+      v << k.jerk.angular, k.jerk.linear;
+      return v;
+    };
   arm::RetimedJointPath::Clock clock = [curve](double t, Side side, Side* path_side) {
     Jet<2> s = Jet<2>::variable(t);
     *path_side = side;
@@ -123,7 +151,7 @@ std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<cons
     return s;
   };
   return std::make_shared<arm::RetimedJointPath>(std::move(path), std::move(clock), curve->startTime(),
-                                                 curve->endTime());
+                                                 curve->endTime(), std::move(tip_jerk));
 }
 
 /// The joint path a time-optimal timing held as its boxes, with its check; none for other curves.
@@ -156,7 +184,7 @@ std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedReques
     else
     {
       path = std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, pathUnder(m->curve), r.joint_space->seed));
-      check = arm::checkJointRates(*jointsOn(m->curve, path), m->curve->breakpoints());
+      check = arm::checkJointRates(*jointsOn(m->curve, path, hasThirdOrderJets(*m->curve)), m->curve->breakpoints());
     }
     if (check.stretch > 1.0)
     {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <type_traits>
 
 #include "se3_interpolation/arm/joint_timing.h"
 #include "se3_interpolation/planner/request.h"
@@ -26,10 +27,23 @@ template <class Space, class G>
 std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
                                                           const std::shared_ptr<const Curve<G>>& curve);
 
+/// The jerk-limited timing's least window (s) for the arm's jerk limits (arm::jointJerkWindow); 0
+/// without an arm or without a jerk limit: a request whose arm has one is timed by the jerk-limited
+/// timing under `time_optimal`, as one with a Cartesian jerk bound.
+template <class Space>
+double jointJerkWindow(const BasicValidatedRequest<Space>& r)
+{
+  if constexpr (std::is_same_v<Space, SphereSpace>)
+    return 0.0;
+  else
+    return r.joint_space ? arm::jointJerkWindow(*r.joint_space->arm) : 0.0;
+}
+
 /// The arm following the timed motion m (null without an arm): the joint path of the path under
 /// m's clocks (the time-optimal timing's boxes', or tracked here) run on those clocks, checked by
 /// the time-optimal timing's box check or else by arm::checkJointRates; the motion stretched
-/// uniformly where a joint exceeds its limits (its figures, time_scale and waypoint times with it),
+/// uniformly where a joint exceeds its limits (velocity, acceleration, and jerk where m has
+/// third-order jets all along; its figures, time_scale and waypoint times with it),
 /// refused naming the joint and time where the motion starts moving or keeps a constant speed;
 /// sets m's joint names and figures.
 template <class Space, class G>

@@ -178,9 +178,12 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
         setGeodesicFigures(r, timed->profile(), &fig);
         return;
       }
-  if (r.timing == Timing::kTimeOptimal && hasJerkBound(r))
+  if (r.timing == Timing::kTimeOptimal && (hasJerkBound(r) || planner_detail::jointJerkWindow(r) > 0.0))
   {
-    auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r));
+    timing::JerkLimitedOptions options;
+    options.grid.boxes = jointBoxesOf(r, curve);
+    options.window = planner_detail::jointJerkWindow(r);
+    auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r), options);
     out.time_scale = timed->profile().stretch;
     adopt(timed, boundFields<Space>(), true);
     setJerkLimitedFigures(r, *timed, &fig);

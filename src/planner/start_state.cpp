@@ -233,10 +233,11 @@ void timeAlongPath(const ValidatedRequest& r, const std::vector<double>& times, 
     out.constant_speed_end = timed->profile().windowEnd();
     setConstantSpeedFigures(*timed, &m->figures);
   }
-  else if (hasJerkBound(r))
+  else if (hasJerkBound(r) || jointJerkWindow(r) > 0.0)
   {
     timing::JerkLimitedOptions options;
     options.start_speed = 1.0;
+    options.window = jointJerkWindow(r);
     auto timed = timing::makeJerkLimitedCurve<G>(path, rateBounds(r), options);
     out.time_scale = timed->profile().stretch;
     adopt(timed);

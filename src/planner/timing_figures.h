@@ -23,6 +23,7 @@
 #include "se3_interpolation/timing/jerk_limited.h"
 #include "se3_interpolation/timing/jerk_peaks.h"
 #include "se3_interpolation/timing/time_optimal.h"
+#include "joint_space.h"
 
 namespace se3_interpolation
 {
@@ -110,7 +111,8 @@ void refuseVelocityCorners(const BasicValidatedRequest<Space>& r, const Curve<G>
 }
 
 /// The checks of `stretch` beyond the figures `fig` of `curve`: velocity corners under an
-/// acceleration bound (refuseVelocityCorners), then, with a jerk bound, the peak jerks of `curve`
+/// acceleration bound (refuseVelocityCorners), then, with a jerk bound or an arm's jerk limit (the
+/// arm's check measures its joints' jerk), the peak jerks of `curve`
 /// (on its own clock) into `fig`, which the stretch then divides by k³. A curve whose acceleration jumps has an
 /// impulse of jerk there, which no stretch bounds: refused naming the jerk bound, suggesting
 /// time_optimal.
@@ -118,14 +120,19 @@ template <class Space, class G>
 void measureJerk(const BasicValidatedRequest<Space>& r, const Curve<G>& curve, CurveFigures* fig)
 {
   refuseVelocityCorners(r, curve, *fig);
-  if (!hasJerkBound(r))
+  if (!hasJerkBound(r) && !(jointJerkWindow(r) > 0.0))
     return;
   const timing::JerkPeaks j = timing::jerkPeaks(curve);
+  const char* bound = !hasJerkBound(r)        ? "the arm's joint jerk limits (its limits file)" :
+                      r.max_linear_jerk > 0.0 ? "max_linear_jerk" :
+                                                "max_angular_jerk";
   if (!std::isnan(j.acceleration_jump))
-    throw InvalidInputError(std::string(r.max_linear_jerk > 0.0 ? "max_linear_jerk" : "max_angular_jerk") +
+    throw InvalidInputError(std::string(bound) +
                             ": the curve's acceleration jumps at t = " + formatNumber(j.acceleration_jump) +
                             " s (it is only C1 there, or a corner), so no uniform stretch bounds its jerk; use timing "
                             "'time_optimal', whose jerk-limited motion stops there");
+  if (!hasJerkBound(r))
+    return;
   fig->max_linear_jerk = j.peak[timing::kLinear];
   fig->max_angular_jerk = j.peak[timing::kAngular];
 }

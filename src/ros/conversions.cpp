@@ -190,10 +190,13 @@ GenerateTrajectory::Response& copyFigures(const TrajectoryResult& result, Genera
   out.energy = result.figures.energy;
   out.joint_max_velocity.clear();
   out.joint_max_acceleration.clear();
+  out.joint_max_jerk.clear();
   for (const arm::JointPeak& p : result.joint_figures.peaks)
   {
     out.joint_max_velocity.push_back(p.velocity);
     out.joint_max_acceleration.push_back(p.acceleration);
+    if (result.joint_figures.has_jerk)
+      out.joint_max_jerk.push_back(p.jerk);
   }
   const int binding = result.joint_figures.binding_joint;
   out.joint_binding =

@@ -52,12 +52,17 @@ JerkSolver::JerkSolver(const JerkPathModel& path, const RateBounds& bounds, cons
   if (!(std::isfinite(sd0) && sd0 >= 0.0 && std::isfinite(sdd0)))
     throw InvalidInputError("start_state: its speed along the path is " + formatNumber(sd0) + " and its acceleration " +
                             formatNumber(sdd0) + " (the speed must be finite and at least 0, the acceleration finite)");
+  if (!(std::isfinite(options.window) && options.window >= 0.0))
+    throw InvalidInputError("jerk-limited timing: its least window is " + formatNumber(options.window) +
+                            " s (it must be finite and at least 0)");
   fixed_start_ = sd0 > 0.0 || sdd0 != 0.0;
   findMovingChannels();
 }
 
 bool JerkSolver::jerkActs() const
 {
+  if (options_.window > 0.0)
+    return true;
   for (int c = 0; c < 2; ++c)
     if (moves_[c] && bounds_.jerk[c] > 0.0)
       return true;

@@ -139,7 +139,7 @@ void JerkSolver::run(const RateBounds& b)
 double JerkSolver::startRun(const RateBounds& b)
 {
   under_ = b;
-  tau_ = 0.0;
+  tau_ = options_.window;
   for (int c = 0; c < 2; ++c)
     if (moves_[c] && b.jerk[c] > 0.0 && b.acceleration[c] > 0.0)
       tau_ = std::max(tau_, b.acceleration[c] / b.jerk[c]);

@@ -77,6 +77,9 @@ public:
 struct JointState
 {
   Eigen::VectorXd position, velocity, acceleration;
+  /// q⃛ (rad/s³, m/s³) where the motion gives one (RetimedJointPath with the timed pose motion's
+  /// jerk), else empty.
+  Eigen::VectorXd jerk;
 };
 
 /// The tip's motion to follow: base_T_tip pose, spatial twist and acceleration in the base frame at
@@ -135,6 +138,10 @@ public:
   JointState at(double t, Side side = Side::kRight) const override;
   /// q̇ = J_r⁻¹V, q̈ = J_r⁻¹(A − J̇q̇) at known joint positions q (the held joints' rates 0).
   JointState rates(const Eigen::VectorXd& q, const Kinematics& k) const;
+  /// q⃛ = J_r⁻¹([ω̈; p⃛] − 2 J̇ q̈ − J̈ q̇) at the joint state `state` (positions, velocities,
+  /// accelerations) whose tip moves with the jerk `tip_jerk` ([ω̈; p⃛], base frame; the held
+  /// joints' jerk 0).
+  Eigen::VectorXd jerk(const JointState& state, const TipVector& tip_jerk) const;
 
   const ArmModel& arm() const override { return *arm_; }
   double start() const override { return breakpoints_.front(); }

@@ -66,11 +66,18 @@ class RetimedJointPath final : public JointMotion
 public:
   /// s(t) as a 2-jet in t, and the side of s the path is evaluated from (given t's side).
   using Clock = std::function<Jet<2>(double t, Side side, Side* path_side)>;
+  /// The timed pose motion's jerk [ω̈; p⃛] at t (base frame).
+  using TipJerk = std::function<TipVector(double t, Side side)>;
   /// @param path the joint path on the path's time axis
   /// @param clock s(t) on [start, end] into [path->start(), path->end()]
   /// @param start the first time of the timed motion (s)
   /// @param end its last time (s)
-  RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end);
+  /// @param tip_jerk the timed motion's jerk, from which at() gives q⃛ (JointPath::jerk); none:
+  /// the motion has no finite jerk, and at() leaves JointState::jerk empty
+  RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end,
+                   TipJerk tip_jerk = nullptr);
+  /// Whether at() gives the joints' jerk.
+  bool hasJerk() const { return static_cast<bool>(tip_jerk_); }
   JointState at(double t, Side side = Side::kRight) const override;
   const ArmModel& arm() const override { return path_->arm(); }
   double start() const override { return start_; }
@@ -82,36 +89,56 @@ private:
   std::shared_ptr<const JointPath> path_;
   Clock clock_;
   double start_, end_;
+  TipJerk tip_jerk_;
 };
 
 /// One joint's peak rates over a timed motion (max |q̇|, rad/s or m/s; max |q̈|, rad/s² or m/s²),
-/// and when they occur (s): a box component's peaks.
-using JointPeak = timing::BoxPeak;
+/// and when they occur (s): a box component's peaks; and, where the motion has a jerk, max |q⃛|
+/// (rad/s³ or m/s³) and when.
+struct JointPeak : timing::BoxPeak
+{
+  double jerk = 0.0;
+  double jerk_time = 0.0;
+};
 
 /// The joint rates of a timed motion against the arm's limits.
 struct JointRatesCheck
 {
   std::vector<JointPeak> peaks;  ///< per movable joint, in chain order
-  /// The uniform stretch k ≥ 1 that brings every joint within its limits: max(1, v/V, √(a/A)).
+  /// Whether the peaks include the jerk (the motion has one: RetimedJointPath::hasJerk).
+  bool has_jerk = false;
+  /// The uniform stretch k ≥ 1 that brings every joint within its limits:
+  /// max(1, v/V, √(a/A), ∛(j/J)).
   double stretch = 1.0;
-  /// The joint, quantity ("velocity" or "acceleration") and time of the largest ratio to its limit
-  /// (v/V or a/A); joint −1 where no joint has a limit.
+  /// The joint, quantity ("velocity", "acceleration" or "jerk") and time of the largest ratio to
+  /// its limit (v/V, a/A or j/J); joint −1 where no joint has a limit.
   int binding_joint = -1;
   std::string binding_quantity;
   double binding_ratio = 0.0;
   double binding_time = 0.0;
 };
 
+/// Whether a joint of `arm` has a jerk limit (the limits file's max_jerk).
+bool hasJerkLimits(const ArmModel& arm);
+
+/// The window of the jerk-limited timing (timing/jerk_limited.h, JerkLimitedOptions::window) for
+/// the arm's jerk limits: max over joints of 2a′/j, a′ = max_acceleration, or √(max_velocity · j)
+/// for a joint without an acceleration limit (as for a channel, jerk_limited.h); 0 if no joint has
+/// a jerk limit. The factor 2: the window's jerk is the change of the underlying timing's joint
+/// acceleration q′s̈ over τ (eq. 2), up to 2a′ where it switches from full acceleration to full
+/// braking (the joint boxes have no plateaus, which the Cartesian channels' jerk bounds get).
+double jointJerkWindow(const ArmModel& arm);
+
 /// Checks the timed motion `motion` (arm/joint_path.h: the arm following the timed pose motion;
 /// header comment for the points it evaluates).
 JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<double>& breakpoints);
 
-/// The check of measured peaks (one per joint, chain order): their ratios to the arm's limits,
-/// the binding joint and the stretch.
-JointRatesCheck jointRatesOf(const ArmModel& arm, std::vector<JointPeak> peaks);
+/// The check of a timing's box peaks (one per joint, chain order; no jerk): their ratios to the
+/// arm's limits, the binding joint and the stretch.
+JointRatesCheck jointRatesOf(const ArmModel& arm, const std::vector<timing::BoxPeak>& peaks);
 
 /// The check of the same motion stretched uniformly by k ≥ 1 from its start t0: velocities by
-/// 1/k, accelerations by 1/k², the peaks' times t0 + (t − t0) k.
+/// 1/k, accelerations by 1/k², jerks by 1/k³, the peaks' times t0 + (t − t0) k.
 JointRatesCheck stretchJointRates(const ArmModel& arm, const JointRatesCheck& check, double k, double t0);
 
 /// The message that names the joint, its limit and the time where `check` exceeds a limit (for a

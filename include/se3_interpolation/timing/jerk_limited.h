@@ -163,6 +163,10 @@ struct JerkLimitedOptions
   TimeOptimalOptions grid;
   double start_speed = 0.0;         ///< ṡ0 ≥ 0 (file comment: which start states are supported)
   double start_acceleration = 0.0;  ///< s̈0
+  /// The least window τ (s), ≥ 0: the window of a jerk limit outside the two channels (an arm's
+  /// joints', max over joints of a′/j, arm/joint_timing.h), which the caller's own check then holds;
+  /// with it the timing averages even where neither channel has a jerk bound.
+  double window = 0.0;
 };
 
 /// The timing s(t): the moving average (eq. 2) of the underlying timing `base`, segment by

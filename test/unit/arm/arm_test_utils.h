@@ -45,9 +45,10 @@ inline PlannerLimits armLimits()
 
 /// The robot `name` of config/robots/ ("ur5e": base_link → tool0; "panda": base_link →
 /// panda_link8, the flange) with the limits of its joint_limits.yaml, every joint's velocity limit
-/// scaled by `velocity_scale` and acceleration limit by `acceleration_scale`.
+/// scaled by `velocity_scale`, acceleration limit by `acceleration_scale` and jerk limit (the
+/// Panda's) by `jerk_scale` (an infinite one drops them).
 inline std::shared_ptr<arm::ArmModel> loadArm(const std::string& name, double velocity_scale = 1.0,
-                                              double acceleration_scale = 1.0)
+                                              double acceleration_scale = 1.0, double jerk_scale = 1.0)
 {
   auto model = std::make_shared<arm::ArmModel>(
       arm::ArmModel::fromUrdfFile(robotFile(name + ".urdf"), "base_link", name == "panda" ? "panda_link8" : "tool0"));
@@ -58,6 +59,10 @@ inline std::shared_ptr<arm::ArmModel> loadArm(const std::string& name, double ve
       entry.second.max_velocity = *entry.second.max_velocity * velocity_scale;
     if (entry.second.max_acceleration)
       entry.second.max_acceleration = *entry.second.max_acceleration * acceleration_scale;
+    if (entry.second.max_jerk && std::isinf(jerk_scale))
+      entry.second.max_jerk.reset();
+    else if (entry.second.max_jerk)
+      entry.second.max_jerk = *entry.second.max_jerk * jerk_scale;
   }
   model->applyLimits(limits);
   return model;

@@ -2,7 +2,8 @@
 // a served UR5e motion passes them all, and each mutation of it (a joint position, velocity or
 // acceleration of one sample, a motion between the samples that is not theirs, a joint jump between
 // two samples, a held joint that moves, limits below what the motion reaches at the samples or only
-// between them) is reported by its own check.
+// between them, a jerk figure below its peak, jerk limits below the motion's or across an
+// acceleration step) is reported by its own check.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,6 +92,8 @@ std::shared_ptr<arm::ArmModel> ur5eWith(Edit edit)
     e.max_acceleration = j.limits.max_acceleration;
     e.min_position = j.limits.min_position;
     e.max_position = j.limits.max_position;
+    if (j.limits.hasJerkLimit())
+      e.max_jerk = j.limits.max_jerk;
     edit(j.name, &e);
     file.joints[j.name] = e;
   }
@@ -214,4 +217,29 @@ TEST(JointInvariants, ARedundantArmHoldsItsJoints)
   TrajectoryResult moved = served;
   moved.samples[20].joint_position[held[0]] += 1e-7;
   EXPECT_EQ(brokenKinds(moved, *model).count("joint held"), 1u);
+  // The Panda's jerk limits: the served motion reports its joints' jerk; a jerk figure 1e-3 below
+  // its peak, and jerk limits at half the largest ratio, break their checks.
+  ASSERT_TRUE(served.joint_figures.has_jerk);
+  double ratio = 0.0;
+  for (std::size_t k = 0; k < 7; ++k)
+    ratio = std::max(ratio, served.joint_figures.peaks[k].jerk / model->joints()[k].limits.max_jerk);
+  ASSERT_GT(ratio, 0.0);
+  TrajectoryResult low = served;
+  for (arm::JointPeak& p : low.joint_figures.peaks)
+    p.jerk *= 1.0 - 1e-3;
+  EXPECT_EQ(brokenKinds(low, *model).count("joint figure jerk"), 1u);
+  const std::set<std::string> over = brokenKinds(served, *loadArm("panda", 1.0, 1.0, 0.5 * ratio));
+  EXPECT_EQ(over.count("joint jerk limit between samples"), 1u);
+  EXPECT_EQ(over.count("joint figures above the limits"), 1u);
+}
+
+TEST(JointInvariants, AnAccelerationStepBreaksAJerkLimit)
+{
+  // The UR5e's time-optimal motion (no jerk limit in its file) steps its joints' accelerations:
+  // against any jerk limit the mean jerk across a step is above it.
+  const auto model = loadArm("ur5e");
+  const TrajectoryResult served = generate(ur5eRequest(*model, 64), armLimits(), model);
+  ASSERT_FALSE(served.joint_figures.has_jerk);
+  const auto limited = ur5eWith([](const std::string&, arm::JointLimitsEntry* e) { e->max_jerk = 1e3; });
+  EXPECT_EQ(brokenKinds(served, *limited).count("joint jerk limit between samples"), 1u);
 }

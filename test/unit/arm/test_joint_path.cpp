@@ -133,7 +133,7 @@ struct JointSweep
   JointState at(double t) const
   {
     const double s = t * t * (3 - 2 * t), sd = 6 * t * (1 - t), sdd = 6 - 12 * t;
-    return JointState{ a + (b - a) * s, (b - a) * sd, (b - a) * sdd };
+    return JointState{ a + (b - a) * s, (b - a) * sd, (b - a) * sdd, Eigen::VectorXd() };
   }
   PoseMotion motion(const ArmModel& arm) const
   {

@@ -3,10 +3,12 @@
 // kinematics. Checked independently of the planner's joint code: forward kinematics of every joint
 // sample against the pose sample, J·q̇ against the twist, every joint velocity and acceleration
 // against the limits file at the samples (and the figures, from the dense check, against them),
-// durations against the motion without the arm, and the refusals.
+// durations against the motion without the arm, and the refusals; the Panda's joint jerk limits
+// against the differences of the samples' accelerations.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -182,4 +184,106 @@ TEST(JointSpacePlanner, AMovingStartIsTimedWithinTheJointLimits)
   const TrajectorySample& first = out.samples.front();
   EXPECT_LT((first.velocity.linear - start.velocity.linear).norm(), 1e-9);
   EXPECT_GT(first.joint_velocity.norm(), 0.0);
+}
+
+namespace
+{
+/// Panda configurations around its ready pose (rad).
+const std::vector<std::vector<double>> kPandaConfigurations = {
+  { 0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8 },
+  { 0.3, -0.1, 0.2, -2.0, 0.1, 1.9, 0.6 },
+  { 0.6, -0.4, 0.1, -2.3, -0.1, 2.1, 1.0 },
+};
+
+/// An interpolating motion through the Panda's poses at kPandaConfigurations (the first the seed).
+TrajectoryRequest pandaRequest(const arm::ArmModel& arm, const std::string& curve, const std::string& timing)
+{
+  TrajectoryRequest r;
+  for (const std::vector<double>& q : kPandaConfigurations)
+    r.waypoints.push_back(arm.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), 7)));
+  r.joint_seed = kPandaConfigurations.front();
+  r.curve = curve;
+  r.timing = timing;
+  r.max_linear_velocity = 1.0;
+  r.max_angular_velocity = 2.0;
+  r.max_linear_acceleration = 5.0;
+  r.max_angular_acceleration = 10.0;
+  r.sample_count = 4001;
+  return r;
+}
+
+/// The largest ratio to its jerk limit of a joint's mean jerk between neighbouring samples (a lower
+/// bound of its peak between them), less the rounding of the accelerations.
+double sampledJerkRatio(const TrajectoryResult& out, const arm::ArmModel& arm)
+{
+  double worst = 0.0;
+  for (std::size_t i = 0; i + 1 < out.samples.size(); ++i)
+  {
+    const TrajectorySample& a = out.samples[i];
+    const TrajectorySample& b = out.samples[i + 1];
+    const double dt = b.time - a.time;
+    if (!(dt > 0.0))
+      continue;
+    for (int k = 0; k < arm.dof(); ++k)
+    {
+      const double step = std::abs(b.joint_acceleration[k] - a.joint_acceleration[k]) - 1e-9;
+      worst = std::max(worst, step / dt / arm.joints()[static_cast<std::size_t>(k)].limits.max_jerk);
+    }
+  }
+  return worst;
+}
+}  // namespace
+
+TEST(JointSpacePlanner, ThePandasJerkLimitsHoldUnderTheTimingsThatBoundJerk)
+{
+  // Jerk limits at 0.2 % of the datasheet's (15 rad/s³ on the first joints): they bind.
+  const auto arm = test::loadArm("panda", 1.0, 1.0, 0.002);
+  const auto unlimited = test::loadArm("panda", 1.0, 1.0, std::numeric_limits<double>::infinity());
+  for (const char* timing : { "time_optimal", "stretch" })
+  {
+    // (Fast waypoint times: the stretch stretches them until the joints hold.)
+    TrajectoryRequest r = pandaRequest(*arm, "interpolating", timing);
+    r.times = { 0.0, 0.2, 0.4 };
+    const TrajectoryResult out = generate(r, armLimits(), arm);
+    ASSERT_TRUE(out.joint_figures.has_jerk) << timing;
+    EXPECT_LE(sampledJerkRatio(out, *arm), 1.0 + 1e-6) << timing;
+    for (std::size_t k = 0; k < 7; ++k)
+    {
+      const arm::JointLimits& l = arm->joints()[k].limits;
+      EXPECT_LE(out.joint_figures.peaks[k].jerk, l.max_jerk * (1.0 + 1e-6)) << timing << " joint " << k;
+      EXPECT_LE(out.joint_figures.peaks[k].acceleration, l.max_acceleration * (1.0 + 1e-6)) << timing;
+    }
+    // The binding limit is a jerk, reached.
+    EXPECT_EQ(out.joint_figures.binding_quantity, "jerk") << timing;
+    EXPECT_NEAR(out.joint_figures.binding_ratio, 1.0, 1e-3) << timing;
+    // The same request with the jerk limits lifted is faster (the window and stretch act).
+    const TrajectoryResult free = generate(r, armLimits(), unlimited);
+    EXPECT_GT(out.duration, 1.05 * free.duration) << timing;
+  }
+}
+
+TEST(JointSpacePlanner, LooseJerkLimitsCostLittleAndAnAccelerationStepIsRefusedUnderThem)
+{
+  // The datasheet's jerk limits (7500 rad/s³) on a slow motion: the jerk-limited timing within a
+  // few per cent of the time-optimal motion without them.
+  const auto arm = test::loadArm("panda");
+  const auto unlimited = test::loadArm("panda", 1.0, 1.0, std::numeric_limits<double>::infinity());
+  const TrajectoryResult with = generate(pandaRequest(*arm, "interpolating", "time_optimal"), armLimits(), arm);
+  const TrajectoryResult without =
+      generate(pandaRequest(*unlimited, "interpolating", "time_optimal"), armLimits(), unlimited);
+  EXPECT_TRUE(with.joint_figures.has_jerk);
+  EXPECT_FALSE(without.joint_figures.has_jerk);  // (the time-optimal motion's acceleration steps)
+  EXPECT_LE(sampledJerkRatio(with, *arm), 1.0 + 1e-6);
+  EXPECT_LT(with.duration, 1.05 * without.duration);
+  EXPECT_GE(with.duration, without.duration * (1.0 - 1e-6));
+  // A stretch of a C¹ curve steps its acceleration at the waypoints: no stretch bounds the jerk.
+  try
+  {
+    generate(pandaRequest(*arm, "hermite", "stretch"), armLimits(), arm);
+    ADD_FAILURE() << "a stretch of a hermite curve under jerk limits was served";
+  }
+  catch (const InvalidInputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("the arm's joint jerk limits"), std::string::npos) << e.what();
+  }
 }

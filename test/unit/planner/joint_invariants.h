@@ -14,7 +14,11 @@
 //    (result.state_at), its rates q̇ = J_r⁻¹ V, q̈ = J_r⁻¹ (A − J̇ q̇) on the joints that move, and
 //    must arrive at the next sample's q (no branch change between samples);
 //  - the joint steps: |q_{i+1} − q_i| ≤ max_velocity (t_{i+1} − t_i) (1 + kJointRateTolerance);
-//  - the joint figures are the largest rates found (not below them) and within the limits.
+//  - a joint with a jerk limit: the mean jerk (q̈(t_b) − q̈(t_a)) / (t_b − t_a) between neighbouring
+//    dense states (a lower bound of the peak |q⃛| between them, so an acceleration step is caught)
+//    is within max_jerk, less the rounding of the two q̈ (kJacobianTolerance of their size);
+//  - the joint figures are the largest rates found (not below them) and within the limits, the
+//    jerk's where the result reports it (JointRatesCheck::has_jerk).
 // The Cartesian invariants are request_space.h's checkInvariants, on the same result.
 #pragma once
 
@@ -290,6 +294,49 @@ inline bool checkJointSamples(const TrajectoryResult& result, const arm::ArmMode
   return true;
 }
 
+/// The mean jerk between neighbouring states of `track` (sorted here by time) against the joints'
+/// jerk limits, and the jerk figures against it where the result reports them (header comment).
+inline void checkJointJerk(const TrajectoryResult& result, const arm::ArmModel& model, std::vector<JointJet> track,
+                           std::vector<Violation>& v)
+{
+  std::stable_sort(track.begin(), track.end(), [](const JointJet& a, const JointJet& b) { return a.t < b.t; });
+  WorstOf worst;
+  const int n = model.dof();
+  Eigen::VectorXd peak = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i + 1 < track.size(); ++i)
+  {
+    const JointJet& a = track[i];
+    const JointJet& b = track[i + 1];
+    const double dt = b.t - a.t;
+    if (!(dt > 0.0))
+      continue;
+    for (int k = 0; k < n; ++k)
+    {
+      const double rounding = kJacobianTolerance * (std::abs(a.qdd[k]) + std::abs(b.qdd[k]) + 1.0);
+      const double jerk = std::max(0.0, std::abs(b.qdd[k] - a.qdd[k]) - rounding) / dt;
+      peak[k] = std::max(peak[k], jerk);
+      const arm::JointLimits& l = model.joints()[static_cast<std::size_t>(k)].limits;
+      if (l.hasJerkLimit())
+        worst.see(jerk / l.max_jerk, [&] {
+          return "joint '" + model.joints()[static_cast<std::size_t>(k)].name + "': mean jerk " + num(jerk) +
+                 " (limit " + num(l.max_jerk) + ") over [" + num(a.t) + ", " + num(b.t) + "]";
+        });
+    }
+  }
+  if (worst.value > 1.0 + kJointRateTolerance)
+    v.push_back({ "joint jerk limit between samples", worst.value, worst.detail });
+  if (!result.joint_figures.has_jerk || static_cast<int>(result.joint_figures.peaks.size()) != n)
+    return;
+  for (int k = 0; k < n; ++k)
+  {
+    const double figure = result.joint_figures.peaks[static_cast<std::size_t>(k)].jerk;
+    if (figure < peak[k] * (1.0 - kJointFigureTolerance) - 1e-12)
+      v.push_back({ "joint figure jerk", peak[k] / figure,
+                    "joint '" + model.joints()[static_cast<std::size_t>(k)].name + "': figure " + num(figure) +
+                        " below the mean jerk found, " + num(peak[k]) });
+  }
+}
+
 /// The joints between the samples (header comment): carried from each sample to the next through
 /// dense times (options.dense_points over the motion, at least 2 inside every interval), checked
 /// against the limits there and, around each joint's largest rates, on 32 more points; and the
@@ -381,6 +428,7 @@ inline void checkJointsBetweenSamples(const TrajectoryResult& result, const arm:
     }
   }
   limits.report(" between samples", v);
+  checkJointJerk(result, model, track, v);
   for (int k = 0; k < n && static_cast<int>(result.joint_figures.peaks.size()) == n; ++k)
   {
     const arm::JointPeak& f = result.joint_figures.peaks[static_cast<std::size_t>(k)];
@@ -409,7 +457,8 @@ inline void checkJointInvariants(const TrajectoryResult& result, const arm::ArmM
   {
     const arm::JointLimits& l = model.joints()[k].limits;
     const arm::JointPeak& f = result.joint_figures.peaks[k];
-    const double ratio = std::max(f.velocity / l.max_velocity, f.acceleration / l.max_acceleration);
+    const double jerk = result.joint_figures.has_jerk ? f.jerk / l.max_jerk : 0.0;
+    const double ratio = std::max({ f.velocity / l.max_velocity, f.acceleration / l.max_acceleration, jerk });
     if (!(ratio <= 1.0 + kJointRateTolerance))
       v.push_back({ "joint figures above the limits", ratio,
                     "joint '" + model.joints()[k].name + "': figures " + num(f.velocity) + ", " + num(f.acceleration) +
