@@ -2,7 +2,7 @@
 # Installs what is missing, checks the structure rules, builds, runs every test (unit, CLI, rostest
 # integration, the rviz screenshot, the README's command blocks, the Python module's pytest suite,
 # catkin_lint and the install space, sanitizers) and prints `N passed, N failed`. Exits non-zero if
-# any test fails. Idempotent.
+# any test fails. Every failure is named on standard output (a CI log may keep only that). Idempotent.
 # --fast: the fast tier, a change's first feedback: the structure check and the unit tests of
 # test/unit/ but the request-space grid, built without ROS or sanitizers (g++ -O2, ccache where
 # installed), no catkin build, rostests, sanitizers or fuzzing.
@@ -38,7 +38,7 @@ se3_build -Dse3_interpolation_CATKIN_UNIT_TESTS=OFF -Dse3_interpolation_BENCHMAR
 # The test binaries on both cores (run_tests below runs the tests one at a time, -j1, and would
 # build them on one).
 (cd "$SE3_WS" && catkin_make tests -j2 >"$SE3_WS/tests_build.log" 2>&1) ||
-  { tail -n 60 "$SE3_WS/tests_build.log"; echo "building the tests failed (log: $SE3_WS/tests_build.log)" >&2; }
+  { tail -n 60 "$SE3_WS/tests_build.log"; echo "building the tests failed (log: $SE3_WS/tests_build.log)"; }
 echo "built at ${SECONDS} s"
 cd "$SE3_WS"
 rm -rf build/test_results
@@ -61,7 +61,8 @@ mkdir -p "$SE3_WS/artifacts"
 if bash "$SE3_ROOT/scripts/rviz_screenshot.sh" "$SE3_WS/artifacts/rviz_demo.png"; then
   total=$((total + 1))
 else
-  echo "rviz screenshot check failed (log: $SE3_WS/rviz_screenshot.log)" >&2
+  echo "rviz screenshot check failed (log: $SE3_WS/rviz_screenshot.log)"
+  tail -n 20 "$SE3_WS/rviz_screenshot.log"
   total=$((total + 1)); failed=$((failed + 1))
 fi
 passed=$((total - failed - skipped))
@@ -69,8 +70,8 @@ passed=$((total - failed - skipped))
 # test/unit/ other than the grid are counted by the sanitizers' stage).
 expected_suites=$(grep -cE '^\s*(catkin_add_gtest|add_rostest_gtest|add_rostest)\(' "$SE3_ROOT/CMakeLists.txt")
 if [ "$total" -eq 0 ] || [ "$(find build/test_results -name '*.xml' | wc -l)" -lt "$expected_suites" ]; then
-  echo "test reports are missing (see $SE3_WS/tests.log)" >&2
-  tail -n 40 "$SE3_WS/tests.log" >&2
+  echo "test reports are missing: $(find build/test_results -name '*.xml' | wc -l) reports for $expected_suites registered suites (see $SE3_WS/tests.log)"
+  tail -n 40 "$SE3_WS/tests.log"
   failed=$((failed + 1))
 fi
 # A stage run by its own script, which ends with the line `<prefix>: N passed, N failed`: its
@@ -90,7 +91,8 @@ count_stage() {
   stage_failed=$(echo "$line" | sed -nE 's/.* ([0-9]+) failed$/\1/p')
   stage_passed=${stage_passed:-0}; stage_failed=${stage_failed:-0}
   if [ "$status" -ne 0 ] && [ "$stage_failed" -eq 0 ]; then
-    echo "$script failed (log: $log)" >&2
+    echo "$script failed with exit status $status without counting a failure (log: $log); its last lines:"
+    tail -n 20 "$log"
     stage_failed=1
   fi
   passed=$((passed + stage_passed))

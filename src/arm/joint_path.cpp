@@ -88,7 +88,8 @@ int jointPastLimit(const ArmModel& arm, const Eigen::VectorXd& q)
 JointPathError singularError(double t, const Eigen::VectorXd& q)
 {
   return JointPathError("the arm passes a singular configuration at t = " + formatNumber(t) +
-                        " s (q = " + vectorText(q) + ")");
+                            " s (q = " + vectorText(q) + ")",
+                        t);
 }
 
 double smallestSingularValue(const Eigen::MatrixXd& m)
@@ -251,9 +252,11 @@ Eigen::VectorXd JointPath::solveFromSeed(const Eigen::VectorXd& seed, const Pose
   if (e.lpNorm<Eigen::Infinity>() <= kSeedHandoff &&
       !(svd.singularValues()[5] > kSingularRatio * svd.singularValues()[0]))
     throw JointPathError("the arm passes a singular configuration " + poseWhere(t, target) + " (q = " + vectorText(q) +
-                         ")");
+                             ")",
+                         t);
   throw JointPathError("the pose " + poseWhere(t, target) + " is out of the arm's reach (pose error " +
-                       formatNumber(e.lpNorm<Eigen::Infinity>()) + " m or rad left by the damped solve)");
+                           formatNumber(e.lpNorm<Eigen::Infinity>()) + " m or rad left by the damped solve)",
+                       t);
 }
 
 JointState JointPath::rates(const Eigen::VectorXd& q, const Kinematics& k) const
@@ -327,8 +330,9 @@ JointPathError JointPath::limitError(double t, const Eigen::VectorXd& q) const
   const ArmJoint& joint = arm_->joints()[static_cast<std::size_t>(i)];
   const std::string unit = joint.isPrismatic() ? " m" : " rad";
   return JointPathError("joint '" + joint.name + "' would pass its position limit [" +
-                        formatNumber(joint.limits.min_position) + ", " + formatNumber(joint.limits.max_position) + "]" +
-                        unit + " at t = " + formatNumber(t) + " s (q = " + formatNumber(q[i]) + unit + ")");
+                            formatNumber(joint.limits.min_position) + ", " + formatNumber(joint.limits.max_position) +
+                            "]" + unit + " at t = " + formatNumber(t) + " s (q = " + formatNumber(q[i]) + unit + ")",
+                        t);
 }
 
 double JointPath::firstTimeWhere(const TrackedPoint& from, double t, Eigen::VectorXd& q,
@@ -372,7 +376,7 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
     Eigen::VectorXd q = point.q;
     ArmFrames f;
     if (newton(kin.pose, q, kStepIterations, &f) < 0 || (q - point.q).lpNorm<Eigen::Infinity>() > kBranchJump)
-      throw JointPathError("the pose motion jumps at its breakpoint " + poseWhere(a, kin.pose));
+      throw JointPathError("the pose motion jumps at its breakpoint " + poseWhere(a, kin.pose), a);
     FreeJacobian free_jacobian;
     point = trackedPoint(a, q, f, kin, &free_jacobian);
     checkPoint(point, free_jacobian);
@@ -406,7 +410,8 @@ void JointPath::trackPiece(std::size_t k, TrackedPoint& point)
         for (double probe = min_step; probe <= 1e-3 * (end() - start()); probe *= 10)
           solveFromSeed(point.q, motion_(std::min(point.t + probe, b), Side::kLeft).pose, std::min(point.t + probe, b));
         throw JointPathError("the arm passes a singular configuration at t = " + formatNumber(point.t) +
-                             " s (q = " + vectorText(point.q) + "; the IK branch cannot be followed beyond)");
+                                 " s (q = " + vectorText(point.q) + "; the IK branch cannot be followed beyond)",
+                             point.t);
       }
       continue;
     }
@@ -460,7 +465,7 @@ JointState JointPath::at(double t, Side side) const
     q[i] = p0.q[i];
   ArmFrames f;
   if (newton(kin.pose, q, kSolveIterations, &f) < 0 || (q - predicted).lpNorm<Eigen::Infinity>() > kBranchJump)
-    throw JointPathError("joint path: the evaluation " + poseWhere(t, kin.pose) + " would leave the tracked branch");
+    throw JointPathError("joint path: the evaluation " + poseWhere(t, kin.pose) + " would leave the tracked branch", t);
   checkLimits(t, q);
   return ratesAt(q, f, kin, nullptr);
 }

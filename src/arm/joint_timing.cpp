@@ -119,6 +119,16 @@ private:
   std::size_t count_ = 0;
 };
 
+/// Whether the joint accelerations step from `before` to `after` (kAccelerationStepTolerance).
+bool stepsBetween(const Eigen::VectorXd& before, const Eigen::VectorXd& after)
+{
+  for (Eigen::Index k = 0; k < before.size(); ++k)
+    if (std::abs(after[k] - before[k]) >
+        kAccelerationStepTolerance * (std::abs(after[k]) + std::abs(before[k])) + kAccelerationStepFloor)
+      return true;
+  return false;
+}
+
 /// The breakpoints within [start, end], sorted and distinct, the ends included.
 std::vector<double> pieces(const std::vector<double>& breakpoints, double start, double end)
 {
@@ -224,7 +234,8 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
   const std::size_t count = b.size() - 1;
   const double span = b.back() - b.front();
   PeakTracker tracker(motion, &check);
-  tracker.point(b.front(), motion.at(b.front(), Side::kLeft));
+  JointState left = motion.at(b.front(), Side::kLeft);
+  tracker.point(b.front(), left);
   for (std::size_t j = 0; j < count; ++j)
   {
     const double length = b[j + 1] - b[j];
@@ -232,6 +243,8 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
         static_cast<std::size_t>(std::ceil(static_cast<double>(kJointCheckMinIntervals) * length / span));
     const std::size_t m = std::max<std::size_t>(share, count <= kJointCheckDensePieces ? kJointCheckIntervals : 1);
     JointState a = motion.at(b[j], Side::kRight);
+    if (std::isnan(check.acceleration_step_time) && stepsBetween(left.acceleration, a.acceleration))
+      check.acceleration_step_time = b[j];
     for (std::size_t i = 0; i < m; ++i)
     {
       const double t0 = b[j] + length * static_cast<double>(i) / static_cast<double>(m);
@@ -250,7 +263,9 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
         a = std::move(e);
       }
     }
+    left = std::move(a);
   }
+  check.has_jerk = check.has_jerk && std::isnan(check.acceleration_step_time);
   rate(motion.arm(), &check);
   return check;
 }
@@ -293,6 +308,7 @@ JointRatesCheck stretchJointRates(const ArmModel& arm, const JointRatesCheck& ch
   JointRatesCheck out;
   out.peaks = check.peaks;
   out.has_jerk = check.has_jerk;
+  out.acceleration_step_time = t0 + (check.acceleration_step_time - t0) * k;
   for (JointPeak& p : out.peaks)
   {
     p.velocity /= k;

@@ -1,12 +1,14 @@
 // The planner's joint space (joint_space.h).
 #include "joint_space.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <tuple>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "se3_interpolation/exceptions.h"
 #include "se3_interpolation/planner/validation.h"
@@ -51,20 +53,6 @@ std::optional<JointSpace> jointSpaceOf(const BasicRequest<Space>& request, std::
                                                static_cast<Eigen::Index>(request.joint_seed.size()));
     j.arm->checkJointVector(j.seed, "joint_seed");
     return j;
-  }
-}
-
-template <class Space, class G>
-std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
-                                                          const std::shared_ptr<const Curve<G>>& curve)
-{
-  if constexpr (std::is_same_v<Space, SphereSpace>)
-    return nullptr;
-  else
-  {
-    if (!r.joint_space)
-      return nullptr;
-    return std::make_shared<arm::JointBoxes>(arm::jointPathOf<G>(*r.joint_space->arm, curve, r.joint_space->seed));
   }
 }
 
@@ -123,6 +111,57 @@ bool hasThirdOrderJets(const Curve<G>& curve)
   }
 }
 
+/// s(t): the path time under `curve` at its time t, as a 2-jet in t (the clocks down its chain
+/// composed), and the side of s the path is evaluated from (given t's side).
+template <class G>
+Jet<2> pathClock(const Curve<G>& curve, double t, Side side, Side* path_side)
+{
+  Jet<2> s = Jet<2>::variable(t);
+  *path_side = side;
+  for (const Curve<G>* c = &curve; const auto* retimed = dynamic_cast<const RetimedCurve<G>*>(c); c = &retimed->base())
+  {
+    const Side outer = *path_side;
+    s = retimed->clock(s, outer, path_side);
+  }
+  return s;
+}
+
+/// Where the time t lies among the waypoints' times (ascending, the waypoints' own count): "at
+/// waypoints[i]" within 1e-9 of the motion's span, else "between waypoints[i] and
+/// waypoints[i+1]"; empty outside them or for a count other than the request's waypoints'.
+std::string waypointsAround(const std::vector<double>& times, std::size_t waypoints, double t)
+{
+  if (times.size() < 2 || times.size() != waypoints)
+    return {};
+  const double tolerance = 1e-9 * std::max(1.0, std::abs(times.back() - times.front()));
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (std::abs(times[i] - t) <= tolerance)
+      return "at " + indexedField("waypoints", i);
+  const auto after = std::upper_bound(times.begin(), times.end(), t);
+  if (after == times.begin() || after == times.end())
+    return {};
+  const std::size_t i = static_cast<std::size_t>(after - times.begin()) - 1;
+  return "between " + indexedField("waypoints", i) + " and " + indexedField("waypoints", i + 1);
+}
+
+/// `follow()`, whose refusals of the arm at a time on the path gain where among the waypoints it
+/// is (their path times `times`): "between waypoints[1] and waypoints[2]: the pose at t = ...".
+template <class Follow>
+auto namingWaypoints(const std::vector<double>& times, std::size_t waypoints, Follow&& follow) -> decltype(follow())
+{
+  try
+  {
+    return follow();
+  }
+  catch (const arm::JointPathError& e)
+  {
+    const std::string where = e.time() ? waypointsAround(times, waypoints, *e.time()) : std::string();
+    if (where.empty())
+      throw;
+    throw arm::JointPathError(where + ": " + e.what(), *e.time());
+  }
+}
+
 /// The arm's joints on `curve`'s time: the joint path of the path under it (the time-optimal
 /// timing's own, which its boxes tracked, or tracked here) on the composed clocks down to it; with
 /// `with_jerk` also their jerk, from the curve's third-order jets (arm::JointPath::jerk).
@@ -140,15 +179,7 @@ std::shared_ptr<const arm::RetimedJointPath> jointsOn(const std::shared_ptr<cons
       return v;
     };
   arm::RetimedJointPath::Clock clock = [curve](double t, Side side, Side* path_side) {
-    Jet<2> s = Jet<2>::variable(t);
-    *path_side = side;
-    for (const Curve<G>* c = curve.get(); const auto* retimed = dynamic_cast<const RetimedCurve<G>*>(c);
-         c = &retimed->base())
-    {
-      const Side outer = *path_side;
-      s = retimed->clock(s, outer, path_side);
-    }
-    return s;
+    return pathClock(*curve, t, side, path_side);
   };
   return std::make_shared<arm::RetimedJointPath>(std::move(path), std::move(clock), curve->startTime(),
                                                  curve->endTime(), std::move(tip_jerk));
@@ -168,6 +199,23 @@ std::optional<std::pair<std::shared_ptr<const arm::JointPath>, arm::JointRatesCh
 }  // namespace
 
 template <class Space, class G>
+std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
+                                                          const std::shared_ptr<const Curve<G>>& curve,
+                                                          const std::vector<double>& waypoint_times)
+{
+  if constexpr (std::is_same_v<Space, SphereSpace>)
+    return nullptr;
+  else
+  {
+    if (!r.joint_space)
+      return nullptr;
+    return namingWaypoints(waypoint_times, r.waypoints.size(), [&] {
+      return std::make_shared<arm::JointBoxes>(arm::jointPathOf<G>(*r.joint_space->arm, curve, r.joint_space->seed));
+    });
+  }
+}
+
+template <class Space, class G>
 std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r, PlannedMotion<Space, G>* m)
 {
   if constexpr (std::is_same_v<Space, SphereSpace>)
@@ -183,15 +231,46 @@ std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedReques
       std::tie(path, check) = std::move(*held);
     else
     {
-      path = std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, pathUnder(m->curve), r.joint_space->seed));
-      check = arm::checkJointRates(*jointsOn(m->curve, path, hasThirdOrderJets(*m->curve)), m->curve->breakpoints());
+      std::vector<double> path_times;
+      for (double t : m->out.waypoint_times)
+      {
+        Side side = Side::kRight;
+        path_times.push_back(pathClock(*m->curve, t, Side::kRight, &side).value());
+      }
+      path = namingWaypoints(path_times, r.waypoints.size(), [&] {
+        return std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, pathUnder(m->curve), r.joint_space->seed));
+      });
+      // The jerk where the timed motion has third-order jets all along (a part of a joined motion
+      // may lack them: then none).
+      const auto check_with = [&](bool jerk) {
+        return arm::checkJointRates(*jointsOn(m->curve, path, jerk), m->curve->breakpoints());
+      };
+      try
+      {
+        check = check_with(hasThirdOrderJets(*m->curve));
+      }
+      catch (const NoThirdOrderJetsError&)
+      {
+        check = check_with(false);
+      }
+    }
+    if (arm::hasJerkLimits(model) && !std::isnan(check.acceleration_step_time))
+    {
+      const double t = check.acceleration_step_time;
+      const std::string where = waypointsAround(m->out.waypoint_times, r.waypoints.size(), t);
+      throw InvalidInputError("the arm's joint jerk limits: the joints' accelerations step at t = " + formatNumber(t) +
+                              " s" + (where.empty() ? std::string() : " (" + where + ")") +
+                              ", an unbounded jerk; a motion under jerk limits needs continuous accelerations (a "
+                              "C2 curve, timing 'time_optimal', a start state the path continues)");
     }
     if (check.stretch > 1.0)
     {
       if (r.start_state || r.timing == Timing::kConstantSpeed)
       {
+        const std::string where = waypointsAround(m->out.waypoint_times, r.waypoints.size(), check.binding_time);
         if (check.stretch > 1.0 + kJointExcessTolerance)
-          throw InvalidInputError(arm::jointExcessMessage(model, check) +
+          throw InvalidInputError((where.empty() ? std::string() : where + ": ") +
+                                  arm::jointExcessMessage(model, check) +
                                   (r.start_state ? " (a motion from a start state keeps its start: replan from rest, "
                                                    "or lower the bounds)" :
                                                    " (timing constant_speed keeps its speed: lower `speed`)"));
@@ -222,11 +301,11 @@ template std::optional<JointSpace> jointSpaceOf<PoseSpace>(const TrajectoryReque
 template std::optional<JointSpace> jointSpaceOf<SphereSpace>(const SphereRequest&,
                                                              std::shared_ptr<const arm::ArmModel>);
 template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<PoseSpace, DoubleGeodesicSe3>(
-    const ValidatedRequest&, const std::shared_ptr<const Curve<DoubleGeodesicSe3>>&);
+    const ValidatedRequest&, const std::shared_ptr<const Curve<DoubleGeodesicSe3>>&, const std::vector<double>&);
 template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<PoseSpace, ScrewSe3>(
-    const ValidatedRequest&, const std::shared_ptr<const Curve<ScrewSe3>>&);
+    const ValidatedRequest&, const std::shared_ptr<const Curve<ScrewSe3>>&, const std::vector<double>&);
 template std::shared_ptr<const timing::BoxConstraint> jointBoxesOf<SphereSpace, Sphere>(
-    const ValidatedSphereRequest&, const std::shared_ptr<const Curve<Sphere>>&);
+    const ValidatedSphereRequest&, const std::shared_ptr<const Curve<Sphere>>&, const std::vector<double>&);
 template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, DoubleGeodesicSe3>(
     const ValidatedRequest&, PlannedMotion<PoseSpace, DoubleGeodesicSe3>*);
 template std::shared_ptr<const arm::JointMotion> followWithArm<PoseSpace, ScrewSe3>(

@@ -22,10 +22,12 @@ template <class Space>
 std::optional<JointSpace> jointSpaceOf(const BasicRequest<Space>& request, std::shared_ptr<const arm::ArmModel> arm);
 
 /// The arm's joint limits along the path `curve` (its time axis the path parameter), tracked from
-/// the seed, as the time-optimal timing's box constraint; null without an arm.
+/// the seed, as the time-optimal timing's box constraint; null without an arm. A refusal of the
+/// arm names where it is among the waypoints, whose times on the path are `waypoint_times`.
 template <class Space, class G>
 std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRequest<Space>& r,
-                                                          const std::shared_ptr<const Curve<G>>& curve);
+                                                          const std::shared_ptr<const Curve<G>>& curve,
+                                                          const std::vector<double>& waypoint_times);
 
 /// The jerk-limited timing's least window (s) for the arm's jerk limits (arm::jointJerkWindow); 0
 /// without an arm or without a jerk limit: a request whose arm has one is timed by the jerk-limited
@@ -44,7 +46,8 @@ double jointJerkWindow(const BasicValidatedRequest<Space>& r)
 /// the time-optimal timing's box check or else by arm::checkJointRates; the motion stretched
 /// uniformly where a joint exceeds its limits (velocity, acceleration, and jerk where m has
 /// third-order jets all along; its figures, time_scale and waypoint times with it),
-/// refused naming the joint and time where the motion starts moving or keeps a constant speed;
+/// refused naming the joint, time and waypoints where the motion starts moving or keeps a constant
+/// speed (the arm's refusals of the path name the waypoints around too);
 /// sets m's joint names and figures.
 template <class Space, class G>
 std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedRequest<Space>& r,

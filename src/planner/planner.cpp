@@ -181,9 +181,9 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   if (r.timing == Timing::kTimeOptimal && (hasJerkBound(r) || planner_detail::jointJerkWindow(r) > 0.0))
   {
     timing::JerkLimitedOptions options;
-    options.grid.boxes = jointBoxesOf(r, curve);
+    options.grid.boxes = jointBoxesOf(r, curve, out.waypoint_times);
     options.window = planner_detail::jointJerkWindow(r);
-    auto timed = timing::makeJerkLimitedCurve<G>(curve, rateBounds(r), options);
+    auto timed = explainingArmJerk(r, [&] { return timing::makeJerkLimitedCurve<G>(curve, rateBounds(r), options); });
     out.time_scale = timed->profile().stretch;
     adopt(timed, boundFields<Space>(), true);
     setJerkLimitedFigures(r, *timed, &fig);
@@ -192,7 +192,7 @@ void applyTiming(const BasicValidatedRequest<Space>& r, std::shared_ptr<const Cu
   if (r.timing == Timing::kTimeOptimal)
   {
     timing::TimeOptimalOptions options;
-    options.boxes = jointBoxesOf(r, curve);
+    options.boxes = jointBoxesOf(r, curve, out.waypoint_times);
     auto timed = timing::makeTimeOptimalCurve<G>(curve, rateBounds(r), options);
     out.time_scale = timed->profile().stretch;
     adopt(timed, boundFields<Space>(), false);  // (grid points map exactly: the end is the end)

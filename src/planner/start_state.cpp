@@ -176,7 +176,7 @@ std::shared_ptr<const timing::TimeOptimalCurve<G>> timeOptimalFromStart(const Va
   timing::TimeOptimalOptions options;
   options.start_speed = 1.0;
   options.hold_start = true;
-  options.boxes = jointBoxesOf(r, path);
+  options.boxes = jointBoxesOf(r, path, {});  // (the joined path: its refusals name no waypoint)
   auto timed = timing::makeTimeOptimalCurve<G>(path, rateBounds(r), options);
   const double excess = timed->profile().recovery_excess;
   if (excess > 1.0 + timing::kRecoveryExcessTolerance)
@@ -238,7 +238,7 @@ void timeAlongPath(const ValidatedRequest& r, const std::vector<double>& times, 
     timing::JerkLimitedOptions options;
     options.start_speed = 1.0;
     options.window = jointJerkWindow(r);
-    auto timed = timing::makeJerkLimitedCurve<G>(path, rateBounds(r), options);
+    auto timed = explainingArmJerk(r, [&] { return timing::makeJerkLimitedCurve<G>(path, rateBounds(r), options); });
     out.time_scale = timed->profile().stretch;
     adopt(timed);
     setJerkLimitedFigures(r, *timed, &m->figures);

@@ -69,6 +69,33 @@ bool hasJerkBound(const BasicValidatedRequest<Space>& r)
   return r.max_linear_jerk > 0.0 || r.max_angular_jerk > 0.0;
 }
 
+/// `timing()`, the jerk-limited timing; where it serves only the arm's jerk limits (no Cartesian
+/// jerk bound) its refusals say so, since the request does not name a jerk. The work limit's
+/// refusal passes unchanged.
+template <class Space, class Timing>
+auto explainingArmJerk(const BasicValidatedRequest<Space>& r, Timing&& timing) -> decltype(timing())
+{
+  if (hasJerkBound(r))
+    return timing();
+  const std::string why = " (the jerk-limited timing, which holds the arm's joint jerk limits)";
+  try
+  {
+    return timing();
+  }
+  catch (const LimitExceededError&)
+  {
+    throw;
+  }
+  catch (const InvalidInputError& e)
+  {
+    throw InvalidInputError(e.what() + why);
+  }
+  catch (const InterpolationError& e)
+  {
+    throw InterpolationError(e.what() + why);
+  }
+}
+
 /// The six bounds of the request (timing/time_optimal.h, RateBounds; 0 = unbounded).
 template <class Space>
 timing::RateBounds rateBounds(const BasicValidatedRequest<Space>& r)

@@ -53,6 +53,8 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -71,6 +73,15 @@ class JointPathError : public InvalidInputError
 {
 public:
   using InvalidInputError::InvalidInputError;
+  /// @param what the message
+  /// @param time the time on the pose motion at which the arm cannot follow it (s)
+  JointPathError(const std::string& what, double time) : InvalidInputError(what), time_(time) {}
+  /// The time on the pose motion at which the arm cannot follow it, where the refusal is about one
+  /// (reach, a singular configuration, a position limit, a branch change).
+  const std::optional<double>& time() const { return time_; }
+
+private:
+  std::optional<double> time_;
 };
 
 /// Joint positions (rad, m), velocities and accelerations of the movable joints in chain order.

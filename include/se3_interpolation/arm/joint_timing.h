@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -105,8 +106,12 @@ struct JointPeak : timing::BoxPeak
 struct JointRatesCheck
 {
   std::vector<JointPeak> peaks;  ///< per movable joint, in chain order
-  /// Whether the peaks include the jerk (the motion has one: RetimedJointPath::hasJerk).
+  /// Whether the peaks include the jerk (the motion has one, RetimedJointPath::hasJerk, and its
+  /// joint accelerations are continuous).
   bool has_jerk = false;
+  /// The first time (s) at which a joint's acceleration steps (between the start state and the
+  /// motion, or across a breakpoint: an unbounded jerk); NaN where none does.
+  double acceleration_step_time = std::numeric_limits<double>::quiet_NaN();
   /// The uniform stretch k ≥ 1 that brings every joint within its limits:
   /// max(1, v/V, √(a/A), ∛(j/J)).
   double stretch = 1.0;
@@ -129,8 +134,14 @@ bool hasJerkLimits(const ArmModel& arm);
 /// braking (the joint boxes have no plateaus, which the Cartesian channels' jerk bounds get).
 double jointJerkWindow(const ArmModel& arm);
 
+/// A joint acceleration step that checkJointRates reports: |q̈⁺ − q̈⁻| above this fraction of
+/// |q̈⁺| + |q̈⁻| plus kAccelerationStepFloor (rad/s², m/s²), far above the rounding of the joints'
+/// rates on either side of a breakpoint of a C² motion.
+constexpr double kAccelerationStepTolerance = 1e-6;
+constexpr double kAccelerationStepFloor = 1e-9;
+
 /// Checks the timed motion `motion` (arm/joint_path.h: the arm following the timed pose motion;
-/// header comment for the points it evaluates).
+/// header comment for the points it evaluates), and where its joint accelerations step.
 JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<double>& breakpoints);
 
 /// The check of a timing's box peaks (one per joint, chain order; no jerk): their ratios to the

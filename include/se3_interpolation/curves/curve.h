@@ -148,13 +148,20 @@ public:
   virtual Jet3Point jet3(const Jet<3>& t, Side side) const = 0;
 };
 
-/// The third-order jet of a curve at t. Throws InvalidInputError when the curve has none.
+/// A curve (or a part of one) without third-order jets asked for them.
+class NoThirdOrderJetsError : public InvalidInputError
+{
+public:
+  using InvalidInputError::InvalidInputError;
+};
+
+/// The third-order jet of a curve at t. Throws NoThirdOrderJetsError when the curve has none.
 template <class G>
 typename ThirdOrderJets<G>::Jet3Point jet3Of(const Curve<G>& curve, const Jet<3>& t, Side side)
 {
   const auto* jets = dynamic_cast<const ThirdOrderJets<G>*>(&curve);
   if (jets == nullptr)
-    throw InvalidInputError("curve: this curve gives no third derivatives (a timing that bounds jerk needs them)");
+    throw NoThirdOrderJetsError("curve: this curve gives no third derivatives (a timing that bounds jerk needs them)");
   return jets->jet3(t, side);
 }
 

@@ -156,11 +156,13 @@ TEST(JointSpacePlanner, RefusalsNameTheField)
   TrajectoryRequest far = r;
   far.waypoints[2].p += Eigen::Vector3d(3.0, 0.0, 0.0);
   refused(far, arm, "t = ");
+  refused(far, arm, "between waypoints[1] and waypoints[2]: ");
   // constant_speed keeps its speed: joints that cannot follow it are refused naming the joint.
   const auto slow = ur5e(0.05, 0.05);
   TrajectoryRequest constant = request(*slow, "constant_speed");
   constant.speed = 0.3;
   refused(constant, slow, "joint '");
+  refused(constant, slow, "waypoints[");
 }
 
 TEST(JointSpacePlanner, AMovingStartIsTimedWithinTheJointLimits)

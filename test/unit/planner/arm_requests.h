@@ -209,7 +209,7 @@ inline std::string armRefusalClass(const std::string& message, const std::string
   if (message.find("above its limit") != std::string::npos)
     return "joint rate (no stretch of a moving start or constant_speed)";
   if (message.find("the arm's joint jerk limits") != std::string::npos)
-    return "an acceleration step the joints' jerk limits forbid (stretch of a C1 curve)";
+    return "the arm's joint jerk limits (an acceleration step; the jerk-limited timing's refusals)";
   if (message.find("tracked branch") != std::string::npos)
     return "branch change";
   // The Cartesian brake to rest does not know the joints: such a start is refused naming start_state.
