@@ -228,8 +228,7 @@ JointRatesCheck checkJointRates(const JointMotion& motion, const std::vector<dou
 {
   JointRatesCheck check;
   check.peaks.assign(static_cast<std::size_t>(motion.arm().dof()), JointPeak());
-  const auto* retimed = dynamic_cast<const RetimedJointPath*>(&motion);
-  check.has_jerk = retimed && retimed->hasJerk();
+  check.has_jerk = motion.hasJerk();
   const std::vector<double> b = pieces(breakpoints, motion.start(), motion.end());
   const std::size_t count = b.size() - 1;
   const double span = b.back() - b.front();

@@ -145,9 +145,10 @@ std::string waypointsAround(const std::vector<double>& times, std::size_t waypoi
 }
 
 /// `follow()`, whose refusals of the arm at a time on the path gain where among the waypoints it
-/// is (their path times `times`): "between waypoints[1] and waypoints[2]: the pose at t = ...".
-template <class Follow>
-auto namingWaypoints(const std::vector<double>& times, std::size_t waypoints, Follow&& follow) -> decltype(follow())
+/// is (their path times, `times()`, asked for only then): "between waypoints[1] and waypoints[2]:
+/// the pose at t = ...".
+template <class Times, class Follow>
+auto namingWaypoints(const Times& times, std::size_t waypoints, Follow&& follow) -> decltype(follow())
 {
   try
   {
@@ -155,7 +156,7 @@ auto namingWaypoints(const std::vector<double>& times, std::size_t waypoints, Fo
   }
   catch (const arm::JointPathError& e)
   {
-    const std::string where = e.time() ? waypointsAround(times, waypoints, *e.time()) : std::string();
+    const std::string where = e.time() ? waypointsAround(times(), waypoints, *e.time()) : std::string();
     if (where.empty())
       throw;
     throw arm::JointPathError(where + ": " + e.what(), *e.time());
@@ -209,9 +210,11 @@ std::shared_ptr<const timing::BoxConstraint> jointBoxesOf(const BasicValidatedRe
   {
     if (!r.joint_space)
       return nullptr;
-    return namingWaypoints(waypoint_times, r.waypoints.size(), [&] {
-      return std::make_shared<arm::JointBoxes>(arm::jointPathOf<G>(*r.joint_space->arm, curve, r.joint_space->seed));
-    });
+    return namingWaypoints([&] { return waypoint_times; }, r.waypoints.size(),
+                           [&] {
+                             return std::make_shared<arm::JointBoxes>(
+                                 arm::jointPathOf<G>(*r.joint_space->arm, curve, r.joint_space->seed));
+                           });
   }
 }
 
@@ -231,12 +234,15 @@ std::shared_ptr<const arm::JointMotion> followWithArm(const BasicValidatedReques
       std::tie(path, check) = std::move(*held);
     else
     {
-      std::vector<double> path_times;
-      for (double t : m->out.waypoint_times)
-      {
-        Side side = Side::kRight;
-        path_times.push_back(pathClock(*m->curve, t, Side::kRight, &side).value());
-      }
+      const auto path_times = [&] {
+        std::vector<double> s;
+        for (double t : m->out.waypoint_times)
+        {
+          Side side = Side::kRight;
+          s.push_back(pathClock(*m->curve, t, Side::kRight, &side).value());
+        }
+        return s;
+      };
       path = namingWaypoints(path_times, r.waypoints.size(), [&] {
         return std::make_shared<arm::JointPath>(arm::jointPathOf<G>(model, pathUnder(m->curve), r.joint_space->seed));
       });

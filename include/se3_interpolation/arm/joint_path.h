@@ -131,6 +131,8 @@ public:
   /// The number of tracked points (JointPath::trackedPoints) strictly inside (t0, t1), t0 ≤ t1:
   /// where the tracking took small steps the joints vary fast, and a check samples as densely.
   virtual std::size_t trackedPointsWithin(double t0, double t1) const = 0;
+  /// Whether at() gives the joints' jerk (JointState::jerk).
+  virtual bool hasJerk() const = 0;
 };
 
 /// The joint path of a pose motion (header comment: method and refusals).
@@ -158,6 +160,7 @@ public:
   double start() const override { return breakpoints_.front(); }
   double end() const override { return breakpoints_.back(); }
   std::size_t trackedPointsWithin(double t0, double t1) const override;
+  bool hasJerk() const override { return false; }
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   /// The joints held at the seed's value, ascending.
   const std::vector<int>& heldJoints() const { return held_; }

@@ -77,8 +77,7 @@ public:
   /// the motion has no finite jerk, and at() leaves JointState::jerk empty
   RetimedJointPath(std::shared_ptr<const JointPath> path, Clock clock, double start, double end,
                    TipJerk tip_jerk = nullptr);
-  /// Whether at() gives the joints' jerk.
-  bool hasJerk() const { return static_cast<bool>(tip_jerk_); }
+  bool hasJerk() const override { return static_cast<bool>(tip_jerk_); }
   JointState at(double t, Side side = Side::kRight) const override;
   const ArmModel& arm() const override { return path_->arm(); }
   double start() const override { return start_; }
@@ -106,7 +105,7 @@ struct JointPeak : timing::BoxPeak
 struct JointRatesCheck
 {
   std::vector<JointPeak> peaks;  ///< per movable joint, in chain order
-  /// Whether the peaks include the jerk (the motion has one, RetimedJointPath::hasJerk, and its
+  /// Whether the peaks include the jerk (the motion has one, JointMotion::hasJerk, and its
   /// joint accelerations are continuous).
   bool has_jerk = false;
   /// The first time (s) at which a joint's acceleration steps (between the start state and the

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -66,6 +67,25 @@ inline std::shared_ptr<arm::ArmModel> loadArm(const std::string& name, double ve
   }
   model->applyLimits(limits);
   return model;
+}
+
+/// A time-optimal request through the arm's forward kinematics of `configurations` (the first the
+/// joint_seed), under Cartesian bounds of 0.5 m/s, 1 rad/s, 2 m/s², 4 rad/s², with `samples` samples.
+inline TrajectoryRequest requestThrough(const arm::ArmModel& model,
+                                        const std::vector<std::vector<double>>& configurations, std::uint32_t samples)
+{
+  TrajectoryRequest r;
+  for (const std::vector<double>& q : configurations)
+    r.waypoints.push_back(
+        model.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size()))));
+  r.joint_seed = configurations.front();
+  r.timing = "time_optimal";
+  r.max_linear_velocity = 0.5;
+  r.max_angular_velocity = 1.0;
+  r.max_linear_acceleration = 2.0;
+  r.max_angular_acceleration = 4.0;
+  r.sample_count = samples;
+  return r;
 }
 
 /// A working configuration of the robot `name` of loadArm (rad): the UR5e's elbow up with the tool

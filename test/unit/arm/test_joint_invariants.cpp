@@ -21,33 +21,14 @@ using namespace se3_interpolation::test;
 
 namespace
 {
-/// A time-optimal request through the arm's forward kinematics of `configurations`, seeded by the
-/// first.
-TrajectoryRequest armRequest(const arm::ArmModel& model, const std::vector<std::vector<double>>& configurations,
-                             std::uint32_t samples)
-{
-  TrajectoryRequest r;
-  for (const std::vector<double>& q : configurations)
-    r.waypoints.push_back(
-        model.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size()))));
-  r.joint_seed = configurations.front();
-  r.timing = "time_optimal";
-  r.max_linear_velocity = 0.5;
-  r.max_angular_velocity = 1.0;
-  r.max_linear_acceleration = 2.0;
-  r.max_angular_acceleration = 4.0;
-  r.sample_count = samples;
-  return r;
-}
-
 /// Through configurations around the UR5e's home.
 TrajectoryRequest ur5eRequest(const arm::ArmModel& model, std::uint32_t samples)
 {
-  return armRequest(model,
-                    { { 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 },
-                      { 0.4, -1.0, 1.3, -1.8, -1.4, 0.3 },
-                      { 0.9, -1.3, 1.7, -2.0, -1.6, -0.2 } },
-                    samples);
+  return requestThrough(model,
+                        { { 0.0, -1.2, 1.5, -1.9, -1.57, 0.0 },
+                          { 0.4, -1.0, 1.3, -1.8, -1.4, 0.3 },
+                          { 0.9, -1.3, 1.7, -2.0, -1.6, -0.2 } },
+                        samples);
 }
 
 /// The joint invariants `result` breaks for `model`.
@@ -209,7 +190,7 @@ TEST(JointInvariants, ARedundantArmHoldsItsJoints)
     for (double& q : configurations.back())
       q += 0.15;
   }
-  const TrajectoryRequest r = armRequest(*model, configurations, 64);
+  const TrajectoryRequest r = requestThrough(*model, configurations, 64);
   const TrajectoryResult served = generate(r, armLimits(), model);
   ASSERT_EQ(described(violationsOf(served, *model)), "");
   const std::vector<int> held = heldJoints(served, 7);

@@ -38,16 +38,8 @@ const std::vector<std::vector<double>> kConfigurations = {
 /// Waypoints at the UR5e's forward kinematics of kConfigurations; joint_seed the first of them.
 TrajectoryRequest request(const arm::ArmModel& arm, const std::string& timing)
 {
-  TrajectoryRequest r;
-  for (const std::vector<double>& q : kConfigurations)
-    r.waypoints.push_back(arm.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), 6)));
-  r.joint_seed = kConfigurations.front();
+  TrajectoryRequest r = test::requestThrough(arm, kConfigurations, 2001);
   r.timing = timing;
-  r.max_linear_velocity = 0.5;
-  r.max_angular_velocity = 1.0;
-  r.max_linear_acceleration = 2.0;
-  r.max_angular_acceleration = 4.0;
-  r.sample_count = 2001;
   return r;
 }
 
@@ -200,17 +192,13 @@ const std::vector<std::vector<double>> kPandaConfigurations = {
 /// An interpolating motion through the Panda's poses at kPandaConfigurations (the first the seed).
 TrajectoryRequest pandaRequest(const arm::ArmModel& arm, const std::string& curve, const std::string& timing)
 {
-  TrajectoryRequest r;
-  for (const std::vector<double>& q : kPandaConfigurations)
-    r.waypoints.push_back(arm.basePoseOfTip(Eigen::Map<const Eigen::VectorXd>(q.data(), 7)));
-  r.joint_seed = kPandaConfigurations.front();
+  TrajectoryRequest r = test::requestThrough(arm, kPandaConfigurations, 4001);
   r.curve = curve;
   r.timing = timing;
   r.max_linear_velocity = 1.0;
   r.max_angular_velocity = 2.0;
   r.max_linear_acceleration = 5.0;
   r.max_angular_acceleration = 10.0;
-  r.sample_count = 4001;
   return r;
 }
 
